@@ -1,0 +1,15 @@
+"""Errors a user can act on. The dnarod command prints the message and exits 2.
+
+Messages name the file, the key or atom, and what is allowed."""
+
+
+class DnarodError(Exception):
+    """Base of every error dnarod reports to a user as one clear message."""
+
+
+class InputError(DnarodError):
+    """Bad input: a file, a key, a structure, an argument."""
+
+
+class ExternalToolError(DnarodError):
+    """An external program (gmx) failed; the message quotes its relevant lines."""

@@ -1,0 +1,82 @@
+// A scene: everything one run needs, already validated. The TOML reader
+// (scene_reader.hpp) and the Python module both produce this struct; the
+// solver only ever sees a Scene, never a file. See docs/scenes.md.
+#pragma once
+#include <limits>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "rodcore/state.hpp"
+
+namespace rodcore {
+
+struct Material {  // dimensionless diagonals (Eqs 7-9, 15); default: the paper's DNA
+  Vec3 C{1.0, 1.0, 1.19};
+  Vec3 D{1.21, 1.21, 1.21 * 1.67};
+  Vec3 I{1.0, 1.0, 2.0};
+};
+
+struct Rod {
+  double length = 0.0;  // fiducial length L
+  int points = 0;       // N grid points, s_i = i L / N, i = 0..N-1 (periodic)
+  Vec3 Gamma0{0.0, 0.0, 1.0};  // uniform intrinsic shape ...
+  Vec3 Omega0{0.0, 0.0, 0.0};
+  // ... or, when non-empty, intrinsic shape varying along s: 3*N values each,
+  // laid out component-major like the state ([c*N + i]).
+  std::vector<double> Gamma0_s;
+  std::vector<double> Omega0_s;
+};
+
+// Initial condition: a named kind with its parameters. Each kind declares its
+// parameters (name, default, allowed range, doc) in initial_conditions.hpp;
+// the reader validates against that table, so `numbers` holds every
+// parameter of the kind (defaults filled in) and nothing else.
+struct Initial {
+  std::string kind = "rest";
+  std::map<std::string, double> numbers;
+  std::map<std::string, std::string> strings;  // e.g. branch = "plus"
+  std::string path;                            // kind = "file": absolute path to HDF5
+};
+
+struct SolverOptions {
+  std::string space = "spectral";  // "fd4" | "spectral"
+  bool dealias = false;            // spectral only: 2/3-rule filter on the derivative
+  std::string time = "dop853";     // "rk4" | "rk4-doubling" | "dopri5" | "dop853"
+  double rtol = 1e-10;
+  double atol = 1e-10;
+  double dt = 1e-2;        // fixed step, or first step of adaptive schemes
+  double dt_min = 1e-12;   // adaptive step below this: NumericalError
+  long max_steps = 100000000;
+  std::string reduce = "auto";  // "auto" | "off": reduced planar system when allowed
+};
+
+struct OutputOptions {
+  double t_end = 1.0;
+  int frames = 2;  // equally spaced output times 0..t_end inclusive
+  bool internal = true;      // fields/gamma, omega, Gamma, Omega
+  bool energy = false;       // energy (T)
+  bool energy_parts = false; // energy_parts/<name> (T)
+  bool centerline = false;   // centerline (T x N x 3)
+  bool directors = false;    // directors (T x N x 3 x 3)
+  double checkpoint_interval_s = 0.0;  // wall seconds between checkpoints (0: off)
+};
+
+struct Checks {
+  // Relative energy drift |E - E0| / max(|E0|, tiny) that stops the run.
+  double max_energy_drift = std::numeric_limits<double>::infinity();
+  double max_director_norm_error = 1e-8;
+  bool stop_on_fold = true;  // Gamma3 <= 0 somewhere
+};
+
+struct Scene {
+  std::string source;  // where it came from (file path or "<dict>"), for messages
+  Rod rod;
+  Material material;
+  Initial initial;
+  SolverOptions solver;
+  OutputOptions output;
+  Checks checks;
+};
+
+}  // namespace rodcore

@@ -1,0 +1,66 @@
+// Running a scene: the problem (Scene) is separate from the solver
+// (spatial operator + time integrator) and from the output handlers
+// (callbacks that receive Frames). Dedalus-style separation.
+#pragma once
+#include <functional>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "rodcore/scene.hpp"
+
+namespace rodcore {
+
+// What an output handler sees at one output time. Pointers are valid only
+// during the callback. Optional parts are present only if the scene asked.
+struct Frame {
+  int index = 0;
+  double t = 0.0;
+  std::size_t N = 0;
+  const double* y = nullptr;  // 12*N state, layout of state.hpp
+  std::optional<double> energy;
+  std::map<std::string, double> energy_parts;  // kinetic_translational, kinetic_rotational,
+                                               // shear, extension, bend, twist
+  const double* centerline = nullptr;  // N x 3, row-major (point, xyz); lab frame
+  const double* directors = nullptr;   // N x 3 x 3, [i][xyz][k] = component xyz of d_k
+  double max_director_norm_error = 0.0;
+};
+
+struct RunSummary {
+  long steps = 0;
+  long rejected = 0;
+  long rhs_evaluations = 0;
+  double wall_seconds = 0.0;
+  double energy_drift = 0.0;  // max relative |E - E0| / |E0| over output frames
+  std::string method;         // e.g. "spectral+dop853"
+  bool reduced = false;       // the reduced planar system was used
+};
+
+class Simulation {
+ public:
+  explicit Simulation(const Scene& scene);  // throws InputError
+  ~Simulation();
+  Simulation(const Simulation&) = delete;
+  Simulation& operator=(const Simulation&) = delete;
+
+  using FrameHandler = std::function<void(const Frame&)>;
+  using ProgressHandler = std::function<void(double t, double t_end)>;
+
+  // Integrate to output.t_end, calling on_frame at each output time
+  // (including t = 0). Throws NumericalError on bad numbers; the frames
+  // already handed to on_frame are complete.
+  RunSummary run(const FrameHandler& on_frame, const ProgressHandler& progress = {});
+
+  const Scene& scene() const;
+  std::vector<double> grid() const;  // s_i
+  const std::vector<double>& state() const;  // current 12*N state
+  double time() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace rodcore

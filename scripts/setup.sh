@@ -1,0 +1,37 @@
+#!/usr/bin/env bash
+# Install every Debian package dnarod needs. Idempotent and non-interactive:
+# packages already present are not touched, so a second run costs ~1 s.
+set -euo pipefail
+
+PACKAGES=(
+  # build
+  build-essential cmake pkg-config git
+  # C++ libraries of rodcore (see README "Dependencies" for why each)
+  libeigen3-dev libfftw3-dev libhdf5-dev libtomlplusplus-dev libcli11-dev
+  libfmt-dev pybind11-dev libgtest-dev libgmock-dev libbenchmark-dev
+  # sanitizer/fuzzer toolchain (tests of issue 8)
+  clang libclang-rt-14-dev
+  # molecular dynamics
+  gromacs
+  # Python side, all on Debian's /usr/bin/python3
+  python3 python3-dev python3-numpy python3-scipy python3-matplotlib
+  python3-h5py python3-mdanalysis python3-pytest python3-hypothesis
+  python3-yaml python3-toml snakemake
+)
+
+missing=()
+for p in "${PACKAGES[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "setup: all ${#PACKAGES[@]} Debian packages present"
+  exit 0
+fi
+
+echo "setup: installing ${#missing[@]} package(s): ${missing[*]}"
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -q
+$SUDO apt-get install -y -q --no-install-recommends "${missing[@]}"

@@ -1,0 +1,1 @@
+"""The dnarod command line, the Snakemake comparison workflow and reports."""
