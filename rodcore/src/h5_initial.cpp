@@ -1,0 +1,143 @@
+// Reading (and, for round trips, writing) initial fields in HDF5.
+#include "rodcore/h5_initial.hpp"
+
+#include <cmath>
+#include <filesystem>
+#include <sstream>
+
+#include "h5_handle.hpp"
+#include "rodcore/error.hpp"
+#include "rodcore/state.hpp"
+
+namespace rodcore {
+namespace {
+
+std::string fmt_double(double v) {
+  std::ostringstream o;
+  o.precision(17);
+  o << v;
+  return o.str();
+}
+
+h5::Handle open_for_reading(const std::string& path, const std::string& what) {
+  if (!std::filesystem::exists(path))
+    throw InputError(what + " file '" + path + "' does not exist");
+  if (H5Fis_hdf5(path.c_str()) <= 0)
+    throw InputError(what + " file '" + path + "' is not an HDF5 file (or cannot be read)");
+  auto f = h5::file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT));
+  if (!f.valid()) throw InputError(what + " file '" + path + "' cannot be opened for reading");
+  return f;
+}
+
+// Reads dataset `name` as doubles, checking its shape against `expected`
+// (all dimensions), and that every value is finite.
+std::vector<double> read_dataset(hid_t file, const std::string& path, const std::string& name,
+                                 const std::vector<hsize_t>& expected, const std::string& shape_doc) {
+  if (!h5::exists(file, name))
+    throw InputError("file '" + path + "': missing dataset '" + name + "' (expected " + shape_doc + ")");
+  auto d = h5::dataset(H5Dopen2(file, name.c_str(), H5P_DEFAULT));
+  if (!d.valid()) throw InputError("file '" + path + "': '" + name + "' is not a dataset");
+  auto sp = h5::space(H5Dget_space(d));
+  int rank = H5Sget_simple_extent_ndims(sp);
+  std::vector<hsize_t> dims(rank > 0 ? rank : 0);
+  if (rank > 0) H5Sget_simple_extent_dims(sp, dims.data(), nullptr);
+  if (dims != expected) {
+    std::string found;
+    for (std::size_t k = 0; k < dims.size(); ++k) found += (k ? " x " : "") + std::to_string(dims[k]);
+    if (dims.empty()) found = "a scalar";
+    throw InputError("file '" + path + "': dataset '" + name + "' has shape " + found + ", expected " +
+                     shape_doc);
+  }
+  auto t = h5::type(H5Dget_type(d));
+  H5T_class_t cls = H5Tget_class(t);
+  if (cls != H5T_FLOAT && cls != H5T_INTEGER)
+    throw InputError("file '" + path + "': dataset '" + name + "' must hold numbers");
+  std::size_t n = 1;
+  for (auto e : expected) n *= e;
+  std::vector<double> v(n);
+  if (H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()) < 0)
+    throw InputError("file '" + path + "': dataset '" + name + "' cannot be read as numbers");
+  for (std::size_t k = 0; k < n; ++k) {
+    if (!std::isfinite(v[k])) {
+      std::string where = expected.size() == 2
+                              ? "[" + std::to_string(k / 3) + ", " + std::to_string(k % 3) + "]"
+                              : "[" + std::to_string(k) + "]";
+      throw InputError("file '" + path + "': dataset '" + name + "' has a non-finite value (" +
+                       fmt_double(v[k]) + ") at index " + where);
+    }
+  }
+  return v;
+}
+
+std::string nx3(std::size_t N) { return std::to_string(N) + " x 3 (N x 3 with N = rod.points)"; }
+
+}  // namespace
+
+void read_initial_fields(const std::string& path, const std::vector<double>& s,
+                         std::vector<double>& y) {
+  h5::QuietErrors quiet;
+  const std::size_t N = s.size();
+  auto f = open_for_reading(path, "initial-condition");
+  auto s_file = read_dataset(f, path, "s", {N}, std::to_string(N) + " values (N = rod.points)");
+  // The grid must be the scene's: i L / N. Tolerance relative to the rod length.
+  double L = N > 0 ? s.back() + (N > 1 ? s[1] - s[0] : 0.0) : 0.0;
+  double tol = 1e-9 * std::max(1.0, std::abs(L));
+  for (std::size_t i = 0; i < N; ++i) {
+    if (std::abs(s_file[i] - s[i]) > tol)
+      throw InputError("file '" + path + "': dataset 's' does not match the scene's grid s_i = i L / N: s[" +
+                       std::to_string(i) + "] = " + fmt_double(s_file[i]) + ", expected " + fmt_double(s[i]) +
+                       " (tolerance " + fmt_double(tol) + "); check rod.length and rod.points");
+  }
+  y.assign(kComponents * N, 0.0);
+  for (int fi = 0; fi < kFields; ++fi) {
+    std::string name = std::string("fields/") + kFieldNames[fi];
+    auto v = read_dataset(f, path, name, {N, 3}, nx3(N));
+    for (int c = 0; c < 3; ++c) {
+      double* dst = component(y.data(), N, static_cast<Field>(fi), c);
+      for (std::size_t i = 0; i < N; ++i) dst[i] = v[3 * i + c];
+    }
+  }
+}
+
+void read_intrinsic_shape(const std::string& path, int N, std::vector<double>& Gamma0_s,
+                          std::vector<double>& Omega0_s) {
+  h5::QuietErrors quiet;
+  const auto n = static_cast<std::size_t>(N);
+  auto f = open_for_reading(path, "intrinsic-shape");
+  for (auto [name, dst] : {std::pair{"Gamma0", &Gamma0_s}, std::pair{"Omega0", &Omega0_s}}) {
+    auto v = read_dataset(f, path, name, {n, 3}, nx3(n));
+    dst->assign(3 * n, 0.0);
+    for (std::size_t i = 0; i < n; ++i)
+      for (int c = 0; c < 3; ++c) (*dst)[c * n + i] = v[3 * i + c];
+  }
+}
+
+void write_initial_fields(const std::string& path, const std::vector<double>& s,
+                          const std::vector<double>& y) {
+  h5::QuietErrors quiet;
+  const std::size_t N = s.size();
+  if (y.size() != kComponents * N)
+    throw Error("write_initial_fields: state has " + std::to_string(y.size()) + " values, expected 12 N = " +
+                std::to_string(kComponents * N));
+  auto f = h5::file(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT));
+  if (!f.valid()) throw Error("cannot create HDF5 file '" + path + "'");
+  auto write = [&](const std::string& name, const std::vector<hsize_t>& dims, const double* data) {
+    auto lcpl = h5::plist(H5Pcreate(H5P_LINK_CREATE));
+    H5Pset_create_intermediate_group(lcpl, 1);
+    auto sp = h5::space(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr));
+    auto d = h5::dataset(H5Dcreate2(f, name.c_str(), H5T_IEEE_F64LE, sp, lcpl, H5P_DEFAULT, H5P_DEFAULT));
+    if (!d.valid() || H5Dwrite(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0)
+      throw Error("cannot write dataset '" + name + "' to '" + path + "'");
+  };
+  write("s", {N}, s.data());
+  std::vector<double> buf(3 * N);
+  for (int fi = 0; fi < kFields; ++fi) {
+    for (int c = 0; c < 3; ++c) {
+      const double* src = component(y.data(), N, static_cast<Field>(fi), c);
+      for (std::size_t i = 0; i < N; ++i) buf[3 * i + c] = src[i];
+    }
+    write(std::string("fields/") + kFieldNames[fi], {N, 3}, buf.data());
+  }
+}
+
+}  // namespace rodcore
