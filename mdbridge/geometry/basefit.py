@@ -14,7 +14,8 @@ import numpy as np
 
 
 def fit_frames(standard, observed):
-    """Least-squares rigid fit of `standard` (n, 3) onto `observed` (..., n, 3).
+    """Least-squares rigid fit of `standard` (n, 3) (or (..., n, 3), broadcast)
+    onto `observed` (..., n, 3).
 
     Returns (R (..., 3, 3), o (..., 3), rmsd (...)) with observed ~ R S + o.
     """
@@ -22,9 +23,9 @@ def fit_frames(standard, observed):
     E = np.asarray(observed, dtype=float)
     s_ave = S.mean(axis=-2)
     e_ave = E.mean(axis=-2)
-    Sc = S - s_ave
+    Sc = S - s_ave[..., None, :]
     Ec = E - e_ave[..., None, :]
-    H = np.einsum("ni,...nj->...ij", Sc, Ec)          # cross-covariance S^T E
+    H = np.einsum("...ni,...nj->...ij", Sc, Ec)       # cross-covariance S^T E
     U, _, Vt = np.linalg.svd(H)
     V = np.swapaxes(Vt, -1, -2)
     # proper rotation: flip the weakest direction if the best orthogonal map is a reflection
@@ -32,7 +33,7 @@ def fit_frames(standard, observed):
     d = np.where(d == 0, 1.0, d)
     V[..., :, 2] *= d[..., None]
     R = V @ np.swapaxes(U, -1, -2)
-    o = e_ave - np.einsum("...ij,j->...i", R, s_ave)
-    fitted = np.einsum("...ij,nj->...ni", R, S) + o[..., None, :]
+    o = e_ave - np.einsum("...ij,...j->...i", R, s_ave)
+    fitted = np.einsum("...ij,...nj->...ni", R, S) + o[..., None, :]
     rmsd = np.sqrt(np.mean(np.sum((E - fitted) ** 2, axis=-1), axis=-1))
     return R, o, rmsd
