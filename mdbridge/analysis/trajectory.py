@@ -1,0 +1,134 @@
+"""A trajectory of base-pair frames: the one input of the comparison analysis.
+
+Rod output and MD both become a `BasePairTrajectory`:
+  times_ps (T), origins (T, n, 3) [A], R (T, n, 3, 3) (columns: x, y, z axes of
+  each base pair), period (T, 3) [A] with origin_{i+n} = origin_i + period.
+Origins are made continuous along the strand (each is the nearest image of the
+one before), so the analysis never sees the periodic box again. This matters
+for MD of a ligated duplex: atoms are wrapped and `trjconv -pbc whole` cannot
+make an infinite molecule whole (notes-md.md), so minimum-image steps between
+consecutive base pairs are the only safe way to follow the strand.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from dna_models.errors import InputError
+from dna_models.units import Units
+
+
+def unwrap_ring(origins: np.ndarray, box: np.ndarray):
+    """Continuous origins and the period vector of a closed ring in an orthorhombic box.
+
+    origins: (n, 3) possibly wrapped; box: (3,) edge lengths [A] (0 or inf: not periodic
+    along that edge). Each step i -> i+1, and the closing step n-1 -> 0, is taken as its
+    minimum image; their sum is the lattice vector the duplex spans (the period).
+    """
+    box = np.asarray(box, float)
+    L = np.where((box > 0) & np.isfinite(box), box, np.inf)
+    steps = np.roll(origins, -1, axis=0) - origins            # includes the closing step
+    steps = steps - np.where(np.isfinite(L), L * np.round(steps / np.where(np.isfinite(L), L, 1.0)), 0.0)
+    out = np.empty_like(origins, dtype=float)
+    out[0] = origins[0]
+    out[1:] = origins[0] + np.cumsum(steps[:-1], axis=0)
+    return out, steps.sum(axis=0)
+
+
+@dataclass
+class BasePairTrajectory:
+    times_ps: np.ndarray
+    origins: np.ndarray
+    R: np.ndarray
+    period: np.ndarray
+    source: str = "arrays"
+    meta: dict = field(default_factory=dict)
+
+    def __post_init__(self):
+        T, n = self.origins.shape[:2]
+        if self.R.shape != (T, n, 3, 3) or self.period.shape != (T, 3) or self.times_ps.shape != (T,):
+            raise InputError(f"{self.source}: inconsistent shapes: times {self.times_ps.shape}, origins "
+                             f"{self.origins.shape}, R {self.R.shape}, period {self.period.shape}")
+        if n < 4 or T < 3:
+            raise InputError(f"{self.source}: need at least 4 base pairs and 3 frames, got {n} and {T}")
+
+    @property
+    def n_frames(self) -> int:
+        return len(self.times_ps)
+
+    @property
+    def n_bp(self) -> int:
+        return self.origins.shape[1]
+
+    # -- constructors ------------------------------------------------------
+    @classmethod
+    def from_periodic_box(cls, times_ps, origins, R, box, source="arrays", meta=None):
+        """MD-like input: wrapped origins in an orthorhombic box (T, 3) [A]."""
+        origins = np.asarray(origins, float)
+        box = np.broadcast_to(np.asarray(box, float), (len(origins), 3))
+        unwrapped = np.empty_like(origins)
+        period = np.empty((len(origins), 3))
+        for t in range(len(origins)):
+            unwrapped[t], period[t] = unwrap_ring(origins[t], box[t])
+        if np.any(np.linalg.norm(period, axis=1) == 0):
+            raise InputError(f"{source}: the base-pair origins do not span the periodic box: "
+                             "is the duplex ligated across the periodic boundary?")
+        return cls(np.asarray(times_ps, float), unwrapped, np.asarray(R, float), period,
+                   source, meta or {})
+
+    @classmethod
+    def from_rod_arrays(cls, time, s, centerline, directors, Gamma, n_bp, units: Units | None = None,
+                        source="rod"):
+        """Rod output in solver units -> base pairs at s_i = i L / n_bp, in A and ps.
+
+        The period vector is P = int_0^L T(s) Gamma(s) ds (Eq 1: dr/ds = T Gamma), by the
+        periodic trapezoid rule, which is spectrally accurate for a smooth periodic rod.
+        """
+        u = units or Units.paper()
+        time, s = np.asarray(time, float), np.asarray(s, float)
+        centerline, directors, Gamma = (np.asarray(a, float) for a in (centerline, directors, Gamma))
+        N = len(s)
+        if N % n_bp:
+            raise InputError(f"{source}: {N} grid points is not a multiple of n_bp = {n_bp}; "
+                             "base pair i must sit on grid point s_i = i L / n_bp")
+        every = N // n_bp
+        ds = s[1] - s[0]
+        P = np.einsum("tixk,tik->tx", directors, Gamma) * ds
+        return cls(u.time_to_ps(time), u.length_to_A(centerline[:, ::every]),
+                   directors[:, ::every], u.length_to_A(P), source,
+                   {"kind": "rod", "L": ds * N, "N": N, "n_bp": n_bp})
+
+    @classmethod
+    def from_rod_h5(cls, path, n_bp: int, units: Units | None = None):
+        """A rodsim output file (design.md: time, s, fields/Gamma, centerline, directors)."""
+        import h5py
+        try:
+            with h5py.File(path, "r") as f:
+                missing = [k for k in ("time", "s", "centerline", "directors", "fields/Gamma") if k not in f]
+                if missing:
+                    raise InputError(f"{path}: missing dataset(s) {missing}; the scene must ask for "
+                                     "output.centerline, output.directors and output.internal")
+                return cls.from_rod_arrays(f["time"][:], f["s"][:], f["centerline"][:], f["directors"][:],
+                                           f["fields/Gamma"][:], n_bp, units, source=str(path))
+        except OSError as e:
+            raise InputError(f"{path}: cannot read as HDF5 ({e})") from None
+
+    @classmethod
+    def from_universe(cls, universe, pairs=None, start=None, stop=None, step=None):
+        """An MD trajectory: base-pair frames from mdbridge.geometry, box from each frame."""
+        from mdbridge.geometry import BasePairFrames
+        bp = BasePairFrames(universe, pairs=pairs).run(start=start, stop=stop, step=step)
+        origins, R = np.asarray(bp.results.origins), np.asarray(bp.results.R)
+        traj = universe.trajectory
+        frames = range(len(traj))[slice(start, stop, step)]
+        times, box = [], []
+        for i in frames:
+            ts = traj[i]
+            if not np.allclose(ts.dimensions[3:], 90.0):
+                raise InputError(f"{universe.filename}: triclinic box {ts.dimensions}; only "
+                                 "orthorhombic boxes are supported")
+            times.append(ts.time)
+            box.append(ts.dimensions[:3])
+        return cls.from_periodic_box(np.array(times), origins, R, np.array(box),
+                                     source=str(universe.filename), meta={"kind": "md"})
