@@ -2,8 +2,9 @@
 
 Arnott fibre B-DNA (Chandrasekaran & Arnott 1989, Landolt-Bornstein VII/1b;
 Arnott & Hukins 1972 BBRC 47:1504), as built by 3DNA `fiber` (model 4): a
-perfect helix of 10 base pairs per turn, i.e. helical twist 36 degrees and
-helical rise 3.38 Angstrom per base pair. In the 3DNA (Olson 2001) base-pair
+perfect helix of 10 base pairs per turn, i.e. helical twist 36 degrees, pitch 33.75 A, so
+helical rise 3.375 Angstrom per base pair (quoted as 3.38 A; 3DNA's fibre
+coordinates give 3.375 +- 1e-3, tests/python/test_geometry_3dna.py). In the 3DNA (Olson 2001) base-pair
 frame the fibre's local step parameters vary slightly with sequence (slide
 ~0.4-0.5 A, roll ~1.7 deg, twist 33.9-38.0 deg; refdata/fiber_bdna/bp_step.par)
 because the fibre's helix axis does not pass through the base-pair origins.
@@ -12,7 +13,8 @@ The idealised duplex used for building (3DNA's rebuild example
 `ideal_B_36_3.38.par`) has step parameters (0, 0, 3.38 A, 0, 0, 36 deg) and
 zero base-pair parameters: STEP_PARAMETERS below.
 """
-RISE_A = 3.38          # helical rise per base pair [Angstrom]
+FIBRE_RISE_A = 3.375   # Arnott fibre B-DNA helical rise [Angstrom] (pitch 33.75 A / 10)
+RISE_A = 3.38          # rounded rise per base pair used for ideal duplexes [Angstrom]
 TWIST_DEG = 36.0       # helical twist per base pair [degrees] (10 bp per turn)
 BP_PER_TURN = 360.0 / TWIST_DEG
 

@@ -33,7 +33,8 @@ _BASE_OF = {"A": "A", "C": "C", "G": "G", "T": "T",
             "DA": "A", "DC": "C", "DG": "G", "DT": "T",
             "ADE": "A", "CYT": "C", "GUA": "G", "THY": "T"}
 _COMPLEMENT = {"A": "T", "T": "A", "G": "C", "C": "G"}
-_PAIR_CUTOFF_A = 4.0     # N1(purine)-N3(pyrimidine) in a Watson-Crick pair is ~2.9 A
+_PAIR_CUTOFF_A = 4.5     # N1(purine)-N3(pyrimidine): ~2.9 A in a Watson-Crick pair, 4.2 A in
+                         # the most stretched pair of the 1KX5 nucleosome; stacked neighbours > 5 A
 _MIN_BOX_A = 10.0        # smaller "boxes" are PDB placeholders (CRYST1 1 1 1), not cells
 
 
