@@ -7,7 +7,7 @@ CHARMM27 hydrogens on these very templates (see that file's provenance).
 
 Bonds are derived once per template by a distance criterion on the ideal
 geometry: heavy-heavy < 1.9 A, X-H < 1.3 A. The ideal templates have all
-covalent bonds below 1.65 A and every other heavy pair above 2.2 A, so the
+covalent bonds below 1.65 A and every other heavy pair above 2.1 A, so the
 criterion is unambiguous (tests/python/test_builder_templates.py checks it).
 """
 from __future__ import annotations
