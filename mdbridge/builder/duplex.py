@@ -25,23 +25,13 @@ from __future__ import annotations
 
 import numpy as np
 
+from dna_models import sequence as dna_sequence
+from dna_models.nucleotides import CHARMM_RESNAME
 from dna_models.errors import InputError
 from mdbridge.builder.structure import Structure
 from mdbridge.builder.templates import nucleotide_template
 
 FLIP = np.diag([1.0, -1.0, -1.0])  # strand II base frame relative to the bp frame
-COMPLEMENT = {"A": "T", "C": "G", "G": "C", "T": "A"}
-
-
-def _check_sequence(sequence: str) -> str:
-    seq = str(sequence).upper()
-    for i, c in enumerate(seq):
-        if c not in COMPLEMENT:
-            raise InputError(f"sequence: letter {sequence[i]!r} at position {i + 1} is not a DNA "
-                             "base (allowed: A, C, G, T, either case)")
-    if not seq:
-        raise InputError("sequence: empty (need at least one base pair)")
-    return seq
 
 
 def _check_frames(origins, R, n: int):
@@ -109,7 +99,8 @@ def build_duplex(sequence, origins, R, *, periodic_box=None, hydrogens=False,
     adds hydrogens); True adds CHARMM27 hydrogens from templates.
     base_pair_params: optional (n, 6) shear..opening (see base_frames).
     """
-    seq = _check_sequence(sequence)
+    seq = dna_sequence.validate(sequence)
+    comp = dna_sequence.complement(seq)
     n = len(seq)
     origins, R = _check_frames(origins, R, n)
     box = _box(periodic_box)
@@ -118,7 +109,7 @@ def build_duplex(sequence, origins, R, *, periodic_box=None, hydrogens=False,
     # (residue base, frame index, base frame) in output order: strand I 5'->3',
     # then strand II 5'->3' (= base pairs n..1)
     residues = [(seq[i], "I", i + 1, o_I[i], R_I[i]) for i in range(n)]
-    residues += [(COMPLEMENT[seq[i]], "II", 2 * n - i, o_II[i], R_II[i])
+    residues += [(comp[i], "II", 2 * n - i, o_II[i], R_II[i])
                  for i in range(n - 1, -1, -1)]
 
     names, resnames, resids, strands, elements, coords, bonds = [], [], [], [], [], [], []
@@ -128,7 +119,7 @@ def build_duplex(sequence, origins, R, *, periodic_box=None, hydrogens=False,
         k0 = sum(len(c) for c in coords)
         start_of[resid] = (k0, t)
         names.append(t.names)
-        resnames.append(np.full(len(t.names), "D" + base))
+        resnames.append(np.full(len(t.names), CHARMM_RESNAME[base]))
         resids.append(np.full(len(t.names), resid))
         strands.append(np.full(len(t.names), strand))
         elements.append(t.elements)
@@ -149,4 +140,6 @@ def build_duplex(sequence, origins, R, *, periodic_box=None, hydrogens=False,
     return Structure(names=np.concatenate(names), resnames=np.concatenate(resnames),
                      resids=np.concatenate(resids), strands=np.concatenate(strands),
                      elements=np.concatenate(elements), coords=np.concatenate(coords),
-                     bonds=np.concatenate(bonds).astype(int), box=box)
+                     bonds=np.concatenate(bonds).astype(int), box=box,
+                     base_origins=np.array([r[3] for r in sorted(residues, key=lambda r: r[2])]),
+                     base_R=np.array([r[4] for r in sorted(residues, key=lambda r: r[2])]))

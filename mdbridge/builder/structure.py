@@ -20,6 +20,8 @@ class Structure:
     bonds     (n_bonds, 2) atom indices of covalent bonds between the atoms
               present (template bonds + O3'(i)-P(i+1) links, + the junction
               links through the box when periodic)
+    base_origins, base_R  (2n, 3), (2n, 3, 3): the base frame each residue
+              was placed with (row resid - 1): x_atom = o + R x_template
     box       None (not periodic) or (3,) orthorhombic box edges in A, 0 for a
               non-periodic direction (e.g. (0, 0, L) for a helix periodic along z)
     """
@@ -32,6 +34,8 @@ class Structure:
     coords: np.ndarray
     bonds: np.ndarray = field(default_factory=lambda: np.zeros((0, 2), dtype=int))
     box: np.ndarray | None = None
+    base_origins: np.ndarray | None = None
+    base_R: np.ndarray | None = None
 
     @property
     def n_atoms(self) -> int:
@@ -47,6 +51,10 @@ class Structure:
         if len(hit) != 1:
             raise KeyError(f"atom {name} of residue {resid}: {len(hit)} matches")
         return int(hit[0])
+
+    def residue_frame(self, resid: int):
+        """(origin, R) of the base frame residue `resid` was placed with."""
+        return self.base_origins[resid - 1], self.base_R[resid - 1]
 
     def minimum_image(self, d: np.ndarray) -> np.ndarray:
         """Difference vectors d (..., 3) reduced to the minimum image along the

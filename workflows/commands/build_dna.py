@@ -64,11 +64,11 @@ def add_arguments(p):
 
 
 def _sequence(args, n_needed=None, default=None):
-    from mdbridge.builder.duplex import _check_sequence
+    from dna_models.sequence import validate
     seq = args.sequence or default
     if seq is None:
         raise InputError("--sequence is required with --params CSV and --ideal")
-    seq = _check_sequence(seq)
+    seq = validate(seq, "--sequence")
     if n_needed is not None and len(seq) != n_needed:
         raise InputError(f"--sequence has {len(seq)} bases but the frames need {n_needed} "
                          "base pairs")
