@@ -19,17 +19,16 @@ from dna_models.errors import InputError
 from dna_models.units import Units
 
 
-def unwrap_ring(origins: np.ndarray, box: np.ndarray):
-    """Continuous origins and the period vector of a closed ring in an orthorhombic box.
+def unwrap_ring(origins: np.ndarray, dimensions: np.ndarray):
+    """Continuous origins and the period vector of a closed ring in a periodic box.
 
-    origins: (n, 3) possibly wrapped; box: (3,) edge lengths [A] (0 or inf: not periodic
-    along that edge). Each step i -> i+1, and the closing step n-1 -> 0, is taken as its
-    minimum image; their sum is the lattice vector the duplex spans (the period).
+    origins: (n, 3) possibly wrapped; dimensions: (6,) MDAnalysis box (a, b, c [A],
+    alpha, beta, gamma [deg]). Each step i -> i+1, and the closing step n-1 -> 0, is
+    taken as its minimum image (mdbridge.geometry.minimum_image); their sum is the
+    lattice vector the duplex spans (the period).
     """
-    box = np.asarray(box, float)
-    L = np.where((box > 0) & np.isfinite(box), box, np.inf)
-    steps = np.roll(origins, -1, axis=0) - origins            # includes the closing step
-    steps = steps - np.where(np.isfinite(L), L * np.round(steps / np.where(np.isfinite(L), L, 1.0)), 0.0)
+    from mdbridge.geometry.pbc import minimum_image
+    steps = minimum_image(np.roll(origins, -1, axis=0) - origins, np.asarray(dimensions, float))
     out = np.empty_like(origins, dtype=float)
     out[0] = origins[0]
     out[1:] = origins[0] + np.cumsum(steps[:-1], axis=0)
@@ -64,9 +63,13 @@ class BasePairTrajectory:
     # -- constructors ------------------------------------------------------
     @classmethod
     def from_periodic_box(cls, times_ps, origins, R, box, source="arrays", meta=None):
-        """MD-like input: wrapped origins in an orthorhombic box (T, 3) [A]."""
+        """MD-like input: wrapped origins in a periodic box, (T, 6) MDAnalysis dimensions
+        or (T, 3) edge lengths of an orthorhombic box [A]."""
         origins = np.asarray(origins, float)
-        box = np.broadcast_to(np.asarray(box, float), (len(origins), 3))
+        box = np.asarray(box, float)
+        if box.shape[-1] == 3:
+            box = np.concatenate([box, np.full(box.shape[:-1] + (3,), 90.0)], axis=-1)
+        box = np.broadcast_to(box, (len(origins), 6))
         unwrapped = np.empty_like(origins)
         period = np.empty((len(origins), 3))
         for t in range(len(origins)):
@@ -116,19 +119,16 @@ class BasePairTrajectory:
 
     @classmethod
     def from_universe(cls, universe, pairs=None, start=None, stop=None, step=None):
-        """An MD trajectory: base-pair frames from mdbridge.geometry, box from each frame."""
-        from mdbridge.geometry import BasePairFrames
-        bp = BasePairFrames(universe, pairs=pairs).run(start=start, stop=stop, step=step)
-        origins, R = np.asarray(bp.results.origins), np.asarray(bp.results.R)
-        traj = universe.trajectory
-        frames = range(len(traj))[slice(start, stop, step)]
-        times, box = [], []
-        for i in frames:
-            ts = traj[i]
-            if not np.allclose(ts.dimensions[3:], 90.0):
-                raise InputError(f"{universe.filename}: triclinic box {ts.dimensions}; only "
-                                 "orthorhombic boxes are supported")
-            times.append(ts.time)
-            box.append(ts.dimensions[:3])
-        return cls.from_periodic_box(np.array(times), origins, R, np.array(box),
-                                     source=str(universe.filename), meta={"kind": "md"})
+        """An MD trajectory: base-pair frames from mdbridge.geometry.BasePairFrames (which
+        takes minimum images inside bases and across pairs), box from each frame."""
+        from mdbridge.geometry.structure import BasePairFrames
+        bpf = BasePairFrames(universe, pairs=pairs).run(start=start, stop=stop, step=step)
+        r = bpf.results
+        if r.box is None:
+            raise InputError(f"{universe.filename}: no periodic box; the comparison needs the "
+                             "ligated, periodic duplex that `dnarod build-md` makes")
+        traj = cls.from_periodic_box(np.asarray(r.time, float), r.origins, r.R, r.box,
+                                     source=str(universe.filename),
+                                     meta={"kind": "md", "sequence": bpf.sequence})
+        traj.meta["pairs"] = bpf.pairs
+        return traj

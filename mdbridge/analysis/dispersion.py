@@ -1,0 +1,76 @@
+"""Linear dispersion of bend-shear waves (paper Eqs 25-26 and 39), in one place.
+
+For an isotropic rod (C1 = C2, D1 = D2) the intrinsic twist Omega03 does not change the
+transverse dynamics seen in the laboratory frame at linear order: the body-frame solution
+of Eq (24) at body wavenumber k is a laboratory wave of the modified wavenumber
+kappa = k +- Omega03, and its frequency, Eq (26), is Eq (39) of the untwisted rod at
+wavenumber kappa. A planar laboratory wave of wavenumber kappa is the sum of the two
+circular polarisations (kappa_p and kappa_m branches) with the same |kappa|, hence the
+same frequency -- which is why the planar DNA scene stays planar. So the laboratory
+phase speed of the mode with laboratory wavenumber kappa (dimensionless) is
+
+    c_pm = omega_pm(kappa) / kappa,
+    omega_pm = 1/2 [ sqrt(kappa^2 (sqrt D1 + 1)^2 + G^2) pm sqrt(kappa^2 (sqrt D1 - 1)^2 + G^2) ],
+
+with G = Gamma03 (Eq 39; C1 = 1 in the paper's scaling). omega_- is the bend (flexural)
+branch, omega_+ the shear branch. Here kappa is per unit FIDUCIAL arclength; the
+laboratory length of the rod is Gamma03 L, so a speed along the laboratory axis is
+Gamma03 omega / kappa (in l / tau).
+
+If the compiled module exposes `rodcore.analytic.dispersion_omega`, that is used instead,
+so the physics is not duplicated; otherwise this is the only implementation in Python.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from dna_models.units import Units
+
+
+def omega_pm(kappa, D1: float, Gamma03: float, branch: str = "minus"):
+    """Eq (39)/(26): frequency of the bend-shear branch `branch` ('plus' or 'minus')."""
+    try:  # prefer the C++ implementation when it is there
+        import rodcore  # type: ignore
+        f = getattr(getattr(rodcore, "analytic", None), "dispersion_omega", None)
+        if f is not None:
+            return np.vectorize(lambda q: f(q, D1, Gamma03, branch))(kappa)
+    except ImportError:
+        pass
+    kappa = np.asarray(kappa, float)
+    sD = np.sqrt(D1)
+    a = np.sqrt(kappa ** 2 * (sD + 1) ** 2 + Gamma03 ** 2)
+    b = np.sqrt(kappa ** 2 * (sD - 1) ** 2 + Gamma03 ** 2)
+    if branch == "plus":
+        return 0.5 * (a + b)
+    if branch == "minus":
+        return 0.5 * (a - b)
+    raise ValueError(f"branch must be 'plus' or 'minus', got {branch!r}")
+
+
+def lab_speed_A_per_ps(length_fiducial: float, D1: float, Gamma03: float, branch="minus",
+                       mode: int = 1, units: Units | None = None) -> float:
+    """Laboratory phase speed [A/ps] of Fourier mode `mode` of a periodic rod of fiducial
+    length `length_fiducial` (dimensionless) in the small-amplitude limit."""
+    u = units or Units.paper()
+    kappa = 2 * np.pi * mode / length_fiducial
+    c = Gamma03 * float(omega_pm(kappa, D1, Gamma03, branch)) / kappa
+    return u.velocity_to_A_per_ps(c)
+
+
+def bend_modulus_for_speed(speed_A_per_ps: float, length_fiducial: float, Gamma03: float,
+                           units: Units | None = None, D1_bounds=(1e-4, 1e4)) -> dict:
+    """The bend stiffness that makes the rod's bend-branch speed equal a measured speed
+    (e.g. the MD's), other constants fixed: D1* solving lab_speed(D1*) = speed, and the
+    physical D = D1* I C / rho [J m] (Eq 15 with the paper's scales) and the persistence
+    length D / kT at 300 K."""
+    from scipy.optimize import brentq
+    u = units or Units.paper()
+    f = lambda d: lab_speed_A_per_ps(length_fiducial, d, Gamma03, "minus", 1, u) - speed_A_per_ps  # noqa: E731
+    lo, hi = D1_bounds
+    if f(lo) * f(hi) > 0:
+        return {"D1_star": float("nan"), "reason": "speed outside the bend branch's range"}
+    D1 = brentq(f, lo, hi, xtol=1e-12)
+    D = D1 * u.I * u.C / u.rho
+    kT = 1.380649e-23 * 300.0
+    return {"D1_star": D1, "D_J_m": D, "D_over_paper": D1 / u.D_star[0],
+            "persistence_length_nm_300K": D / kT * 1e9}

@@ -1,0 +1,48 @@
+"""Base-pair integrity of an MD duplex: are the Watson-Crick pairs still paired?
+
+A pair counts as intact when the distance between the purine N1 and the pyrimidine N3
+(the central hydrogen bond of both A-T and G-C) is below 3.5 A (~2.9 A in B-DNA).
+Distances are minimum images (MDAnalysis `calc_bonds` with the frame's box): a ligated,
+periodic duplex keeps its atoms wrapped (notes-md.md).
+"""
+from __future__ import annotations
+
+import numpy as np
+from MDAnalysis.lib.distances import calc_bonds
+
+from dna_models.errors import InputError
+
+INTACT_CUTOFF_A = 3.5
+
+
+def _central_atom(residue):
+    base = residue.resname.strip().upper().lstrip("D")[:1]
+    if base in ("A", "G"):
+        name = "N1"
+    elif base in ("C", "T", "U"):
+        name = "N3"
+    else:
+        raise InputError(f"residue {residue.resname}{residue.resid}: not a DNA base "
+                         "(allowed: DA DC DG DT and A C G T)")
+    sel = residue.atoms.select_atoms(f"name {name}")
+    if len(sel) != 1:
+        raise InputError(f"residue {residue.resname}{residue.resid}: atom {name} not found")
+    return sel[0]
+
+
+def bp_intact_fraction(universe, pairs, start=None, stop=None, step=None,
+                       cutoff_A: float = INTACT_CUTOFF_A):
+    """(times_ps (T,), fraction intact (T,), N1-N3 distances (T, n_bp)).
+
+    pairs: [(residue of strand I, residue of strand II)], e.g. `BasePairFrames(u).pairs`.
+    """
+    import MDAnalysis as mda
+    a = mda.AtomGroup([_central_atom(r1) for r1, _ in pairs])
+    b = mda.AtomGroup([_central_atom(r2) for _, r2 in pairs])
+    times, dist = [], []
+    for ts in universe.trajectory[start:stop:step]:
+        box = ts.dimensions if ts.dimensions is not None and np.all(ts.dimensions[:3] > 0) else None
+        dist.append(calc_bonds(a.positions, b.positions, box=box))
+        times.append(ts.time)
+    dist = np.array(dist)
+    return np.array(times), np.mean(dist < cutoff_A, axis=1), dist
