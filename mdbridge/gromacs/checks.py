@@ -1,0 +1,175 @@
+"""DIR/checks.json: is the MD what the build promised, and did it stay a duplex?
+
+- junction O3'-P lengths of both strands over the trajectory (min/max) next to
+  the range of all interior O3'-P links: a broken ring closure shows at once;
+- NVE energy drift from md.edr (via `gmx energy`; MDAnalysis's EDR reader needs
+  pyedr, which Debian does not ship): linear-fit slope and largest excursion;
+- fraction of intact Watson-Crick pairs per frame: N1(purine)-N3(pyrimidine)
+  < 3.5 A, minimum image;
+- base-pair frames at t = 0 re-analysed from the built structure vs the rod's
+  (copied from build.json, where they were measured);
+- smallest distance between the duplex and its side-wall images (the images
+  displaced across the helix axis) over the trajectory: must exceed the cut-off.
+"""
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+
+from .gmx import run_gmx
+from .inputs import NM, o3p_links
+
+WC_CUTOFF_A = 3.5
+PURINES = ("DA", "DG")
+
+
+def read_xvg(path: Path) -> tuple[list[str], np.ndarray]:
+    legends, rows = [], []
+    for ln in Path(path).read_text().splitlines():
+        if ln.startswith("@ s") and "legend" in ln:
+            legends.append(ln.split('"')[1])
+        elif ln and ln[0] not in "#@":
+            rows.append([float(t) for t in ln.split()])
+    return legends, np.array(rows)
+
+
+def energy_drift(directory: Path, gmx: str, n_atoms: int) -> dict:
+    d = Path(directory)
+    run_gmx(gmx, ["energy", "-f", "md.edr", "-o", "energy.xvg"], d,
+            stdin="Potential\nKinetic-En.\nTotal-Energy\nConserved-En.\nTemperature\n\n",
+            log_name="gmx_energy.log")
+    names, data = read_xvg(d / "energy.xvg")
+    t = data[:, 0]
+    col = {n: data[:, k + 1] for k, n in enumerate(names)}
+    E = col.get("Conserved En.", col.get("Total Energy"))
+    out = {"times_ps": [float(t[0]), float(t[-1])], "n_frames": int(len(t))}
+    if len(t) >= 4:
+        # The drift is the trend; the first output interval also holds the start-up
+        # transient of a structure that is not in equilibrium with its velocities
+        # (energy is exchanged with the stiff X-H vibrations), so fit from 10 % on.
+        late = t >= t[0] + 0.1 * (t[-1] - t[0])
+        p = np.polyfit(t[late], E[late], 1)
+        out.update({
+            "total_energy_start_kJ_mol": float(E[0]), "total_energy_end_kJ_mol": float(E[-1]),
+            "drift_kJ_mol_per_ps": float(p[0]),
+            "drift_kJ_mol_per_ns_per_atom": float(p[0]) * 1000.0 / n_atoms,
+            "drift_fit_from_ps": float(t[late][0]),
+            "fluctuation_rms_kJ_mol": float(np.std(E[late] - np.polyval(p, t[late]))),
+            "max_abs_deviation_kJ_mol": float(np.abs(E - E[0]).max()),
+            "kinetic_energy_start_kJ_mol": float(col["Kinetic En."][0]),
+            "max_abs_deviation_over_kinetic_start": float(np.abs(E - E[0]).max()
+                                                          / max(abs(col["Kinetic En."][0]), 1e-30)),
+            "temperature_K": {"start": float(col["Temperature"][0]), "end": float(col["Temperature"][-1]),
+                              "mean": float(col["Temperature"].mean())},
+        })
+    return out
+
+
+def wc_pairs(resid, resname, names, n_bp: int):
+    """Atom indices (i, j) of N1(purine)-N3(pyrimidine) for each base pair k = 1..n."""
+    where = {(int(r), str(a)): k for k, (r, a) in enumerate(zip(resid, names))}
+    rn = {int(r): str(n) for r, n in zip(resid, resname)}
+    out = []
+    for k in range(1, n_bp + 1):
+        a, b = k, 2 * n_bp + 1 - k
+        ia = where[(a, "N1" if rn[a] in PURINES else "N3")]
+        ib = where[(b, "N1" if rn[b] in PURINES else "N3")]
+        out.append((ia, ib))
+    return np.array(out)
+
+
+def _transverse_whole(x, box, axis):
+    """Coordinates made continuous across the side walls by following the atom
+    order (consecutive atoms are bonded or close); the axis coordinate stays wrapped."""
+    d = np.diff(x, axis=0)
+    d -= box * np.round(d / box)
+    y = np.concatenate([x[:1], x[:1] + np.cumsum(d, axis=0)])
+    y[:, axis] = x[:, axis]
+    return y
+
+
+def min_side_image_distance(x_A, box_A, axis: int) -> float:
+    """Smallest distance between any atom and any atom of an image displaced
+    across the axis (by +-1 box edge in one or both transverse directions)."""
+    from scipy.spatial import cKDTree
+    box = np.asarray(box_A, float)
+    y = _transverse_whole(np.asarray(x_A, float), box, axis)
+    y[:, axis] %= box[axis]
+    size = np.full(3, 0.0)
+    size[axis] = box[axis]
+    perp = [k for k in range(3) if k != axis]
+    span = y[:, perp].max(axis=0) - y[:, perp].min(axis=0)
+    # non-periodic transverse directions: an unbounded box (larger than any shift)
+    bounds = np.where(size > 0, size, 0.0)
+    for k in perp:
+        bounds[k] = 4.0 * (span.max() + box[perp].max()) + 1.0
+    lo = y.min(axis=0)
+    lo[axis] = 0.0
+    tree = cKDTree(y - lo, boxsize=bounds)
+    best = np.inf
+    for a in (-1, 0, 1):
+        for b in (-1, 0, 1):
+            if a == 0 and b == 0:
+                continue
+            shift = np.zeros(3)
+            shift[perp[0]] = a * box[perp[0]]
+            shift[perp[1]] = b * box[perp[1]]
+            q = y - lo + shift
+            dist, _ = tree.query(np.mod(q, bounds))
+            best = min(best, float(dist.min()))
+    return best
+
+
+def write_checks(directory: Path, *, gmx: str) -> dict:
+    import MDAnalysis as mda
+    d = Path(directory)
+    build = json.loads((d / "build.json").read_text())
+    n = int(build["n_bp"])
+    axis = int(build["box"]["axis"])
+    u = mda.Universe(str(d / "conf.gro"), str(d / "md.xtc"))
+    resid = u.atoms.resids
+    resname = list(u.atoms.resnames)
+    names = list(u.atoms.names)
+    pairs = wc_pairs(resid, resname, names, n)
+    times, pos, boxes, side = [], [], [], []
+    for ts in u.trajectory:
+        times.append(ts.time)
+        pos.append(u.atoms.positions.astype(float))
+        boxes.append(ts.dimensions[:3].astype(float))
+        side.append(min_side_image_distance(pos[-1], boxes[-1], axis))
+    X = np.array(pos)                  # (T, N, 3) A
+    B = np.array(boxes)                # (T, 3) A
+    # O3'-P links per frame (box may in principle change; NVE keeps it fixed)
+    links = [o3p_links(X[t] / NM, resid, names, n, B[t] / NM) for t in range(len(X))]
+    junction = {}
+    for s in ("I", "II"):
+        j = np.array([lk[s]["junction_A"] for lk in links])
+        inner = np.array([lk[s]["interior_A"] for lk in links])
+        junction[s] = {"junction_min_A": float(j.min()), "junction_max_A": float(j.max()),
+                       "interior_min_A": float(inner.min()), "interior_max_A": float(inner.max())}
+    dv = X[:, pairs[:, 1]] - X[:, pairs[:, 0]]
+    dv -= B[:, None, :] * np.round(dv / B[:, None, :])
+    dist = np.linalg.norm(dv, axis=-1)                    # (T, n_bp)
+    intact = (dist < WC_CUTOFF_A).mean(axis=1)
+    cutoff_A = float(build["md_settings"]["cutoff_nm"]) * NM
+    checks = {
+        "n_frames": len(times), "times_ps": [float(times[0]), float(times[-1])],
+        "junction_O3P": junction,
+        "junction_ok": all(v["junction_max_A"] <= v["interior_max_A"] + 0.05
+                           and v["junction_min_A"] >= v["interior_min_A"] - 0.05
+                           for v in junction.values()),
+        "energy": energy_drift(d, gmx, u.atoms.n_atoms),
+        "watson_crick": {"criterion": f"N1(purine)-N3(pyrimidine) < {WC_CUTOFF_A} A, minimum image",
+                         "times_ps": [float(t) for t in times],
+                         "fraction_intact": [float(f) for f in intact],
+                         "final_fraction_intact": float(intact[-1]),
+                         "min_fraction_intact": float(intact.min())},
+        "frames_t0_vs_rod": build.get("frames_t0_vs_rod"),
+        "side_image": {"min_distance_A": float(min(side)), "cutoff_A": cutoff_A,
+                       "ok": bool(min(side) > cutoff_A),
+                       "per_frame_A": [float(x) for x in side]},
+    }
+    (d / "checks.json").write_text(json.dumps(checks, indent=1))
+    return checks

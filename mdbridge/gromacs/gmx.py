@@ -1,0 +1,140 @@
+"""Find the user's `gmx` and run it; GROMACS failures become ExternalToolError.
+
+Order of precedence: an explicit path (--gmx), the environment variable
+DNAROD_GMX, then `gmx` on PATH. Debian's GROMACS is built for SSE4.1 only, so
+a user with an optimised build must be able to point dnarod at it.
+"""
+from __future__ import annotations
+
+import os
+import re
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+from dna_models.errors import ExternalToolError
+
+INSTALL_HINT = ("install GROMACS (Debian/Ubuntu: `sudo apt-get install gromacs`, or run "
+                "scripts/setup.sh), or point dnarod at your own build with --gmx PATH or "
+                "the environment variable DNAROD_GMX=/path/to/gmx")
+
+
+def find_gmx(explicit: str | None = None) -> str:
+    """Path of the gmx executable to use, or ExternalToolError saying how to get one."""
+    for source, cand in (("--gmx", explicit), ("DNAROD_GMX", os.environ.get("DNAROD_GMX"))):
+        if cand:
+            path = shutil.which(cand) or (cand if os.access(cand, os.X_OK) else None)
+            if path is None:
+                raise ExternalToolError(f"gmx given by {source} ({cand!r}) is not an executable "
+                                        f"file; {INSTALL_HINT}")
+            return path
+    path = shutil.which("gmx")
+    if path is None:
+        raise ExternalToolError(f"GROMACS `gmx` not found on PATH; {INSTALL_HINT}")
+    return path
+
+
+def gmx_version(gmx: str) -> str:
+    out = subprocess.run([gmx, "--version"], capture_output=True, text=True)
+    m = re.search(r"GROMACS version:\s*(\S+)", out.stdout + out.stderr)
+    return m.group(1) if m else "unknown"
+
+
+def gmx_top_dir(gmx: str) -> Path:
+    """The force-field directory of this gmx ($GMXDATA/top or <Data prefix>/share/gromacs/top)."""
+    if os.environ.get("GMXDATA"):
+        return Path(os.environ["GMXDATA"]) / "top"
+    out = subprocess.run([gmx, "--version"], capture_output=True, text=True)
+    m = re.search(r"Data prefix:\s*(\S+)", out.stdout + out.stderr)
+    if not m:
+        raise ExternalToolError(f"cannot find the data directory of {gmx} (`gmx --version` "
+                                "prints no 'Data prefix'); set GMXDATA")
+    return Path(m.group(1)) / "share" / "gromacs" / "top"
+
+
+def error_block(text: str, max_lines: int = 40) -> str:
+    """The part of GROMACS output that says what went wrong.
+
+    GROMACS frames fatal errors between a dashed line and "For more information
+    and tips for troubleshooting"; grompp also prints ERROR n [file, line n]
+    blocks. Everything else (the quote, the banner) is noise."""
+    lines = text.splitlines()
+    picked: list[str] = []
+    i = 0
+    while i < len(lines):
+        ln = lines[i]
+        if ln.startswith(("ERROR ", "WARNING ", "Fatal error", "Invalid ")) or "Program:" in ln \
+                or "Error in user input" in ln:
+            j = i
+            while j < len(lines) and not lines[j].startswith("For more information") \
+                    and not (j > i and lines[j].startswith("-----")) \
+                    and not (j > i and ln.startswith(("WARNING ", "ERROR ")) and not lines[j].strip()):
+                picked.append(lines[j])
+                j += 1
+            picked.append("")
+            i = j
+        i += 1
+    if not picked:  # fall back to the tail, which usually holds the reason
+        picked = [ln for ln in lines if ln.strip()][-15:]
+    picked = [ln for ln in picked if not ln.startswith("GROMACS reminds you")]
+    return "\n".join(picked[:max_lines]).strip()
+
+
+def run_gmx(gmx: str, args: list[str], cwd: Path, *, stdin: str | None = None,
+            log_name: str | None = None) -> subprocess.CompletedProcess:
+    """Run `gmx ARGS` in cwd; on failure raise ExternalToolError with GROMACS's own words.
+
+    The full output is kept in cwd/LOG_NAME (default gmx_<tool>.log) so nothing is lost."""
+    cwd = Path(cwd)
+    cmd = [gmx, *args]
+    proc = subprocess.run(cmd, cwd=cwd, input=stdin if stdin is not None else "",
+                          capture_output=True, text=True)
+    log = cwd / (log_name or f"gmx_{args[0]}.log")
+    log.write_text(f"$ {' '.join(cmd)}\n--- stdout\n{proc.stdout}\n--- stderr\n{proc.stderr}")
+    if proc.returncode != 0:
+        raise ExternalToolError(
+            f"`gmx {args[0]}` failed (exit {proc.returncode}) in {cwd}; full output in {log}:\n"
+            + error_block(proc.stderr + "\n" + proc.stdout))
+    return proc
+
+
+def run_gmx_with_progress(gmx: str, args: list[str], cwd: Path, *, total_steps: int | None,
+                          log_name: str, stream=sys.stderr) -> None:
+    """Run gmx (mdrun) showing its step counter; ExternalToolError on failure.
+
+    mdrun reports "step N, will finish ..." on stderr with carriage returns;
+    we read it as it comes and redraw one progress line."""
+    cwd = Path(cwd)
+    cmd = [gmx, *args]
+    log = cwd / log_name
+    chunks: list[str] = []
+    show = stream is not None and hasattr(stream, "isatty") and stream.isatty()
+    with subprocess.Popen(cmd, cwd=cwd, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
+                          stderr=subprocess.STDOUT, text=True, bufsize=1) as proc:
+        buf = ""
+        assert proc.stdout is not None
+        while True:
+            c = proc.stdout.read(1)
+            if not c:
+                break
+            chunks.append(c)
+            if c in "\r\n":
+                m = re.match(r"\s*(?:imb F\s+\S+\s+)?step\s+(\d+)", buf)
+                if m and show:
+                    step = int(m.group(1))
+                    frac = f" / {total_steps} ({100.0 * step / total_steps:5.1f} %)" \
+                        if total_steps else ""
+                    stream.write(f"\r  mdrun: step {step}{frac}   ")
+                    stream.flush()
+                buf = ""
+            else:
+                buf += c
+        rc = proc.wait()
+    if show:
+        stream.write("\n")
+    text = "".join(chunks)
+    log.write_text(f"$ {' '.join(cmd)}\n{text}")
+    if rc != 0:
+        raise ExternalToolError(f"`gmx {args[0]}` failed (exit {rc}) in {cwd}; full output in "
+                                f"{log}:\n" + error_block(text))

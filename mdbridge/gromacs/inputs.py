@@ -1,0 +1,289 @@
+"""Assemble DIR/conf.gro, topol.top (+ .itp), md.mdp, em.mdp and build.json.
+
+Order matters and is the reason for this module:
+1. the builder's whole (unwrapped) duplex, moved into the box planned from the rod;
+2. pdb2gmx with ring closure (topology.py), then the junction check (junction.py):
+   a build whose strands are not closed exactly like an interior step stops here;
+3. electrostatics variant (charges.py) and base restraints (posres.py);
+4. optional restrained minimisation (em.mdp), unwrapped against the input;
+5. velocities LAST, on the final coordinates: thermal + rod rigid-body field;
+6. a grompp run on md.mdp proves the inputs are accepted before anyone waits on them.
+"""
+from __future__ import annotations
+
+import json
+import platform
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from dna_models.errors import DnarodError, InputError
+from dna_models.units import Units
+
+from . import charges, posres
+from .box import BoxPlan
+from .gmx import gmx_version, run_gmx
+from .gro import Gro, read_gro, write_gro
+from .junction import junction_report
+from .mdp import MdSettings, render_em, render_md
+from .topology import parse_itp, run_pdb2gmx, write_pdb2gmx_input
+from .velocities import (base_pair_of_residue, kinetic_temperature, rigid_body_velocities,
+                         thermal_velocities)
+
+NM = 10.0  # Angstrom per nm
+
+
+@dataclass
+class RodInitial:
+    """The rod at t = 0 sampled at the base pairs s_i = i L / n_bp, in A, ps, rad."""
+    origins_A: np.ndarray        # (n, 3) r(s_i)
+    R: np.ndarray                # (n, 3, 3) columns d1, d2, d3 (= bp x, y, z axes)
+    gamma_lab_A_ps: np.ndarray   # (n, 3)
+    omega_lab_rad_ps: np.ndarray  # (n, 3)
+    closure_length_A: float      # |r(s + L) - r(s)|
+
+    @property
+    def n_bp(self) -> int:
+        return len(self.origins_A)
+
+
+def rod_initial_from_arrays(time, s, centerline, directors, gamma, omega, Gamma, n_bp: int,
+                            units: Units | None = None):
+    """RodInitial (t = 0) and the centerline over the whole run in A (T, N, 3), from rod
+    output in solver units (time (T), s (N), centerline (T,N,3), directors (T,N,3,3) with
+    last index k of d_k, fields (T,N,3) internal frame). Base pair i sits on grid point
+    i N / n_bp (as mdbridge.analysis does), so no interpolation is involved."""
+    from mdbridge.analysis.trajectory import BasePairTrajectory
+    u = units or Units.paper()
+    traj = BasePairTrajectory.from_rod_arrays(time, s, centerline, directors, Gamma, n_bp, u)
+    every = len(s) // n_bp
+    D0 = np.asarray(directors, float)[0, ::every]            # (n, 3, 3), columns d_k
+    g = np.einsum("nik,nk->ni", D0, np.asarray(gamma, float)[0, ::every])
+    w = np.einsum("nik,nk->ni", D0, np.asarray(omega, float)[0, ::every])
+    rod = RodInitial(origins_A=traj.origins[0], R=traj.R[0],
+                     gamma_lab_A_ps=u.velocity_to_A_per_ps(g),
+                     omega_lab_rad_ps=u.angular_velocity_to_rad_per_ps(w),
+                     closure_length_A=float(np.linalg.norm(traj.period[0])))
+    return rod, u.length_to_A(np.asarray(centerline, float))
+
+
+def structure_chains(structure, shift_A) -> list[dict]:
+    """The builder's Structure (strand I then II, each 5'->3') as pdb2gmx input chains."""
+    chains = []
+    x = np.asarray(structure.coords, float) + np.asarray(shift_A, float)
+    for strand, cid in (("I", "A"), ("II", "B")):
+        idx = np.flatnonzero(structure.strands == strand)
+        residues = []
+        for k in idx:
+            r = int(structure.resids[k])
+            if not residues or residues[-1][0] != r:
+                residues.append((r, str(structure.resnames[k]), []))
+            residues[-1][2].append((str(structure.names[k]), tuple(x[k])))
+        chains.append({"id": cid, "residues": residues})
+    return chains
+
+
+def o3p_links(x_nm, resid, names, n_bp: int, box_nm) -> dict:
+    """Minimum-image O3'(i)-P(i+1) lengths in A: the two junction links and the interior range."""
+    box = np.asarray(box_nm, float)
+    where = {(int(r), str(a)): k for k, (r, a) in enumerate(zip(resid, names))}
+    out = {}
+    for strand, first, last in (("I", 1, n_bp), ("II", n_bp + 1, 2 * n_bp)):
+        lengths = []
+        for r in range(first, last + 1):
+            nxt = first if r == last else r + 1
+            d = x_nm[..., where[(nxt, "P")], :] - x_nm[..., where[(r, "O3'")], :]
+            d = d - box * np.round(d / box)
+            lengths.append(np.linalg.norm(d, axis=-1) * NM)
+        L = np.array(lengths)          # (n_bp, [T])
+        out[strand] = {"junction_A": L[-1], "interior_A": L[:-1]}
+    return out
+
+
+def _unwrap_against(x_nm, ref_nm, box_nm):
+    d = x_nm - ref_nm
+    return ref_nm + d - box_nm * np.round(d / box_nm)
+
+
+def _frames_of_gro(gro_path: Path, n_bp: int):
+    """Base-pair frames of a built structure, re-analysed with mdbridge.geometry (3DNA)."""
+    import MDAnalysis as mda
+    from mdbridge.geometry.structure import BasePairFrames
+    u = mda.Universe(str(gro_path))
+    pairs = [(k, 2 * n_bp + 1 - k) for k in range(1, n_bp + 1)]
+    bp = BasePairFrames(u, pairs=pairs).run()
+    return np.asarray(bp.results.origins)[0], np.asarray(bp.results.R)[0]
+
+
+def frame_deviation(o1, R1, o2, R2, box_A=None) -> dict:
+    """Largest origin distance (A) and rotation angle (deg) between two sets of frames."""
+    d = np.asarray(o2) - np.asarray(o1)
+    if box_A is not None:
+        b = np.asarray(box_A, float)
+        d = d - b * np.round(d / b)
+    rel = np.einsum("nji,njk->nik", R1, R2)
+    cosang = np.clip((np.trace(rel, axis1=1, axis2=2) - 1.0) / 2.0, -1.0, 1.0)
+    ang = np.degrees(np.arccos(cosang))
+    return {"max_origin_A": float(np.linalg.norm(d, axis=1).max()),
+            "rms_origin_A": float(np.sqrt((np.linalg.norm(d, axis=1) ** 2).mean())),
+            "max_angle_deg": float(ang.max()), "rms_angle_deg": float(np.sqrt((ang ** 2).mean()))}
+
+
+def build_inputs(outdir: Path, structure, rod: RodInitial, box: BoxPlan, *, sequence: str,
+                 forcefield: str = "charmm27", electrostatics: str = "paper",
+                 temperature_K: float = 300.0, seed: int = 0, settings: MdSettings | None = None,
+                 minimize: bool = False, gmx: str = "gmx", threads: int = 1,
+                 meta: dict | None = None) -> dict:
+    """Write every MD input into OUTDIR and return the content of build.json."""
+    outdir = Path(outdir)
+    outdir.mkdir(parents=True, exist_ok=True)
+    for stale in ("build.json", "md.done", "checks.json"):
+        (outdir / stale).unlink(missing_ok=True)
+    settings = settings or MdSettings()
+    n = rod.n_bp
+    if len(sequence) != n:
+        raise InputError(f"sequence has {len(sequence)} bases but the rod has {n} base pairs")
+    if temperature_K < 0:
+        raise InputError(f"--temperature {temperature_K}: must be >= 0 K")
+    shift = np.asarray(box.shift_A, float)
+    box_nm = np.asarray(box.box_A, float) / NM
+
+    # 1-2. topology with ring closure, verified
+    pdb = outdir / "duplex_in.pdb"
+    write_pdb2gmx_input(pdb, structure_chains(structure, shift), forcefield)
+    lb_nm = float(np.max(box_nm)) * 2.0 + 1.0   # larger than any distance in the structure
+    top = run_pdb2gmx(gmx, pdb, outdir, forcefield, lb_nm=lb_nm)
+    mols = [parse_itp(p) for p in top["itps"]]
+    junctions = [junction_report(m) for m in mols]
+    bad = [j for j in junctions if not j["ok"]]
+    if len(mols) != 2 or bad:
+        raise DnarodError("ring closure failed: the junction terms of "
+                          + ", ".join(j["molecule"] for j in bad or junctions)
+                          + " differ from an interior step's: "
+                          + json.dumps(bad or junctions, indent=1)[:3000])
+
+    # 3. electrostatics and restraints
+    residue_charges = {}
+    for p, m in zip(top["itps"], mols):
+        residue_charges[m.name] = charges.apply_electrostatics(p, electrostatics)
+        posres.add_base_restraints(p, m)
+    mols = [parse_itp(p) for p in top["itps"]]
+    masses = np.concatenate([m.mass for m in mols])
+    total_charge = float(sum(m.charge.sum() for m in mols))
+
+    g = read_gro(top["gro"])
+    names_itp = sum((m.atomname for m in mols), [])
+    if g.n_atoms != len(masses) or g.name != names_itp:
+        raise DnarodError(f"{top['gro']}: atoms differ from the topology's ({g.n_atoms} vs {len(masses)})")
+    x_nm = g.x.copy()
+    (outdir / "em.mdp").write_text(render_em(settings))
+    (outdir / "md.mdp").write_text(render_md(settings))
+
+    # 4. optional restrained minimisation
+    em = None
+    if minimize:
+        em_in = Gro("dnarod: before minimisation", g.resid, g.resname, g.name, x_nm, None, box_nm)
+        write_gro(outdir / "em_in.gro", em_in)
+        run_gmx(gmx, ["grompp", "-f", "em.mdp", "-c", "em_in.gro", "-r", "em_in.gro", "-p",
+                      "topol.top", "-o", "em.tpr", "-po", "em_out.mdp", "-maxwarn", "0"], outdir,
+                log_name="gmx_grompp_em.log")
+        run_gmx(gmx, ["mdrun", "-deffnm", "em", "-nt", str(threads)], outdir, log_name="gmx_mdrun_em.log")
+        x_em = _unwrap_against(read_gro(outdir / "em.gro").x, x_nm, box_nm)
+        o0, R0 = _frames_of_gro(outdir / "em_in.gro", n)
+        write_gro(outdir / "em_whole.gro",
+                  Gro("dnarod: after minimisation (whole)", g.resid, g.resname, g.name, x_em, None, box_nm))
+        o1, R1 = _frames_of_gro(outdir / "em_whole.gro", n)
+        em = {"frames_moved": frame_deviation(o0, R0, o1, R1),
+              "max_atom_displacement_A": float(np.linalg.norm(x_em - x_nm, axis=1).max() * NM),
+              "log": str(outdir / "em.log")}
+        em.update(_em_summary(outdir / "gmx_mdrun_em.log"))
+        x_nm = x_em
+
+    # 5. velocities on the final coordinates
+    bp = base_pair_of_residue(g.resid, n)
+    v_rod = rigid_body_velocities(x_nm * NM, bp, rod.origins_A + shift, rod.gamma_lab_A_ps,
+                                  rod.omega_lab_rad_ps)
+    v_th = thermal_velocities(masses, temperature_K, seed)
+    v = v_th + v_rod
+    conf = Gro(f"dnarod periodic duplex {n} bp, {forcefield}, T={temperature_K} K, seed={seed}",
+               g.resid, g.resname, g.name, x_nm, v, box_nm)
+    write_gro(outdir / "conf.gro", conf)
+    np.save(outdir / "velocities_rod.npy", v_rod)
+
+    # t = 0 geometry checks: frames of the built structure vs the rod's; junction links
+    o_b, R_b = _frames_of_gro(outdir / "conf.gro", n)
+    frames_t0 = frame_deviation(rod.origins_A + shift, rod.R, o_b, R_b, box.box_A)
+    links = o3p_links(x_nm, g.resid, g.name, n, box_nm)
+
+    # 6. grompp proves the inputs are accepted
+    run_gmx(gmx, ["grompp", "-f", "md.mdp", "-c", "conf.gro", "-p", "topol.top", "-o",
+                  "grompp_check.tpr", "-po", "grompp_check.mdp", "-maxwarn", "0"], outdir,
+            log_name="gmx_grompp_check.log")
+    for p in ("grompp_check.tpr", "grompp_check.mdp"):
+        (outdir / p).unlink(missing_ok=True)
+
+    u = Units.paper()
+    info = {
+        "sequence": sequence, "n_bp": n, "seed": seed, "temperature_K": temperature_K,
+        "forcefield": forcefield, "electrostatics": electrostatics,
+        "electrostatics_doc": charges.__doc__.strip(),
+        "total_charge_e": round(total_charge, 4), "n_atoms": int(g.n_atoms),
+        "units": u.as_dict(),
+        "box": box.as_dict(), "box_nm": box_nm.tolist(),
+        "md_settings": settings.as_dict(),
+        "junctions": junctions,
+        "junction_O3P_t0_A": {s: {"junction": float(d["junction_A"]),
+                                  "interior_min": float(d["interior_A"].min()),
+                                  "interior_max": float(d["interior_A"].max())}
+                              for s, d in links.items()},
+        "frames_t0_vs_rod": frames_t0,
+        "velocities": {
+            "rule": "v = thermal (Maxwell-Boltzmann, COM removed, rescaled to exactly T with "
+                    "3N-3 dof) + gamma_lab(s_i) + omega_lab(s_i) x (x - r(s_i)) for every atom "
+                    "of both nucleotides of base pair i",
+            "thermal_temperature_K": float(kinetic_temperature(masses, v_th, 3 * len(masses) - 3))
+            if temperature_K > 0 else 0.0,
+            "rod_max_speed_nm_ps": float(np.linalg.norm(v_rod, axis=1).max()),
+            "total_momentum_amu_nm_ps": (masses[:, None] * v).sum(axis=0).tolist(),
+            "rod_momentum_amu_nm_ps": (masses[:, None] * v_rod).sum(axis=0).tolist(),
+            # comm-mode = Linear removes this at the first step (md.mdp)
+            "rod_com_velocity_nm_ps": ((masses[:, None] * v_rod).sum(axis=0) / masses.sum()).tolist(),
+        },
+        "minimization": em,
+        "residue_to_base_pair": "strand I residue k -> pair k; strand II residue r -> pair 2n+1-r "
+                                "(1-based, 3DNA numbering)",
+        "gmx": {"path": gmx, "version": gmx_version(gmx)},
+        "host": platform.node(),
+        "files": ["conf.gro", "topol.top"] + [p.name for p in top["itps"]]
+                 + ["md.mdp", "em.mdp", "build.json"],
+    }
+    info.update(meta or {})
+    (outdir / "build.json").write_text(json.dumps(info, indent=1, default=_json_default))
+    return info
+
+
+def _em_summary(log: Path) -> dict:
+    import re
+    text = Path(log).read_text()
+    out = {}
+    m = re.search(r"converged to Fmax < (\S+) in (\d+) steps", text)
+    if m:
+        out.update(converged=True, steps=int(m.group(2)))
+    else:
+        out["converged"] = False
+    m = re.search(r"Maximum force\s*=\s*(\S+)", text)
+    if m:
+        out["final_Fmax_kJ_mol_nm"] = float(m.group(1))
+    m = re.search(r"Potential Energy\s*=\s*(\S+)", text)
+    if m:
+        out["final_potential_kJ_mol"] = float(m.group(1))
+    return out
+
+
+def _json_default(o):
+    if isinstance(o, np.ndarray):
+        return o.tolist()
+    if isinstance(o, (np.floating, np.integer)):
+        return o.item()
+    raise TypeError(f"not JSON serialisable: {type(o)}")

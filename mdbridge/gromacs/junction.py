@@ -1,0 +1,62 @@
+"""Verify by code that each ring junction carries exactly the terms of an interior step.
+
+A strand closed across the periodic boundary must be chemically identical to
+an infinite strand: the bonded terms that couple its last residue to its first
+must be the same, term for term, as those that couple residue i to residue
+i+1 inside the strand. We compare, per kind (bonds, pairs, angles, proper and
+improper dihedrals, cmap), the multiset of atom-name patterns
+((name, 0|1), ...) where 0 marks the 5' residue of the step and 1 the 3' one.
+For charmm27 an interior DNA step has 1 bond (O3'-P), 4 angles, 7 proper
+dihedrals and 7 pairs (19 terms).
+"""
+from __future__ import annotations
+
+from collections import Counter
+
+from .topology import Molecule
+
+KINDS = ("bonds", "pairs", "angles", "proper_dihedrals", "improper_dihedrals", "cmap")
+
+
+def _step_terms(mol: Molecule, res_a: int, res_b: int) -> dict[str, Counter]:
+    """Terms that involve atoms of both residues a (5') and b (3') and no other residue."""
+    out = {k: Counter() for k in KINDS}
+    for kind, terms in mol.terms.items():
+        for atoms in terms:
+            res = {int(mol.resnr[a - 1]) for a in atoms}
+            if res != {res_a, res_b}:
+                continue
+            pattern = tuple((mol.atomname[a - 1], 0 if mol.resnr[a - 1] == res_a else 1)
+                            for a in atoms)
+            # a term and its reverse are the same interaction
+            out[kind][min(pattern, pattern[::-1])] += 1
+    return out
+
+
+def junction_report(mol: Molecule) -> dict:
+    """Compare the last->first junction of a cyclic strand with every interior step.
+
+    Returns counts per kind for the junction and the interior steps, and ok=True only
+    if the junction's term patterns equal those of every interior step."""
+    res = mol.residues
+    if len(res) < 3:
+        return {"molecule": mol.name, "ok": False, "reason": "fewer than 3 residues"}
+    interior = [_step_terms(mol, a, b) for a, b in zip(res[:-1], res[1:])]
+    junction = _step_terms(mol, res[-1], res[0])
+    ref = interior[0]
+    interior_uniform = all(step == ref for step in interior)
+    counts = {k: sum(junction[k].values()) for k in KINDS}
+    interior_counts = {k: sum(ref[k].values()) for k in KINDS}
+    ok = interior_uniform and junction == ref and counts["bonds"] == 1
+    mismatch = []
+    if not ok:
+        for k in KINDS:
+            missing = ref[k] - junction[k]
+            extra = junction[k] - ref[k]
+            if missing or extra:
+                mismatch.append({"kind": k, "missing": [list(p) for p in missing],
+                                 "extra": [list(p) for p in extra]})
+    return {"molecule": mol.name, "first_residue": res[0], "last_residue": res[-1],
+            "junction_counts": counts, "interior_counts": interior_counts,
+            "junction_total": sum(counts.values()), "interior_uniform": interior_uniform,
+            "ok": ok, "mismatch": mismatch}

@@ -1,0 +1,120 @@
+"""md.mdp and em.mdp: the paper's setting (Sec 6.2) as GROMACS parameters.
+
+Paper: CHARMM22/27 nucleic acids, no water, no counterions, electrostatics
+cut off at 10 A, NVE, strands ligated across the periodic boundary. Choices
+that the paper leaves open are explained where they are made."""
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass
+
+
+@dataclass
+class MdSettings:
+    nsteps: int = 0                 # set by run-md (--ps / --steps); 0 = grompp check only
+    dt_ps: float = 0.001            # 1 fs: no constraints, best NVE energy conservation
+    constraints: str = "none"       # "h-bonds" allows dt 2 fs (2x faster, small drift cost)
+    cutoff_nm: float = 1.0          # paper: 10 A electrostatics cut-off; vdW the same
+    temperature_K: float = 300.0    # thermostat target, only used with thermostat=True
+    thermostat: bool = False        # NVE by default: the rod is Hamiltonian (paper Sec 6.2)
+    tau_t_ps: float = 1.0
+    output_ps: float = 1.0          # coordinates (xtc) and energies every output_ps
+    epsilon_r: float = 1.0
+
+    def steps_per(self, ps: float) -> int:
+        return max(1, int(round(ps / self.dt_ps)))
+
+    def as_dict(self) -> dict:
+        return asdict(self)
+
+
+def _common(s: MdSettings) -> list[str]:
+    return [
+        "; vacuum, periodic in x, y, z; the strands are bonded to their own periodic image",
+        "pbc                     = xyz",
+        "periodic-molecules      = yes",
+        "cutoff-scheme           = Verlet",
+        "; plain cut-off Coulomb (paper: 10 A cut-off, no long-range electrostatics).",
+        "; Under Verlet this is reaction-field with epsilon-rf = 1, i.e. shifted Coulomb;",
+        "; PME is impossible anyway: the duplex carries net charge and there are no ions.",
+        "coulombtype             = Cut-off",
+        f"rcoulomb                = {s.cutoff_nm}",
+        f"epsilon-r               = {s.epsilon_r}",
+        "vdwtype                 = Cut-off",
+        "vdw-modifier            = Potential-shift",
+        f"rvdw                    = {s.cutoff_nm}",
+        "nstlist                 = 10",
+    ]
+
+
+def render_md(s: MdSettings) -> str:
+    out_steps = s.steps_per(s.output_ps)
+    lines = [
+        "; dnarod md.mdp: all-atom MD of the periodic, ligated duplex (see docs/md.md)",
+        "integrator              = md",
+        f"dt                      = {s.dt_ps}",
+        f"nsteps                  = {s.nsteps}",
+        "; velocities come from conf.gro (thermal + rod rigid-body field); never regenerate",
+        "gen-vel                 = no",
+        "continuation            = yes",
+        f"constraints             = {s.constraints}",
+        "constraint-algorithm    = lincs",
+        "; centre-of-mass translation removed (GROMACS warns that rounding otherwise builds",
+        "; it up); the rod's planar wave carries no net momentum, build.json reports what",
+        "; the rod field's COM velocity is, i.e. what this removes at step 0",
+        "comm-mode               = Linear",
+        "nstcomm                 = 100",
+        f"nstxout-compressed      = {out_steps}",
+        "compressed-x-precision  = 10000",
+        f"nstenergy               = {out_steps}",
+        f"nstcalcenergy           = {min(out_steps, 100)}",
+        f"nstlog                  = {out_steps}",
+        "nstvout                 = 0",
+        "nstfout                 = 0",
+        # A fixed 0.1 nm pair-list buffer: GROMACS would size the buffer from the
+        # initial temperature, which is ~0 K for a build at 0 K that then heats up.
+        "verlet-buffer-tolerance = -1",
+        f"rlist                   = {s.cutoff_nm + 0.1}",
+    ] + _common(s)
+    if s.thermostat:
+        lines += ["tcoupl                  = V-rescale", "tc-grps                 = System",
+                  f"tau-t                   = {s.tau_t_ps}", f"ref-t                   = {s.temperature_K}"]
+    else:
+        lines += ["tcoupl                  = no"]
+    lines += ["pcoupl                  = no"]
+    return "\n".join(lines) + "\n"
+
+
+def render_em(s: MdSettings, *, posres_define: str = "-DPOSRES_BASES", nsteps: int = 5000,
+              emtol: float = 500.0) -> str:
+    lines = [
+        "; dnarod em.mdp: steepest descent that removes backbone clashes while the",
+        "; base heavy atoms are held by position restraints (posre_bases_*.itp)",
+        f"define                  = {posres_define}",
+        "integrator              = steep",
+        f"nsteps                  = {nsteps}",
+        f"emtol                   = {emtol}",
+        "emstep                  = 0.001",
+        "constraints             = none",
+        "comm-mode               = None",
+        "refcoord-scaling        = no",
+        "nstenergy               = 10",
+    ] + _common(s) + ["tcoupl                  = no", "pcoupl                  = no"]
+    return "\n".join(lines) + "\n"
+
+
+def set_nsteps(mdp_text: str, nsteps: int) -> str:
+    """md.mdp with nsteps replaced (run-md chooses the length at run time)."""
+    out = []
+    for ln in mdp_text.splitlines():
+        key = ln.split("=")[0].strip().lower().replace("_", "-")
+        out.append(f"nsteps                  = {nsteps}" if key == "nsteps" else ln)
+    return "\n".join(out) + "\n"
+
+
+def read_mdp_value(mdp_text: str, key: str) -> str | None:
+    key = key.lower().replace("_", "-")
+    for ln in mdp_text.splitlines():
+        ln = ln.split(";")[0]
+        if "=" in ln and ln.split("=")[0].strip().lower().replace("_", "-") == key:
+            return ln.split("=", 1)[1].strip()
+    return None

@@ -1,0 +1,104 @@
+"""Run the MD of a build-md directory: grompp, then mdrun with progress.
+
+A half-finished MD must never look finished: mdrun writes md.part.* and
+confout.part.gro, which are renamed to md.xtc, md.edr, md.log, confout.gro
+only after mdrun exits cleanly, and the marker md.done (JSON) is written
+last. Anything that reads results should require md.done.
+"""
+from __future__ import annotations
+
+import json
+import re
+import sys
+import time
+from pathlib import Path
+
+from dna_models.errors import InputError
+
+from .gmx import find_gmx, gmx_version, run_gmx, run_gmx_with_progress
+from .mdp import read_mdp_value
+
+PARTS = {"md.part.xtc": "md.xtc", "md.part.edr": "md.edr", "md.part.log": "md.log",
+         "confout.part.gro": "confout.gro", "md.part.cpt": "md.cpt"}
+FINAL = ("md.tpr", "md.xtc", "md.edr", "md.log", "confout.gro", "md.done", "checks.json")
+
+
+def _set_keys(mdp_text: str, values: dict) -> str:
+    out, done = [], set()
+    for ln in mdp_text.splitlines():
+        key = ln.split(";")[0].split("=")[0].strip().lower().replace("_", "-")
+        if key in values:
+            out.append(f"{key:<23s} = {values[key]}")
+            done.add(key)
+        else:
+            out.append(ln)
+    out += [f"{k:<23s} = {v}" for k, v in values.items() if k not in done]
+    return "\n".join(out) + "\n"
+
+
+def run_md(directory: Path, *, ps: float | None = None, steps: int | None = None,
+           gmx: str | None = None, threads: int | None = None, output_ps: float | None = None,
+           checks: bool = True, stream=sys.stderr) -> dict:
+    """grompp + mdrun in DIRECTORY (a build-md output). Returns the md.done record."""
+    d = Path(directory)
+    for need in ("conf.gro", "topol.top", "md.mdp", "build.json"):
+        if not (d / need).is_file():
+            raise InputError(f"{d}: {need} missing; run `dnarod build-md SCENE -o {d}` first")
+    if ps is not None and steps is not None:
+        raise InputError("give --ps or --steps, not both")
+    gmx_path = find_gmx(gmx)
+    build = json.loads((d / "build.json").read_text())
+    mdp = (d / "md.mdp").read_text()
+    dt = float(read_mdp_value(mdp, "dt") or 0.001)
+    if steps is None:
+        if ps is None:
+            ps = float(build.get("md_length_ps") or 0.0)
+            if ps <= 0:
+                raise InputError(f"{d}/build.json has no md_length_ps: give --ps or --steps")
+        steps = int(round(ps / dt))
+    if steps < 1:
+        raise InputError(f"--steps/--ps: need at least one MD step (got {steps})")
+    run_ps = steps * dt
+    planned = float(build.get("box", {}).get("rod_run_ps", run_ps))
+    if run_ps > planned * (1 + 1e-9) and stream is not None:
+        stream.write(f"warning: running {run_ps:g} ps but the box was sized from a rod run of "
+                     f"{planned:g} ps; check min_side_image_distance in checks.json\n")
+    values = {"nsteps": steps}
+    if output_ps is not None:
+        if output_ps <= 0:
+            raise InputError(f"--output-ps {output_ps}: must be > 0")
+        every = max(1, int(round(output_ps / dt)))
+        values.update({"nstxout-compressed": every, "nstenergy": every, "nstlog": every,
+                       "nstcalcenergy": min(every, 100)})
+    for f in FINAL + tuple(PARTS):
+        (d / f).unlink(missing_ok=True)
+    (d / "md_run.mdp").write_text(_set_keys(mdp, values))
+
+    run_gmx(gmx_path, ["grompp", "-f", "md_run.mdp", "-c", "conf.gro", "-p", "topol.top",
+                       "-o", "md.tpr", "-po", "mdout.mdp", "-maxwarn", "0"], d,
+            log_name="gmx_grompp_md.log")
+    args = ["mdrun", "-v", "-s", "md.tpr", "-x", "md.part.xtc", "-e", "md.part.edr",
+            "-g", "md.part.log", "-c", "confout.part.gro", "-cpo", "md.part.cpt",
+            "-o", "md.part.trr"]
+    if threads:
+        args += ["-nt", str(int(threads))]
+    t0 = time.time()
+    run_gmx_with_progress(gmx_path, args, d, total_steps=steps, log_name="gmx_mdrun_md.log",
+                          stream=stream)
+    wall = time.time() - t0
+    for src, dst in PARTS.items():
+        if (d / src).exists():
+            (d / src).replace(d / dst)
+    (d / "md.part.trr").unlink(missing_ok=True)
+    log = (d / "md.log").read_text() if (d / "md.log").exists() else ""
+    m = re.search(r"Performance:\s+(\S+)\s+(\S+)", log)
+    record = {"steps": steps, "dt_ps": dt, "length_ps": run_ps, "wall_s": round(wall, 2),
+              "ns_per_day": float(m.group(1)) if m else None, "threads": threads,
+              "gmx": {"path": gmx_path, "version": gmx_version(gmx_path)}}
+    if checks:
+        from .checks import write_checks
+        write_checks(d, gmx=gmx_path)
+        record["checks"] = "checks.json"
+    # written last: its presence means every output above is complete
+    (d / "md.done").write_text(json.dumps(record, indent=1))
+    return record
