@@ -59,11 +59,11 @@ std::vector<double> read_dataset(hid_t file, const std::string& path, const std:
     throw InputError("file '" + path + "': dataset '" + name + "' cannot be read as numbers");
   for (std::size_t k = 0; k < n; ++k) {
     if (!std::isfinite(v[k])) {
-      std::string where = expected.size() == 2
-                              ? "[" + std::to_string(k / 3) + ", " + std::to_string(k % 3) + "]"
-                              : "[" + std::to_string(k) + "]";
+      std::ostringstream where;  // (ostringstream: GCC 12 warns falsely on "[" + to_string)
+      if (expected.size() == 2) where << '[' << k / 3 << ", " << k % 3 << ']';
+      else where << '[' << k << ']';
       throw InputError("file '" + path + "': dataset '" + name + "' has a non-finite value (" +
-                       fmt_double(v[k]) + ") at index " + where);
+                       fmt_double(v[k]) + ") at index " + where.str());
     }
   }
   return v;

@@ -1,0 +1,69 @@
+// HDF5 output of a run (design.md "Public contracts"; docs/scenes.md "Output file"):
+//   time                 (T)            output times (dimensionless)
+//   s                    (N)            grid s_i = i L / N
+//   fields/<name>        (T x N x 3)    gamma, omega, Gamma, Omega (internal frame)
+//   energy               (T)            when output.fields has "energy"
+//   energy_parts/<name>  (T)            when "energy_parts"
+//   centerline           (T x N x 3)    when "centerline" (lab frame)
+//   directors            (T x N x 3 x 3) when "directors"; [t][i][xyz][k] = component xyz of d_k
+// Datasets are chunked with unlimited T; each frame is written and flushed
+// (H5Fflush) as it arrives, `time` last, so len(time) is the number of
+// complete frames even if the process is killed. The file is written as
+// OUT.h5.partial and renamed to OUT.h5 by finish() (complete = 1) or by
+// fail() (complete = 0, error = message). A process that is killed leaves
+// OUT.h5.partial, readable up to its last flushed frame.
+#pragma once
+#include <hdf5.h>
+
+#include <string>
+#include <vector>
+
+#include "rodcore/scene.hpp"
+#include "rodcore/simulation.hpp"
+
+namespace rodcore {
+
+inline constexpr const char* kRodcoreVersion = "0.1.0";
+
+// `git describe --always --dirty` of the source tree at configure time, or "unknown".
+const char* git_revision();
+
+class H5Output {
+ public:
+  // Creates `path`.partial and writes the grid and the attributes that
+  // describe the run (scales, material, rod, method, initial condition,
+  // the resolved scene as TOML, git revision, version). Throws InputError if
+  // the file cannot be created.
+  H5Output(const std::string& path, const Scene& scene, const std::vector<double>& s);
+  ~H5Output();  // without finish()/fail(): closes and leaves `path`.partial
+  H5Output(const H5Output&) = delete;
+  H5Output& operator=(const H5Output&) = delete;
+
+  void write_frame(const Frame& frame);
+  // Writes the summary attributes and complete = 1, closes, renames to `path`.
+  void finish(const RunSummary& summary);
+  // Writes complete = 0 and error = message, closes, renames to `path`.
+  void fail(const std::string& message);
+
+  int frames_written() const { return frames_; }
+  const std::string& path() const { return path_; }
+  std::string partial_path() const { return path_ + ".partial"; }
+
+ private:
+  void close_and_rename();
+  hid_t extendible(const std::string& name, std::vector<hsize_t> row_dims);
+  void append(hid_t dataset, const double* row);
+
+  std::string path_;
+  OutputOptions want_;
+  std::size_t N_;
+  hid_t file_ = H5I_INVALID_HID;
+  std::vector<hid_t> fields_;      // 4 datasets or empty
+  hid_t time_ = H5I_INVALID_HID, energy_ = H5I_INVALID_HID;
+  hid_t centerline_ = H5I_INVALID_HID, directors_ = H5I_INVALID_HID;
+  std::vector<std::pair<std::string, hid_t>> energy_parts_;
+  std::vector<double> row_;        // N x 3 scratch
+  int frames_ = 0;
+};
+
+}  // namespace rodcore

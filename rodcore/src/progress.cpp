@@ -1,0 +1,42 @@
+#include "rodcore/progress.hpp"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <string>
+
+namespace rodcore {
+
+ProgressBar::ProgressBar(bool enabled, std::FILE* out)
+    : enabled_(enabled), out_(out), start_(std::chrono::steady_clock::now()), last_(start_) {}
+
+ProgressBar::~ProgressBar() { finish(); }
+
+bool ProgressBar::stderr_is_terminal() { return isatty(STDERR_FILENO) == 1; }
+
+void ProgressBar::update(double t, double t_end) {
+  if (!enabled_) return;
+  auto now = std::chrono::steady_clock::now();
+  if (drawn_ && now - last_ < std::chrono::milliseconds(100) && t < t_end) return;
+  last_ = now;
+  double f = t_end > 0 ? std::clamp(t / t_end, 0.0, 1.0) : 1.0;
+  double elapsed = std::chrono::duration<double>(now - start_).count();
+  const int width = 30;
+  int filled = static_cast<int>(f * width);
+  std::string bar(filled, '#');
+  bar.append(width - filled, '.');
+  char eta[32] = "";
+  if (f > 0.0 && f < 1.0) std::snprintf(eta, sizeof eta, "  ETA %.0f s", elapsed * (1.0 - f) / f);
+  std::fprintf(out_, "\r[%s] %5.1f%%  t = %.4g / %.4g%s   ", bar.c_str(), 100.0 * f, t, t_end, eta);
+  std::fflush(out_);
+  drawn_ = true;
+}
+
+void ProgressBar::finish() {
+  if (!enabled_ || !drawn_) return;
+  std::fprintf(out_, "\r%*s\r", 80, "");
+  std::fflush(out_);
+  drawn_ = false;
+}
+
+}  // namespace rodcore
