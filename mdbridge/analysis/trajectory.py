@@ -91,15 +91,12 @@ class BasePairTrajectory:
         u = units or Units.paper()
         time, s = np.asarray(time, float), np.asarray(s, float)
         centerline, directors, Gamma = (np.asarray(a, float) for a in (centerline, directors, Gamma))
+        from mdbridge.rodframes import bp_frames_from_rod  # base pair i at s_i = i L / n_bp
         N = len(s)
-        if N % n_bp:
-            raise InputError(f"{source}: {N} grid points is not a multiple of n_bp = {n_bp}; "
-                             "base pair i must sit on grid point s_i = i L / n_bp")
-        every = N // n_bp
+        R, origins = bp_frames_from_rod(centerline, directors, n_bp, u.ell_A)
         ds = s[1] - s[0]
         P = np.einsum("tixk,tik->tx", directors, Gamma) * ds
-        return cls(u.time_to_ps(time), u.length_to_A(centerline[:, ::every]),
-                   directors[:, ::every], u.length_to_A(P), source,
+        return cls(u.time_to_ps(time), origins, R, u.length_to_A(P), source,
                    {"kind": "rod", "L": ds * N, "N": N, "n_bp": n_bp})
 
     @classmethod

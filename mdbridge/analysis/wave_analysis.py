@@ -106,9 +106,22 @@ class WaveAnalysis:
         res.e_axis, res.e_in, res.e_out = e_axis, e_in, e_out
         res.u_in, res.u_out = u_in, u_out
         res.mode_amplitude = c
-        res.wave = fit_wave_speed(times, c, k, offset=self.offset, n_boot=self.n_boot)
-        res.wave_check = phase_velocity(times, c, k)
+        res.wave, res.wave_check = self._fit(times, c, k, length)
         res.planarity = planarity(u_in, u_out)
+
+    def _fit(self, times, c, k, length):
+        """Both estimators, or NaN with the reason when there is no wave to measure."""
+        nan = float("nan")
+        reason = None
+        if np.max(np.abs(c)) < 1e-9 * length:
+            reason = "no displacement in the k = 2 pi / L mode (rod at rest?)"
+        elif len(times) < 8:
+            reason = f"only {len(times)} frames; the wave-speed fit needs at least 8"
+        if reason:
+            none = {"speed_A_per_ps": nan, "speed_err_A_per_ps": nan, "reason": reason}
+            return dict(none), dict(none)
+        return (fit_wave_speed(times, c, k, offset=self.offset, n_boot=self.n_boot),
+                phase_velocity(times, c, k))
 
     def summary(self) -> dict:
         """JSON-ready scalars of the results."""
