@@ -5,8 +5,11 @@
     s = build_duplex(seq, origins, R, periodic_box=L)     # one period along z
     print(check_chemistry(s)); write_pdb("out.pdb", s)
 """
-from mdbridge.builder.chemistry import ChemistryReport, check_chemistry  # noqa: F401
-from mdbridge.builder.duplex import base_frames, build_duplex  # noqa: F401
-from mdbridge.builder.frames import frames_from_steps, ideal_frames  # noqa: F401
-from mdbridge.builder.structure import Structure  # noqa: F401
-from mdbridge.pdbio import read_pdb, write_pdb  # noqa: F401
+from mdbridge.builder.chemistry import ChemistryReport, check_chemistry
+from mdbridge.builder.duplex import base_frames, build_duplex
+from mdbridge.builder.frames import frames_from_steps, ideal_frames
+from mdbridge.builder.structure import Structure
+from mdbridge.pdbio import read_pdb, write_pdb
+
+__all__ = ["ChemistryReport", "Structure", "base_frames", "build_duplex", "check_chemistry",
+           "frames_from_steps", "ideal_frames", "read_pdb", "write_pdb"]

@@ -4,8 +4,9 @@ The rod is run through the `rodcore` Python module (build/python/) for a
 tiny time with three output frames (the trajectory class below wants at
 least three) and centerline, directors and internal fields asked for; frame
 0 is the initial state itself. Base pair i takes the rod's frame at
-s_i = i L / n_bp (d1, d2, d3 = x, y, z) and r(s_i) in A as its origin, the
-mapping mdbridge.analysis.BasePairTrajectory.from_rod_arrays performs (the one
+s_i = i L / n_bp (d1, d2, d3 = x, y, z) and r(s_i) in A as its origin
+(mdbridge.rodframes), through
+mdbridge.analysis.BasePairTrajectory.from_rod_arrays (the path
 build-md uses too), which also gives the period vector P = r(s + L) - r(s):
 the box along which the strands close.
 """
