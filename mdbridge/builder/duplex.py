@@ -106,8 +106,8 @@ def build_duplex(sequence, origins, R, *, periodic_box=None, hydrogens=False,
     box = _box(periodic_box)
     o_I, R_I, o_II, R_II = base_frames(origins, R, base_pair_params)
 
-    # (residue base, frame index, base frame) in output order: strand I 5'->3',
-    # then strand II 5'->3' (= base pairs n..1)
+    # (base, strand, resid, base-frame origin, base-frame axes) in output order:
+    # strand I 5'->3', then strand II 5'->3' (= base pairs n..1)
     residues = [(seq[i], "I", i + 1, o_I[i], R_I[i]) for i in range(n)]
     residues += [(comp[i], "II", 2 * n - i, o_II[i], R_II[i])
                  for i in range(n - 1, -1, -1)]
