@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import re
 import shutil
 import subprocess
 import tempfile
@@ -44,9 +45,11 @@ def run_pdb2gmx_ignh(pdb: Path, workdir: Path, gmx: str = "gmx") -> Path:
                         str(workdir / "topol.top"), "-ff", "charmm27", "-water", "none",
                         "-ter", "-ignh"], input="2\n4\n2\n4\n", cwd=workdir,
                        capture_output=True, text=True, timeout=300)
-    if r.returncode != 0 or "Start terminus DG-1: 5'" not in r.stdout + r.stderr:
-        raise ExternalToolError("gmx pdb2gmx failed on the hydrogen probe duplex:\n"
-                                + (r.stdout + r.stderr)[-2000:])
+    log = r.stdout + r.stderr
+    if r.returncode != 0 or len(re.findall(r"Start terminus D[ACGT]-\d+: 5'", log)) != 2 \
+            or len(re.findall(r"End terminus D[ACGT]-\d+: 3'", log)) != 2:
+        raise ExternalToolError("gmx pdb2gmx failed (or chose other termini than 5'/3'):\n"
+                                + log[-2000:])
     return out
 
 
