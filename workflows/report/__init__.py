@@ -1,0 +1,1 @@
+"""The comparison workflow's steps (`steps`) and its report (`report`)."""

@@ -1,0 +1,290 @@
+"""The comparison report: DIR/results.json and DIR/report/index.html (self-contained,
+figures embedded as base64 PNG).
+
+    python -m workflows.report.report CONFIG.yaml OUT_DIR
+
+Reads what the workflow's analysis steps wrote under OUT_DIR (rod/, md/, sweep/).
+"""
+from __future__ import annotations
+
+import base64
+import datetime
+import html
+import io
+import json
+import math
+import sys
+from pathlib import Path
+
+import numpy as np
+
+PAPER = {"rod_wave_speed_A_per_ps": 1.4, "md_wave_speed_A_per_ps": 2.2, "md_run_ps": 600.0,
+         "A_v_A_per_ps": [0.0, 1.0, 5.0], "source": "paper Sec 6.2"}
+
+
+def fmt_av(av) -> str:
+    """Run-folder label of a velocity amplitude: 1 -> '1', 0.5 -> '0.5'."""
+    return f"{float(av):g}"
+
+
+def _load(prefix: Path):
+    j, z = prefix.with_suffix(".json"), prefix.with_suffix(".npz")
+    if not j.is_file():
+        return None, None
+    return json.loads(j.read_text()), (dict(np.load(z)) if z.is_file() else None)
+
+
+def _num(x):
+    return float("nan") if x is None else float(x)
+
+
+def rod_md_rmsd(rod_npz, md_npz):
+    """Kabsch RMSD [A] of the rod's axis (interpolated in time) onto the MD axis, per MD frame."""
+    from mdbridge.analysis import kabsch_rmsd
+    tr, ar = rod_npz["times_ps"], rod_npz["axis"]
+    tm, am = md_npz["times_ps"], md_npz["axis"]
+    t_ok = tm[(tm >= tr[0]) & (tm <= tr[-1])]
+    out = []
+    for t in t_ok:
+        j = int(np.clip(np.searchsorted(tr, t) - 1, 0, len(tr) - 2))
+        f = (t - tr[j]) / (tr[j + 1] - tr[j])
+        rod_axis = (1 - f) * ar[j] + f * ar[j + 1]
+        out.append(kabsch_rmsd(rod_axis, am[list(tm).index(t)])[0])
+    return t_ok, np.array(out)
+
+
+def _combine(values, errors):
+    """Mean over seeds; error = sqrt(fit errors^2 / n^2 summed + between-seed variance / n)."""
+    v = np.array([_num(x) for x in values])
+    e = np.array([_num(x) for x in errors])
+    ok = np.isfinite(v)
+    if not ok.any():
+        return float("nan"), float("nan")
+    v, e = v[ok], e[ok]
+    n = len(v)
+    between = np.var(v, ddof=1) / n if n > 1 else 0.0
+    return float(v.mean()), float(math.sqrt(np.nansum(e ** 2) / n ** 2 + between))
+
+
+def _png(fig) -> str:
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=90, bbox_inches="tight")
+    import matplotlib.pyplot as plt
+    plt.close(fig)
+    return base64.b64encode(buf.getvalue()).decode("ascii")
+
+
+def collect(cfg: dict, out: Path) -> dict:
+    avs = [float(a) for a in cfg["A_v_A_per_ps"]]
+    seeds = [int(s) for s in cfg["seeds"]]
+    data = {"rod": {}, "md": {}, "sweep": {}}
+    for av in avs:
+        data["rod"][av] = _load(out / "rod" / f"Av{fmt_av(av)}" / "analysis")
+        if cfg.get("md", {}).get("enabled", True):
+            for s in seeds:
+                data["md"][(av, s)] = _load(out / "md" / f"Av{fmt_av(av)}_seed{s}" / "analysis")
+    for av in cfg.get("sweep", {}).get("A_v_A_per_ps", []) or []:
+        data["sweep"][float(av)] = _load(out / "sweep" / f"Av{fmt_av(av)}" / "analysis")
+    return data
+
+
+def results_json(cfg: dict, data: dict) -> dict:
+    from mdbridge.analysis.dispersion import bend_modulus_for_speed
+    head = float(cfg.get("headline_A_v_A_per_ps", 1.0))
+    seeds = [int(s) for s in cfg["seeds"]]
+    rod_j, _ = data["rod"].get(head, (None, None))
+    md_runs = [data["md"].get((head, s), (None, None))[0] for s in seeds]
+    md_runs = [m for m in md_runs if m]
+    md_speed, md_err = _combine([m["wave_speed_A_per_ps"] for m in md_runs],
+                                [m["wave_speed_err_A_per_ps"] for m in md_runs])
+    res = {
+        "headline_A_v_A_per_ps": head,
+        "rod_wave_speed_A_per_ps": _num(rod_j and rod_j["wave_speed_A_per_ps"]),
+        "rod_wave_speed_err_A_per_ps": _num(rod_j and rod_j["wave_speed_err_A_per_ps"]),
+        "rod_wave_speed_check_A_per_ps": _num(rod_j and rod_j.get("wave_speed_check_A_per_ps")),
+        "rod_dispersion_speed_A_per_ps": _num(rod_j and rod_j["dispersion"]["bend_branch_speed_A_per_ps"]),
+        "md_wave_speed_A_per_ps": md_speed,
+        "md_wave_speed_err_A_per_ps": md_err,
+        "md_wave_speed_check_A_per_ps": _combine([m.get("wave_speed_check_A_per_ps") for m in md_runs],
+                                                 [0.0] * len(md_runs))[0] if md_runs else float("nan"),
+        "rod_planarity": _num(rod_j and rod_j["planarity"]),
+        "md_planarity": float(np.mean([_num(m["planarity"]) for m in md_runs])) if md_runs else float("nan"),
+        "md_bp_intact_fraction": float(np.mean([m["bp_intact_fraction_final"] for m in md_runs]))
+        if md_runs else float("nan"),
+        "rod_run_ps": float(cfg["rod"]["run_ps"]),
+        "md_run_ps": float(cfg["md"]["run_ps"]) if md_runs else 0.0,
+        "seeds": seeds,
+        "A_v_A_per_ps": [float(a) for a in cfg["A_v_A_per_ps"]],
+        "paper": PAPER,
+        "definitions": {
+            "wave_speed": "NLS fit of forward+backward travelling waves to the k = 2 pi/L mode of u(s,t); "
+                          "error: max(covariance, block bootstrap); *_check: phase velocity of the mode",
+            "planarity": "RMS out-of-plane / RMS in-plane displacement over the run (0 = planar)",
+            "md_bp_intact_fraction": "fraction of base pairs with N1-N3 < 3.5 A (minimum image), "
+                                     "last frame, mean over seeds",
+        },
+        "runs": {"rod": [j for j, _ in data["rod"].values() if j],
+                 "md": [j for j, _ in data["md"].values() if j],
+                 "sweep": [j for j, _ in data["sweep"].values() if j]},
+    }
+    if rod_j and math.isfinite(md_speed):
+        res["effective_bend_modulus_for_md_speed"] = bend_modulus_for_speed(
+            md_speed, rod_j["dispersion"]["fiducial_length"], rod_j["dispersion"]["Gamma03"])
+    rmsd = []
+    for s in seeds:
+        r = data["rod"].get(head, (None, None))[1]
+        m = data["md"].get((head, s), (None, None))[1]
+        if r is not None and m is not None:
+            t, d = rod_md_rmsd(r, m)
+            if len(d):
+                rmsd.append({"seed": s, "times_ps": t.tolist(), "rmsd_A": d.tolist()})
+    res["rod_md_rmsd"] = rmsd
+    res["rod_md_rmsd_A_final"] = float(np.mean([x["rmsd_A"][-1] for x in rmsd])) if rmsd else float("nan")
+    return res
+
+
+def figures(cfg: dict, data: dict, res: dict) -> dict:
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    figs = {}
+    head = res["headline_A_v_A_per_ps"]
+    seeds = res["seeds"]
+    rod = data["rod"].get(head, (None, None))[1]
+    md = next((data["md"][(head, s)][1] for s in seeds
+               if data["md"].get((head, s), (None, None))[1] is not None), None)
+    pairs = [("rod", rod)] + ([("MD", md)] if md is not None else [])
+    # kymographs
+    fig, axs = plt.subplots(1, len(pairs), figsize=(5.5 * len(pairs), 4), squeeze=False)
+    vmax = max(np.max(np.abs(z["u_in"])) for _, z in pairs if z is not None) if rod is not None else 1
+    for ax, (name, z) in zip(axs[0], pairs):
+        if z is None:
+            continue
+        im = ax.imshow(z["u_in"], aspect="auto", origin="lower", cmap="RdBu_r", vmin=-vmax, vmax=vmax,
+                       extent=[z["x_A"][0], z["x_A"][-1], z["times_ps"][0], z["times_ps"][-1]])
+        ax.set(xlabel="axial position s [A]", ylabel="t [ps]", title=f"{name}: u_in(s, t), A_v = {head:g} A/ps")
+    fig.colorbar(im, ax=axs[0].tolist(), label="in-plane displacement [A]")
+    figs["kymographs"] = _png(fig)
+    # snapshots (paper Figs 8-9)
+    fig, axs = plt.subplots(len(pairs), 1, figsize=(8, 3 * len(pairs)), squeeze=False)
+    for ax, (name, z) in zip(axs[:, 0], pairs):
+        if z is None:
+            continue
+        t_end = min(zz["times_ps"][-1] for _, zz in pairs if zz is not None)
+        for tt in np.linspace(z["times_ps"][0], t_end, 5):
+            i = int(np.argmin(np.abs(z["times_ps"] - tt)))
+            ax.plot(z["x_A"], z["u_in"][i], label=f"t = {z['times_ps'][i]:.0f} ps")
+        ax.set(xlabel="axial position s [A]", ylabel="u_in [A]", title=f"{name} snapshots (cf. paper Figs 8-9)")
+        ax.legend(fontsize=7)
+    figs["snapshots"] = _png(fig)
+    # planarity and integrity
+    fig, axs = plt.subplots(1, 2, figsize=(11, 3.8))
+    for av, (j, z) in data["rod"].items():
+        if z is not None:
+            axs[0].plot(z["times_ps"], z["ratio"], "-", label=f"rod A_v={av:g}")
+    for (av, s), (j, z) in data["md"].items():
+        if z is not None:
+            axs[0].plot(z["times_ps"], z["ratio"], "--", label=f"MD A_v={av:g} seed {s}")
+            axs[1].plot(z["intact_times_ps"], z["intact_fraction"], label=f"A_v={av:g} seed {s}")
+    axs[0].set(xlabel="t [ps]", ylabel="RMS out-of-plane / in-plane", title="planarity", yscale="log")
+    axs[0].legend(fontsize=7)
+    axs[1].set(xlabel="t [ps]", ylabel="fraction N1-N3 < 3.5 A", title="MD base-pair integrity", ylim=(0, 1.05))
+    axs[1].legend(fontsize=7)
+    figs["planarity_integrity"] = _png(fig)
+    # RMSD
+    if res["rod_md_rmsd"]:
+        fig, ax = plt.subplots(figsize=(6, 3.5))
+        for r in res["rod_md_rmsd"]:
+            ax.plot(r["times_ps"], r["rmsd_A"], label=f"seed {r['seed']}")
+        ax.set(xlabel="t [ps]", ylabel="RMSD [A]", title=f"rod axis fitted onto MD axis (Kabsch), A_v = {head:g}")
+        ax.legend(fontsize=7)
+        figs["rmsd"] = _png(fig)
+    # amplitude dependence
+    sw = sorted((av, j) for av, (j, _) in data["sweep"].items() if j)
+    if sw:
+        fig, ax = plt.subplots(figsize=(6, 3.8))
+        a = np.array([av for av, _ in sw])
+        v = np.array([_num(j["wave_speed_A_per_ps"]) for _, j in sw])
+        e = np.array([_num(j["wave_speed_err_A_per_ps"]) for _, j in sw])
+        ax.errorbar(a, v, yerr=e, fmt="o-", label="rod (this run)")
+        ax.axhline(sw[0][1]["dispersion"]["bend_branch_speed_A_per_ps"], color="k", ls=":",
+                   label="Eq 39, small amplitude (bend branch)")
+        ax.axhline(PAPER["rod_wave_speed_A_per_ps"], color="C1", ls="--", label="paper rod 1.4 A/ps")
+        ax.axhline(PAPER["md_wave_speed_A_per_ps"], color="C2", ls="--", label="paper MD 2.2 A/ps")
+        mdv = [(av, _num(j["wave_speed_A_per_ps"])) for (av, s), (j, _) in data["md"].items() if j]
+        if mdv:
+            ax.plot(*zip(*mdv), "s", color="C3", label="MD (this run)")
+        ax.set(xscale="symlog", xlabel="A_v [A/ps]", ylabel="wave speed [A/ps]", title="wave speed vs amplitude")
+        ax.legend(fontsize=7)
+        figs["amplitude"] = _png(fig)
+    return figs
+
+
+def _f(x, nd=3):
+    try:
+        x = float(x)
+    except (TypeError, ValueError):
+        return html.escape(str(x))
+    return "n/a" if not math.isfinite(x) else f"{x:.{nd}g}"
+
+
+def write_html(cfg: dict, res: dict, figs: dict, path: Path):
+    rows = [
+        ("rod wave speed [A/ps]", f"{_f(res['rod_wave_speed_A_per_ps'])} &plusmn; {_f(res['rod_wave_speed_err_A_per_ps'], 2)}"
+         f" (check {_f(res['rod_wave_speed_check_A_per_ps'])}; Eq 39: {_f(res['rod_dispersion_speed_A_per_ps'])})", "1.4"),
+        ("MD wave speed [A/ps]", f"{_f(res['md_wave_speed_A_per_ps'])} &plusmn; {_f(res['md_wave_speed_err_A_per_ps'], 2)}"
+         f" (check {_f(res['md_wave_speed_check_A_per_ps'])})", "2.2 (by eye)"),
+        ("rod planarity (out/in RMS)", _f(res["rod_planarity"]), "planar"),
+        ("MD planarity (out/in RMS)", _f(res["md_planarity"]), "planar (A_v = 1), non-planar (A_v = 5)"),
+        ("MD base pairs intact, last frame", _f(res["md_bp_intact_fraction"]), "not reported"),
+        ("rod-MD axis RMSD, last frame [A]", _f(res["rod_md_rmsd_A_final"]), "not reported"),
+        ("rod / MD run length [ps]", f"{_f(res['rod_run_ps'])} / {_f(res['md_run_ps'])}", "? / 600"),
+        ("seeds", ", ".join(map(str, res["seeds"])), "one run per A_v"),
+    ]
+    table = "\n".join(f"<tr><td>{a}</td><td>{b}</td><td>{c}</td></tr>" for a, b, c in rows)
+    runs = "\n".join(
+        f"<tr><td>{j['kind']}</td><td>{_f(j.get('A_v_A_per_ps'))}</td><td>{j.get('seed', '')}</td>"
+        f"<td>{_f(j['wave_speed_A_per_ps'])} &plusmn; {_f(j['wave_speed_err_A_per_ps'], 2)}</td>"
+        f"<td>{_f(j.get('wave_speed_check_A_per_ps'))}</td><td>{_f(j['planarity'])}</td>"
+        f"<td>{_f(j.get('bp_intact_fraction_final', ''))}</td><td>{_f(j['t_end_ps'])}</td></tr>"
+        for j in res["runs"]["rod"] + res["runs"]["md"] + res["runs"]["sweep"])
+    imgs = "\n".join(f'<h3>{html.escape(k)}</h3><img alt="{html.escape(k)}" src="data:image/png;base64,{v}">'
+                     for k, v in figs.items())
+    note = ""
+    if float(res["md_run_ps"]) < PAPER["md_run_ps"]:
+        note = (f"<p><b>Note:</b> the MD here runs {_f(res['md_run_ps'])} ps, shorter than the paper's "
+                "600 ps, to fit the default configuration's time budget; use "
+                "<code>--config workflows/config/paper.yaml</code> for the paper's length.</p>")
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(f"""<!DOCTYPE html><html><head><meta charset="utf-8"><title>dnarod compare</title>
+<style>body{{font-family:sans-serif;max-width:1100px;margin:auto}} td,th{{border:1px solid #ccc;padding:3px 8px}}
+table{{border-collapse:collapse}} img{{max-width:100%}}</style></head><body>
+<h1>Rod vs all-atom MD: bend-shear wave on a periodic duplex</h1>
+<p>Generated {datetime.datetime.now(datetime.timezone.utc).isoformat(timespec='seconds')} by
+<code>dnarod compare</code>. Headline run: A_v = {_f(res['headline_A_v_A_per_ps'])} A/ps.
+Estimators and definitions: docs/analysis.md.</p>{note}
+<h2>Summary vs the paper</h2>
+<table><tr><th>quantity</th><th>this run</th><th>paper (Sec 6)</th></tr>{table}</table>
+<h2>All runs</h2>
+<table><tr><th>kind</th><th>A_v [A/ps]</th><th>seed</th><th>speed [A/ps]</th><th>check</th>
+<th>planarity</th><th>bp intact</th><th>t_end [ps]</th></tr>{runs}</table>
+<h2>Figures</h2>{imgs}
+</body></html>
+""")
+
+
+def main(argv=None) -> int:
+    import yaml
+    argv = sys.argv[1:] if argv is None else argv
+    cfg = yaml.safe_load(Path(argv[0]).read_text())
+    out = Path(argv[1])
+    data = collect(cfg, out)
+    res = results_json(cfg, data)
+    from workflows.report.steps import _jsonable
+    (out / "results.json").write_text(json.dumps(_jsonable(res), indent=1))
+    write_html(cfg, res, figures(cfg, data, res), out / "report" / "index.html")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

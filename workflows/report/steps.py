@@ -1,0 +1,184 @@
+"""Steps of `dnarod compare` (called from workflows/Snakefile, one process each).
+
+    python -m workflows.report.steps scene   BASE.toml OUT.toml --A-v 1 --run-ps 600 --every-ps 1
+    python -m workflows.report.steps rod     SCENE.toml ROD.h5 OUT_PREFIX [--n-boot 200]
+    python -m workflows.report.steps md      SCENE.toml MD_DIR OUT_PREFIX [--n-boot 200]
+
+`rod` and `md` run the same `mdbridge.analysis.WaveAnalysis` and write OUT_PREFIX.json
+(scalars) and OUT_PREFIX.npz (u(s, t), axis, planarity and integrity over time).
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+import tomllib
+from pathlib import Path
+
+import numpy as np
+
+from dna_models.errors import DnarodError, InputError
+from dna_models.units import Units
+
+
+def load_scene(path) -> dict:
+    try:
+        with open(path, "rb") as f:
+            return tomllib.load(f)
+    except (OSError, tomllib.TOMLDecodeError) as e:
+        raise InputError(f"{path}: cannot read the scene ({e})") from None
+
+
+def scene_n_bp(scene: dict, path="scene") -> int:
+    ini = scene.get("initial", {})
+    if "bp" in ini:
+        return int(ini["bp"])
+    if ini.get("kind") == "dna_planar":
+        return 158  # dna_planar's documented default (docs/scenes.md)
+    pts = scene.get("rod", {}).get("points")
+    if pts:
+        return int(pts)
+    raise InputError(f"{path}: cannot tell the number of base pairs (initial.bp or rod.points)")
+
+
+def make_scene(base_path, out_path, A_v: float, run_ps: float, every_ps: float) -> dict:
+    """The base scene with initial.A_v_A_per_ps = A_v and output for the analysis."""
+    import toml
+    sc = load_scene(base_path)
+    ini = sc.setdefault("initial", {})
+    if ini.get("kind") != "dna_planar":
+        raise InputError(f"{base_path}: initial.kind = {ini.get('kind')!r}; the comparison needs "
+                         "\"dna_planar\" (the paper's Sec 6 scene)")
+    ini["A_v_A_per_ps"] = float(A_v)
+    u = Units.paper()
+    out = sc.setdefault("output", {})
+    out["t_end"] = float(u.time_to_rod(run_ps))
+    out["frames"] = int(round(run_ps / every_ps)) + 1
+    out["fields"] = ["internal", "centerline", "directors"]
+    Path(out_path).parent.mkdir(parents=True, exist_ok=True)
+    Path(out_path).write_text(f"# made by dnarod compare from {base_path}, A_v = {A_v} A/ps, "
+                              f"{run_ps} ps\n" + toml.dumps(sc))
+    return sc
+
+
+def _jsonable(o):
+    if isinstance(o, dict):
+        return {str(k): _jsonable(v) for k, v in o.items()}
+    if isinstance(o, (list, tuple)):
+        return [_jsonable(v) for v in o]
+    if isinstance(o, np.ndarray):
+        return _jsonable(o.tolist())
+    if isinstance(o, (np.floating, float)):
+        return None if not math.isfinite(float(o)) else float(o)
+    if isinstance(o, (np.integer,)):
+        return int(o)
+    return o
+
+
+def _write(prefix, analysis, summary: dict, extra_arrays: dict):
+    r = analysis.results
+    p = r.planarity
+    np.savez_compressed(f"{prefix}.npz", times_ps=r.times_ps, x_A=r.x_A, u_in=r.u_in, u_out=r.u_out,
+                        axis=r.axis, in_rms_A=p["in_rms_A"], out_rms_A=p["out_rms_A"],
+                        ratio=p["ratio"], angle_deg=p["angle_deg"], e_in=r.e_in, e_out=r.e_out,
+                        e_axis=r.e_axis, **extra_arrays)
+    Path(f"{prefix}.json").write_text(json.dumps(_jsonable(summary), indent=1))
+
+
+def rod_dispersion(scene: dict) -> dict:
+    """Small-amplitude prediction for the scene's fundamental (Eq 39 at kappa = 2 pi / L)."""
+    from mdbridge.analysis.dispersion import lab_speed_A_per_ps
+    u = Units.paper()
+    ini = scene.get("initial", {})
+    n_bp = scene_n_bp(scene)
+    L = n_bp * float(ini.get("rise_A", u.rise_A)) / u.ell_A
+    D1 = float(scene.get("material", {}).get("D", u.D_star)[0])
+    return {"fiducial_length": L, "D1": D1, "Gamma03": 1.0,
+            "bend_branch_speed_A_per_ps": lab_speed_A_per_ps(L, D1, 1.0, "minus", 1, u),
+            "shear_branch_speed_A_per_ps": lab_speed_A_per_ps(L, D1, 1.0, "plus", 1, u)}
+
+
+def analyse_rod(scene_path, h5_path, prefix, n_boot=200):
+    from mdbridge.analysis import BasePairTrajectory, WaveAnalysis
+    scene = load_scene(scene_path)
+    traj = BasePairTrajectory.from_rod_h5(h5_path, scene_n_bp(scene, scene_path))
+    a = WaveAnalysis(traj, n_boot=n_boot).run()
+    s = a.summary()
+    s.update(kind="rod", A_v_A_per_ps=scene["initial"].get("A_v_A_per_ps"),
+             A_A=scene["initial"].get("A_A", 0.0), dispersion=rod_dispersion(scene))
+    _write(prefix, a, s, {})
+    return s
+
+
+def analyse_md(scene_path, md_dir, prefix, n_boot=200):
+    import MDAnalysis as mda
+    from mdbridge.analysis import BasePairTrajectory, WaveAnalysis
+    from mdbridge.analysis.integrity import bp_intact_fraction
+    md_dir = Path(md_dir)
+    scene = load_scene(scene_path)
+    top = md_dir / "md.tpr"
+    xtc = md_dir / "md.xtc"
+    for f in (top, xtc):
+        if not f.is_file():
+            raise InputError(f"{f}: missing; run `dnarod run-md {md_dir}` first")
+    u = mda.Universe(str(top), str(xtc))
+    traj = BasePairTrajectory.from_universe(u)
+    n_bp = scene_n_bp(scene, scene_path)
+    if traj.n_bp != n_bp:
+        raise InputError(f"{md_dir}: the MD duplex has {traj.n_bp} base pairs, the scene {n_bp}")
+    a = WaveAnalysis(traj, n_boot=n_boot).run()
+    t_int, intact, _ = bp_intact_fraction(u, traj.meta["pairs"])
+    s = a.summary()
+    s.update(kind="md", A_v_A_per_ps=scene["initial"].get("A_v_A_per_ps"),
+             bp_intact_fraction_final=float(intact[-1]), bp_intact_fraction_min=float(intact.min()),
+             bp_intact_fraction_mean=float(intact.mean()))
+    checks = md_dir / "checks.json"
+    if checks.is_file():
+        c = json.loads(checks.read_text())
+        s["gromacs_checks"] = {k: c.get(k) for k in ("junction_ok", "energy", "side_image")
+                               if k in c}
+        if "side_image" in s["gromacs_checks"] and isinstance(s["gromacs_checks"]["side_image"], dict):
+            s["gromacs_checks"]["side_image"].pop("per_frame_A", None)
+        wc = c.get("watson_crick", {})
+        if "final_fraction_intact" in wc:  # H5's independent count, same criterion
+            s["bp_intact_fraction_final_checks"] = wc["final_fraction_intact"]
+    build = md_dir / "build.json"
+    if build.is_file():
+        b = json.loads(build.read_text())
+        s["seed"] = b.get("seed", b.get("velocities", {}).get("seed") if isinstance(b.get("velocities"), dict) else None)
+    _write(prefix, a, s, {"intact_times_ps": t_int, "intact_fraction": intact})
+    return s
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(prog="python -m workflows.report.steps", description=__doc__.splitlines()[0])
+    sub = ap.add_subparsers(dest="step", required=True)
+    p = sub.add_parser("scene")
+    p.add_argument("base")
+    p.add_argument("out")
+    p.add_argument("--A-v", type=float, required=True)
+    p.add_argument("--run-ps", type=float, required=True)
+    p.add_argument("--every-ps", type=float, required=True)
+    for name in ("rod", "md"):
+        p = sub.add_parser(name)
+        p.add_argument("scene")
+        p.add_argument("input")
+        p.add_argument("prefix")
+        p.add_argument("--n-boot", type=int, default=200)
+    a = ap.parse_args(argv)
+    try:
+        if a.step == "scene":
+            make_scene(a.base, a.out, a.A_v, a.run_ps, a.every_ps)
+        elif a.step == "rod":
+            analyse_rod(a.scene, a.input, a.prefix, a.n_boot)
+        else:
+            analyse_md(a.scene, a.input, a.prefix, a.n_boot)
+    except DnarodError as e:
+        print(f"dnarod compare ({a.step}): error: {e}", file=sys.stderr)
+        return 2
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
