@@ -1,0 +1,98 @@
+// Time integrators for dy/dt = f(t, y), behind one interface (method of
+// lines, paper Sec 5.1). All of them give a continuous extension ("dense
+// output") on the last step, so output times never shorten steps:
+//   "rk4"          classic RK4, fixed step dt (the paper's scheme); only the
+//                  last step to t_stop may be shortened. Dense output: cubic
+//                  Hermite from y, f at both ends (f at the new point is the
+//                  next step's first stage, so it costs nothing).
+//   "rk4-doubling" RK4 with step-doubling error control and local
+//                  extrapolation (Numerical Recipes Sec 16.2 style, the paper's
+//                  "time-step control"), Hermite dense output.
+//   "dopri5"       Dormand-Prince 5(4), FSAL, Hairer's PI step control and
+//                  4th-order continuous extension (Shampine 1986, as in
+//                  Hairer's dopri5.f).
+//   "dop853"       Dormand-Prince 8(5,3) with Hairer's error estimator and
+//                  7th-order dense output (3 extra stages per output step).
+// Tableaux: Hairer, Norsett & Wanner, Solving ODEs I (2nd ed. 1993), II.5 and
+// II.10. Error norm (all adaptive schemes): RMS over components of
+// err_i / (atol + rtol max(|y_i(t)|, |y_i(t+h)|)).
+#pragma once
+#include <cstddef>
+#include <functional>
+#include <limits>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace rodcore {
+
+struct OdeSystem {
+  std::size_t n = 0;
+  std::function<void(double t, const double* y, double* dydt)> f;
+};
+
+struct IntegratorOptions {
+  double rtol = 1e-10;
+  double atol = 1e-10;
+  double dt = 1e-2;      // fixed step (rk4) or first trial step (adaptive)
+  double dt_min = 1e-12; // adaptive step below this -> NumericalError
+  double dt_max = std::numeric_limits<double>::infinity();
+  long max_steps = 100000000;
+};
+
+class TimeIntegrator {
+ public:
+  TimeIntegrator(OdeSystem system, IntegratorOptions options);
+  virtual ~TimeIntegrator() = default;
+  TimeIntegrator(const TimeIntegrator&) = delete;
+  TimeIntegrator& operator=(const TimeIntegrator&) = delete;
+
+  virtual std::string name() const = 0;
+  virtual bool adaptive() const = 0;
+  virtual int order() const = 0;
+
+  // Start from (t0, y0); evaluates f(t0, y0).
+  void reset(double t0, const double* y0);
+  // Take one accepted step, never past t_stop. Throws NumericalError on step
+  // underflow (adaptive), too many steps, or non-finite numbers in the step.
+  virtual void step(double t_stop) = 0;
+  // The solution at t in [t_prev(), t()] from the last step's continuous
+  // extension; `out` holds n values.
+  virtual void dense(double t, double* out) const = 0;
+
+  double t() const { return t_; }
+  double t_prev() const { return t_prev_; }
+  double dt_next() const { return h_; }
+  const std::vector<double>& y() const { return y_; }
+  std::size_t size() const { return sys_.n; }
+  long steps() const { return steps_; }
+  long rejected() const { return rejected_; }
+  long rhs_evaluations() const { return rhs_evals_; }
+
+ protected:
+  void eval(double t, const double* y, double* f) {
+    ++rhs_evals_;
+    sys_.f(t, y, f);
+  }
+  // Clamp the trial step to t_stop; returns true if this step ends at t_stop.
+  bool clamp(double& h, double t_stop) const;
+  void check_steps() const;
+  // Cubic Hermite interpolation on [t_prev, t] from y, f at both ends.
+  void hermite(double t, double* out) const;
+
+  OdeSystem sys_;
+  IntegratorOptions opt_;
+  std::vector<double> y_, f_;            // at t_
+  std::vector<double> y_prev_, f_prev_;  // at t_prev_
+  double t_ = 0.0, t_prev_ = 0.0, h_ = 0.0;
+  long steps_ = 0, rejected_ = 0, rhs_evals_ = 0;
+};
+
+// kind = "rk4" | "rk4-doubling" | "dopri5" | "dop853"; throws InputError.
+std::unique_ptr<TimeIntegrator> make_time_integrator(const std::string& kind, OdeSystem system,
+                                                     const IntegratorOptions& options);
+
+// The names above, for messages and docs.
+const std::vector<std::string>& time_integrator_kinds();
+
+}  // namespace rodcore

@@ -1,0 +1,465 @@
+#include "rodcore/integrators.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "rodcore/error.hpp"
+
+namespace rodcore {
+namespace {
+#include "dop853_tableau.inc"
+
+std::string fmt(double x) {
+  std::ostringstream o;
+  o.precision(6);
+  o << x;
+  return o.str();
+}
+
+// RMS norm of err_i / (atol + rtol max(|y0_i|, |y1_i|)).
+double error_norm(const std::vector<double>& err, const std::vector<double>& y0,
+                  const std::vector<double>& y1, double atol, double rtol) {
+  double sum = 0.0;
+  const std::size_t n = err.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    const double sk = atol + rtol * std::max(std::abs(y0[i]), std::abs(y1[i]));
+    const double e = err[i] / sk;
+    sum += e * e;
+  }
+  return std::sqrt(sum / static_cast<double>(n));
+}
+
+[[noreturn]] void non_finite(const std::string& method, double t, double h) {
+  throw NumericalError(method + ": non-finite numbers (NaN/Inf) in a step at t = " + fmt(t) +
+                       " (dt = " + fmt(h) +
+                       "). The state blew up: check the initial fields, reduce dt or rtol/atol, "
+                       "or increase rod.points.");
+}
+
+// ---------------------------------------------------------------- RK4
+class RK4 final : public TimeIntegrator {
+ public:
+  RK4(OdeSystem s, IntegratorOptions o) : TimeIntegrator(std::move(s), o) {
+    const std::size_t n = sys_.n;
+    k2_.resize(n); k3_.resize(n); k4_.resize(n); tmp_.resize(n);
+    h_ = opt_.dt;
+  }
+  std::string name() const override { return "rk4"; }
+  bool adaptive() const override { return false; }
+  int order() const override { return 4; }
+
+  void step(double t_stop) override {
+    check_steps();
+    double h = opt_.dt;
+    clamp(h, t_stop);
+    const std::size_t n = sys_.n;
+    const double* y = y_.data();
+    const double* k1 = f_.data();
+    for (std::size_t i = 0; i < n; ++i) tmp_[i] = y[i] + 0.5 * h * k1[i];
+    eval(t_ + 0.5 * h, tmp_.data(), k2_.data());
+    for (std::size_t i = 0; i < n; ++i) tmp_[i] = y[i] + 0.5 * h * k2_[i];
+    eval(t_ + 0.5 * h, tmp_.data(), k3_.data());
+    for (std::size_t i = 0; i < n; ++i) tmp_[i] = y[i] + h * k3_[i];
+    eval(t_ + h, tmp_.data(), k4_.data());
+    y_prev_.swap(y_);
+    f_prev_.swap(f_);
+    for (std::size_t i = 0; i < n; ++i)
+      y_[i] = y_prev_[i] + h / 6.0 * (f_prev_[i] + 2.0 * (k2_[i] + k3_[i]) + k4_[i]);
+    t_prev_ = t_;
+    t_ = (t_stop - (t_ + h) <= 0.0) ? t_stop : t_ + h;
+    eval(t_, y_.data(), f_.data());  // first stage of the next step and Hermite slope
+    ++steps_;
+  }
+  void dense(double t, double* out) const override { hermite(t, out); }
+
+ private:
+  std::vector<double> k2_, k3_, k4_, tmp_;
+};
+
+// ---------------------------------------------------- RK4 step doubling
+class RK4Doubling final : public TimeIntegrator {
+ public:
+  RK4Doubling(OdeSystem s, IntegratorOptions o) : TimeIntegrator(std::move(s), o) {
+    const std::size_t n = sys_.n;
+    k1_.resize(n); k2_.resize(n); k3_.resize(n); k4_.resize(n); tmp_.resize(n);
+    ybig_.resize(n); yhalf_.resize(n); ysmall_.resize(n); err_.resize(n);
+    h_ = opt_.dt;
+  }
+  std::string name() const override { return "rk4-doubling"; }
+  bool adaptive() const override { return true; }
+  int order() const override { return 4; }
+
+  void step(double t_stop) override {
+    constexpr double safety = 0.9, grow = -0.2, shrink = -0.25, errcon = 1.89e-4;
+    const std::size_t n = sys_.n;
+    for (;;) {
+      check_steps();
+      double h = std::min(h_, opt_.dt_max);
+      const bool last = clamp(h, t_stop);
+      if (!last && h < opt_.dt_min) underflow(h);
+      // one big step, two half steps (the first half step shares f(t, y))
+      rk4_step(t_, y_.data(), f_.data(), h, ybig_.data());
+      rk4_step(t_, y_.data(), f_.data(), 0.5 * h, yhalf_.data());
+      eval(t_ + 0.5 * h, yhalf_.data(), k1_.data());
+      rk4_step(t_ + 0.5 * h, yhalf_.data(), k1_.data(), 0.5 * h, ysmall_.data());
+      for (std::size_t i = 0; i < n; ++i) err_[i] = ysmall_[i] - ybig_[i];
+      const double err = error_norm(err_, y_, ysmall_, opt_.atol, opt_.rtol);
+      if (!std::isfinite(err)) non_finite(name(), t_, h);
+      if (err <= 1.0) {
+        y_prev_.swap(y_);
+        f_prev_.swap(f_);
+        // local extrapolation: 5th-order accurate
+        for (std::size_t i = 0; i < n; ++i) y_[i] = ysmall_[i] + err_[i] / 15.0;
+        t_prev_ = t_;
+        t_ = last ? t_stop : t_ + h;
+        eval(t_, y_.data(), f_.data());
+        ++steps_;
+        const double proposal = err > errcon ? safety * h * std::pow(err, grow) : 5.0 * h;
+        if (!last || proposal > h_) h_ = proposal;
+        return;
+      }
+      ++rejected_;
+      h_ = std::max(safety * h * std::pow(err, shrink), 0.1 * h);
+    }
+  }
+  void dense(double t, double* out) const override { hermite(t, out); }
+
+ private:
+  // y1 = RK4 step of size h from (t, y0) with f0 = f(t, y0) given.
+  void rk4_step(double t, const double* y0, const double* f0, double h, double* y1) {
+    const std::size_t n = sys_.n;
+    for (std::size_t i = 0; i < n; ++i) tmp_[i] = y0[i] + 0.5 * h * f0[i];
+    eval(t + 0.5 * h, tmp_.data(), k2_.data());
+    for (std::size_t i = 0; i < n; ++i) tmp_[i] = y0[i] + 0.5 * h * k2_[i];
+    eval(t + 0.5 * h, tmp_.data(), k3_.data());
+    for (std::size_t i = 0; i < n; ++i) tmp_[i] = y0[i] + h * k3_[i];
+    eval(t + h, tmp_.data(), k4_.data());
+    for (std::size_t i = 0; i < n; ++i)
+      y1[i] = y0[i] + h / 6.0 * (f0[i] + 2.0 * (k2_[i] + k3_[i]) + k4_[i]);
+  }
+  [[noreturn]] void underflow(double h) const {
+    throw NumericalError(name() + ": step size underflow at t = " + fmt(t_) + " (dt = " + fmt(h) +
+                         " < solver.dt_min = " + fmt(opt_.dt_min) +
+                         "). The solution is not smooth enough to resolve: increase rod.points, "
+                         "loosen rtol/atol, or look for a blow-up in the initial fields.");
+  }
+  std::vector<double> k1_, k2_, k3_, k4_, tmp_, ybig_, yhalf_, ysmall_, err_;
+};
+
+// ------------------------------------------------ embedded pairs (Hairer)
+// Shared step-size control of dopri5.f / dop853.f: PI controller with
+// exponent `expo`, memory `beta`, bounds 1/fac2 <= h_new / h <= 1/fac1.
+class Embedded : public TimeIntegrator {
+ public:
+  Embedded(OdeSystem s, IntegratorOptions o, int stages, double expo, double beta, double fac1,
+           double fac2)
+      : TimeIntegrator(std::move(s), o), expo_(expo), beta_(beta), fac1_(fac1), fac2_(fac2) {
+    k_.assign(stages, std::vector<double>(sys_.n));
+    tmp_.resize(sys_.n);
+    ynew_.resize(sys_.n);
+    h_ = opt_.dt;
+  }
+  bool adaptive() const override { return true; }
+
+  void step(double t_stop) override {
+    constexpr double safe = 0.9;
+    bool rejected_before = false;
+    for (;;) {
+      check_steps();
+      double h = std::min(h_, opt_.dt_max);
+      const bool last = clamp(h, t_stop);
+      if (!last && h < opt_.dt_min)
+        throw NumericalError(name() + ": step size underflow at t = " + fmt(t_) + " (dt = " +
+                             fmt(h) + " < solver.dt_min = " + fmt(opt_.dt_min) +
+                             "). The solution is not smooth enough to resolve: increase "
+                             "rod.points, loosen rtol/atol, or look for a blow-up.");
+      const double err = attempt(h);
+      if (!std::isfinite(err)) non_finite(name(), t_, h);
+      const double fac11 = std::pow(err, expo_);
+      if (err <= 1.0) {
+        double fac = fac11 / std::pow(facold_, beta_);
+        fac = std::max(1.0 / fac2_, std::min(1.0 / fac1_, fac / safe));
+        double hnew = h / fac;
+        if (rejected_before) hnew = std::min(hnew, h);
+        facold_ = std::max(err, 1e-4);
+        accept(h, last ? t_stop : t_ + h);
+        ++steps_;
+        if (!last || hnew > h_) h_ = hnew;
+        return;
+      }
+      ++rejected_;
+      rejected_before = true;
+      h_ = h / std::min(1.0 / fac1_, fac11 / safe);
+    }
+  }
+
+ protected:
+  // Compute stages and ynew_ for step h from (t_, y_); return the error norm.
+  virtual double attempt(double h) = 0;
+  // Called after acceptance: prepare dense output, then move to the new point.
+  virtual void accept(double h, double t_new) = 0;
+
+  // tmp_ = y_ + h sum_j a[j] k_j over j < s
+  void combine(const double* a, int s, double h) {
+    const std::size_t n = sys_.n;
+    std::copy(y_.begin(), y_.end(), tmp_.begin());
+    for (int j = 0; j < s; ++j) {
+      if (a[j] == 0.0) continue;
+      const double c = h * a[j];
+      const double* kj = k_[j].data();
+      for (std::size_t i = 0; i < n; ++i) tmp_[i] += c * kj[i];
+    }
+  }
+
+  std::vector<std::vector<double>> k_;
+  std::vector<double> tmp_, ynew_;
+  double expo_, beta_, fac1_, fac2_;
+  double facold_ = 1e-4;
+};
+
+// ----------------------------------------------------------- DOPRI5
+class Dopri5 final : public Embedded {
+ public:
+  Dopri5(OdeSystem s, IntegratorOptions o)
+      : Embedded(std::move(s), o, 7, 0.2 - 0.04 * 0.75, 0.04, 0.2, 10.0) {
+    const std::size_t n = sys_.n;
+    for (auto& r : rcont_) r.resize(n);
+    err_.resize(n);
+  }
+  std::string name() const override { return "dopri5"; }
+  int order() const override { return 5; }
+
+  double attempt(double h) override {
+    static constexpr double c[7] = {0.0, 0.2, 0.3, 0.8, 8.0 / 9.0, 1.0, 1.0};
+    static constexpr double a[7][6] = {
+        {0, 0, 0, 0, 0, 0},
+        {1.0 / 5.0, 0, 0, 0, 0, 0},
+        {3.0 / 40.0, 9.0 / 40.0, 0, 0, 0, 0},
+        {44.0 / 45.0, -56.0 / 15.0, 32.0 / 9.0, 0, 0, 0},
+        {19372.0 / 6561.0, -25360.0 / 2187.0, 64448.0 / 6561.0, -212.0 / 729.0, 0, 0},
+        {9017.0 / 3168.0, -355.0 / 33.0, 46732.0 / 5247.0, 49.0 / 176.0, -5103.0 / 18656.0, 0},
+        {35.0 / 384.0, 0.0, 500.0 / 1113.0, 125.0 / 192.0, -2187.0 / 6784.0, 11.0 / 84.0}};
+    static constexpr double e[7] = {71.0 / 57600.0, 0.0, -71.0 / 16695.0, 71.0 / 1920.0,
+                                    -17253.0 / 339200.0, 22.0 / 525.0, -1.0 / 40.0};
+    const std::size_t n = sys_.n;
+    std::copy(f_.begin(), f_.end(), k_[0].begin());  // FSAL
+    for (int s = 1; s < 6; ++s) {
+      combine(a[s], s, h);
+      eval(t_ + c[s] * h, tmp_.data(), k_[s].data());
+    }
+    combine(a[6], 6, h);
+    std::copy(tmp_.begin(), tmp_.end(), ynew_.begin());
+    eval(t_ + h, ynew_.data(), k_[6].data());
+    for (std::size_t i = 0; i < n; ++i) {
+      double s = 0.0;
+      for (int j = 0; j < 7; ++j) s += e[j] * k_[j][i];
+      err_[i] = h * s;
+    }
+    return error_norm(err_, y_, ynew_, opt_.atol, opt_.rtol);
+  }
+
+  void accept(double h, double t_new) override {
+    // Shampine's 4th-order continuous extension (Hairer's contd5).
+    static constexpr double d[7] = {-12715105075.0 / 11282082432.0, 0.0,
+                                    87487479700.0 / 32700410799.0, -10690763975.0 / 1880347072.0,
+                                    701980252875.0 / 199316789632.0, -1453857185.0 / 822651844.0,
+                                    69997945.0 / 29380423.0};
+    const std::size_t n = sys_.n;
+    for (std::size_t i = 0; i < n; ++i) {
+      const double ydiff = ynew_[i] - y_[i];
+      const double bspl = h * k_[0][i] - ydiff;
+      rcont_[0][i] = y_[i];
+      rcont_[1][i] = ydiff;
+      rcont_[2][i] = bspl;
+      rcont_[3][i] = ydiff - h * k_[6][i] - bspl;
+      double s = 0.0;
+      for (int j = 0; j < 7; ++j) s += d[j] * k_[j][i];
+      rcont_[4][i] = h * s;
+    }
+    y_prev_.swap(y_);
+    f_prev_.swap(f_);
+    std::copy(ynew_.begin(), ynew_.end(), y_.begin());
+    std::copy(k_[6].begin(), k_[6].end(), f_.begin());
+    t_prev_ = t_;
+    t_ = t_new;
+  }
+
+  void dense(double t, double* out) const override {
+    const double h = t_ - t_prev_;
+    const double th = h > 0.0 ? (t - t_prev_) / h : 0.0, th1 = 1.0 - th;
+    const std::size_t n = sys_.n;
+    for (std::size_t i = 0; i < n; ++i)
+      out[i] = rcont_[0][i] +
+               th * (rcont_[1][i] + th1 * (rcont_[2][i] + th * (rcont_[3][i] + th1 * rcont_[4][i])));
+  }
+
+ private:
+  std::vector<double> rcont_[5];
+  std::vector<double> err_;
+};
+
+// ----------------------------------------------------------- DOP853
+class Dop853 final : public Embedded {
+ public:
+  Dop853(OdeSystem s, IntegratorOptions o)
+      : Embedded(std::move(s), o, kDop853Extended, 1.0 / 8.0, 0.0, 0.333, 6.0) {
+    const std::size_t n = sys_.n;
+    for (auto& r : rcont_) r.resize(n);
+    err5_.resize(n);
+    err3_.resize(n);
+  }
+  std::string name() const override { return "dop853"; }
+  int order() const override { return 8; }
+
+  double attempt(double h) override {
+    const std::size_t n = sys_.n;
+    std::copy(f_.begin(), f_.end(), k_[0].begin());  // FSAL
+    for (int s = 1; s < kDop853Stages; ++s) {
+      combine(kDop853A[s], s, h);
+      eval(t_ + kDop853C[s] * h, tmp_.data(), k_[s].data());
+    }
+    combine(kDop853A[kDop853Stages], kDop853Stages, h);  // 8th-order solution
+    std::copy(tmp_.begin(), tmp_.end(), ynew_.begin());
+    double e5 = 0.0, e3 = 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+      double s5 = 0.0, s3 = 0.0;
+      for (int j = 0; j < kDop853Stages; ++j) {
+        s5 += kDop853E5[j] * k_[j][i];
+        s3 += kDop853E3[j] * k_[j][i];
+      }
+      const double sk = opt_.atol + opt_.rtol * std::max(std::abs(y_[i]), std::abs(ynew_[i]));
+      e5 += (s5 / sk) * (s5 / sk);
+      e3 += (s3 / sk) * (s3 / sk);
+    }
+    double deno = e5 + 0.01 * e3;
+    if (deno <= 0.0) deno = 1.0;
+    return std::abs(h) * e5 * std::sqrt(1.0 / (static_cast<double>(n) * deno));
+  }
+
+  void accept(double h, double t_new) override {
+    const std::size_t n = sys_.n;
+    // f(t + h, y_new): FSAL stage 12, needed for the dense output and next step.
+    eval(t_ + h, ynew_.data(), k_[kDop853Stages].data());
+    const auto& f1 = k_[kDop853Stages];
+    for (std::size_t i = 0; i < n; ++i) {
+      const double ydiff = ynew_[i] - y_[i];
+      const double bspl = h * k_[0][i] - ydiff;
+      rcont_[0][i] = y_[i];
+      rcont_[1][i] = ydiff;
+      rcont_[2][i] = bspl;
+      rcont_[3][i] = ydiff - h * f1[i] - bspl;
+    }
+    for (int r = 0; r < 4; ++r) {
+      for (std::size_t i = 0; i < n; ++i) {
+        double s = 0.0;
+        for (int j = 0; j < kDop853Stages + 1; ++j) s += kDop853D[r][j] * k_[j][i];
+        rcont_[4 + r][i] = s;
+      }
+    }
+    // three extra stages for the 7th-order continuous extension
+    for (int s = kDop853Stages + 1; s < kDop853Extended; ++s) {
+      combine(kDop853A[s], s, h);
+      eval(t_ + kDop853C[s] * h, tmp_.data(), k_[s].data());
+      for (int r = 0; r < 4; ++r) {
+        const double dr = kDop853D[r][s];
+        for (std::size_t i = 0; i < n; ++i) rcont_[4 + r][i] += dr * k_[s][i];
+      }
+    }
+    for (int r = 4; r < 8; ++r)
+      for (std::size_t i = 0; i < n; ++i) rcont_[r][i] *= h;
+    y_prev_.swap(y_);
+    f_prev_.swap(f_);
+    std::copy(ynew_.begin(), ynew_.end(), y_.begin());
+    std::copy(f1.begin(), f1.end(), f_.begin());
+    t_prev_ = t_;
+    t_ = t_new;
+  }
+
+  void dense(double t, double* out) const override {
+    const double h = t_ - t_prev_;
+    const double s = h > 0.0 ? (t - t_prev_) / h : 0.0, s1 = 1.0 - s;
+    const std::size_t n = sys_.n;
+    for (std::size_t i = 0; i < n; ++i)
+      out[i] = rcont_[0][i] +
+               s * (rcont_[1][i] +
+                    s1 * (rcont_[2][i] +
+                          s * (rcont_[3][i] +
+                               s1 * (rcont_[4][i] +
+                                     s * (rcont_[5][i] + s1 * (rcont_[6][i] + s * rcont_[7][i]))))));
+  }
+
+ private:
+  std::vector<double> rcont_[8];
+  std::vector<double> err5_, err3_;
+};
+
+}  // namespace
+
+TimeIntegrator::TimeIntegrator(OdeSystem system, IntegratorOptions options)
+    : sys_(std::move(system)), opt_(options) {
+  if (sys_.n == 0 || !sys_.f) throw InputError("time integrator: empty ODE system");
+  if (!(opt_.dt > 0.0) || !std::isfinite(opt_.dt))
+    throw InputError("solver.dt must be positive and finite, got " + fmt(opt_.dt));
+  if (!(opt_.rtol >= 0.0) || !(opt_.atol >= 0.0) || (opt_.rtol == 0.0 && opt_.atol == 0.0))
+    throw InputError("solver.rtol and solver.atol must be >= 0 and not both 0");
+  y_.resize(sys_.n);
+  f_.resize(sys_.n);
+  y_prev_.resize(sys_.n);
+  f_prev_.resize(sys_.n);
+}
+
+void TimeIntegrator::reset(double t0, const double* y0) {
+  std::copy(y0, y0 + sys_.n, y_.begin());
+  t_ = t_prev_ = t0;
+  eval(t_, y_.data(), f_.data());
+  y_prev_ = y_;
+  f_prev_ = f_;
+}
+
+bool TimeIntegrator::clamp(double& h, double t_stop) const {
+  // Within a tiny relative distance of t_stop, finish exactly there rather
+  // than leave a sliver step.
+  const double remaining = t_stop - t_;
+  if (h >= remaining * (1.0 - 1e-12) || remaining <= 1e-14 * std::max(1.0, std::abs(t_stop))) {
+    h = remaining;
+    return true;
+  }
+  return false;
+}
+
+void TimeIntegrator::check_steps() const {
+  if (steps_ + rejected_ >= opt_.max_steps)
+    throw NumericalError(name() + ": more than solver.max_steps = " + std::to_string(opt_.max_steps) +
+                         " steps at t = " + fmt(t_) +
+                         "; raise solver.max_steps or loosen the tolerances.");
+}
+
+void TimeIntegrator::hermite(double t, double* out) const {
+  const double h = t_ - t_prev_;
+  const double th = h > 0.0 ? (t - t_prev_) / h : 0.0;
+  const std::size_t n = sys_.n;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double y0 = y_prev_[i], y1 = y_[i];
+    out[i] = (1.0 - th) * y0 + th * y1 +
+             th * (th - 1.0) *
+                 ((1.0 - 2.0 * th) * (y1 - y0) + (th - 1.0) * h * f_prev_[i] + th * h * f_[i]);
+  }
+}
+
+const std::vector<std::string>& time_integrator_kinds() {
+  static const std::vector<std::string> kinds{"rk4", "rk4-doubling", "dopri5", "dop853"};
+  return kinds;
+}
+
+std::unique_ptr<TimeIntegrator> make_time_integrator(const std::string& kind, OdeSystem system,
+                                                     const IntegratorOptions& options) {
+  if (kind == "rk4") return std::make_unique<RK4>(std::move(system), options);
+  if (kind == "rk4-doubling") return std::make_unique<RK4Doubling>(std::move(system), options);
+  if (kind == "dopri5") return std::make_unique<Dopri5>(std::move(system), options);
+  if (kind == "dop853") return std::make_unique<Dop853>(std::move(system), options);
+  throw InputError("solver.time = \"" + kind +
+                   "\" is not known; allowed: \"rk4\", \"rk4-doubling\", \"dopri5\", \"dop853\"");
+}
+
+}  // namespace rodcore

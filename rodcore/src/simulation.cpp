@@ -1,0 +1,254 @@
+#include "rodcore/simulation.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include "rodcore/diagnostics.hpp"
+#include "rodcore/error.hpp"
+#include "rodcore/initial_conditions.hpp"
+#include "rodcore/integrators.hpp"
+#include "rodcore/operators.hpp"
+#include "rodcore/reconstruction.hpp"
+#include "rodcore/rhs.hpp"
+
+namespace rodcore {
+namespace {
+
+std::string num(double x) {
+  std::ostringstream o;
+  o.precision(6);
+  o << x;
+  return o.str();
+}
+
+const char* kComponentNames[12] = {"gamma1", "gamma2", "gamma3", "omega1", "omega2", "omega3",
+                                   "Gamma1", "Gamma2", "Gamma3", "Omega1", "Omega2", "Omega3"};
+
+}  // namespace
+
+struct Simulation::Impl {
+  Scene scene;
+  std::size_t N = 0;
+  std::unique_ptr<DerivativeOperator> op;
+  std::unique_ptr<RodRHS> rhs;
+  std::unique_ptr<Reconstructor> rec;
+  bool reconstruct = false;
+  std::vector<double> y0;     // 12 N (+ 7: anchor q(0,t), r(0,t))
+  std::vector<double> state;  // current 12 N
+  double t = 0.0;
+  std::vector<double> s;
+
+  double wave_speed() const {
+    const Material& m = scene.material;
+    double c = 1.0;
+    for (int i = 0; i < 3; ++i) {
+      c = std::max(c, std::sqrt(std::max(0.0, m.C[i])));
+      c = std::max(c, std::sqrt(std::max(0.0, m.D[i]) / m.I[i]));
+    }
+    return c;
+  }
+};
+
+Simulation::Simulation(const Scene& scene) : impl_(std::make_unique<Impl>()) {
+  Impl& d = *impl_;
+  d.scene = scene;
+  Scene& sc = d.scene;
+  const InitialKind& kind = initial_kind(sc.initial.kind);
+  // A scene built in code may leave the rod to the kind (e.g. dna_planar).
+  if (kind.derive_rod && (sc.rod.length <= 0.0 || sc.rod.points <= 0)) {
+    std::set<std::string> keys;
+    if (sc.rod.points > 0) keys.insert("points");
+    kind.derive_rod(sc.initial, sc.rod, sc.material, keys);
+  }
+  if (sc.rod.points <= 0 || !(sc.rod.length > 0.0) || !std::isfinite(sc.rod.length))
+    throw InputError(sc.source + ": rod.points and rod.length must be positive (got points = " +
+                     std::to_string(sc.rod.points) + ", length = " + num(sc.rod.length) + ")");
+  if (sc.output.frames < 1) throw InputError(sc.source + ": output.frames must be >= 1");
+  if (!(sc.output.t_end >= 0.0) || !std::isfinite(sc.output.t_end))
+    throw InputError(sc.source + ": output.t_end must be >= 0 and finite");
+  if (sc.solver.reduce != "auto" && sc.solver.reduce != "off")
+    throw InputError(sc.source + ": solver.reduce = \"" + sc.solver.reduce +
+                     "\" is not known; allowed: \"auto\", \"off\"");
+  d.N = static_cast<std::size_t>(sc.rod.points);
+  d.op = make_derivative_operator(sc.solver.space, d.N, sc.rod.length, sc.solver.dealias);
+  d.rhs = std::make_unique<RodRHS>(sc.rod, sc.material, *d.op);
+  d.reconstruct = sc.output.centerline || sc.output.directors;
+  if (d.reconstruct) d.rec = std::make_unique<Reconstructor>(d.N, sc.rod.length);
+  d.s.resize(d.N);
+  for (std::size_t i = 0; i < d.N; ++i)
+    d.s[i] = static_cast<double>(i) * sc.rod.length / static_cast<double>(d.N);
+
+  d.state = make_initial_state(sc);
+  if (long bad = first_non_finite(d.state.data(), d.state.size()); bad >= 0) {
+    const std::size_t r = static_cast<std::size_t>(bad) / d.N, i = static_cast<std::size_t>(bad) % d.N;
+    throw InputError(sc.source + ": initial field " + kComponentNames[r] + " is not finite (" +
+                     num(d.state[bad]) + ") at point " + std::to_string(i) + " (s = " + num(d.s[i]) +
+                     ")");
+  }
+  d.y0 = d.state;
+  if (d.reconstruct) {
+    const auto [q0, r0] = initial_anchor(sc);
+    d.y0.insert(d.y0.end(), q0.begin(), q0.end());
+    d.y0.insert(d.y0.end(), r0.begin(), r0.end());
+  }
+  // Make sure the integrator kind is known now (InputError), not in run().
+  bool known = false;
+  for (const auto& k : time_integrator_kinds()) known = known || k == sc.solver.time;
+  if (!known)
+    throw InputError(sc.source + ": solver.time = \"" + sc.solver.time +
+                     "\" is not known; allowed: \"rk4\", \"rk4-doubling\", \"dopri5\", \"dop853\"");
+}
+
+Simulation::~Simulation() = default;
+
+const Scene& Simulation::scene() const { return impl_->scene; }
+std::vector<double> Simulation::grid() const { return impl_->s; }
+const std::vector<double>& Simulation::state() const { return impl_->state; }
+double Simulation::time() const { return impl_->t; }
+
+RunSummary Simulation::run(const FrameHandler& on_frame, const ProgressHandler& progress) {
+  Impl& d = *impl_;
+  const Scene& sc = d.scene;
+  const std::size_t N = d.N;
+  const auto wall0 = std::chrono::steady_clock::now();
+  RunSummary summary;
+  summary.method = d.op->name() + "+" + sc.solver.time;
+
+  // Explicit fixed step: the CFL estimate must hold (RK4 is stable on the
+  // imaginary axis up to |lambda dt| = 2 sqrt 2 ~ 2.83).
+  if (sc.solver.time == "rk4") {
+    const double lambda = d.wave_speed() * d.op->max_wavenumber();
+    const double dt_cfl = 2.8 / lambda;
+    if (sc.solver.dt > dt_cfl)
+      throw NumericalError(sc.source + ": solver.dt = " + num(sc.solver.dt) +
+                           " exceeds the RK4 stability limit ~" + num(dt_cfl) +
+                           " (max wave speed " + num(d.wave_speed()) + " x max wavenumber " +
+                           num(d.op->max_wavenumber()) + " of " + d.op->name() +
+                           "); use solver.dt <= " + num(dt_cfl) +
+                           ", fewer rod.points, or an adaptive solver.time");
+  }
+
+  OdeSystem sys;
+  sys.n = d.y0.size();
+  const bool recon = d.reconstruct;
+  RodRHS* rhs = d.rhs.get();
+  sys.f = [rhs, N, recon](double, const double* y, double* f) {
+    (*rhs)(y, f);
+    if (recon) {
+      const Vec3 w0{y[3 * N], y[4 * N], y[5 * N]};
+      const Vec3 g0{y[0], y[N], y[2 * N]};
+      anchor_rate(y + 12 * N, w0, g0, f + 12 * N);
+    }
+  };
+  IntegratorOptions io;
+  io.rtol = sc.solver.rtol;
+  io.atol = sc.solver.atol;
+  io.dt = sc.solver.dt;
+  io.dt_min = sc.solver.dt_min;
+  io.max_steps = sc.solver.max_steps;
+  auto integ = make_time_integrator(sc.solver.time, sys, io);
+  integ->reset(0.0, d.y0.data());
+
+  const auto Gamma0 = d.rhs->Gamma0();
+  const auto Omega0 = d.rhs->Omega0();
+  const double h = sc.rod.length / static_cast<double>(N);
+  double E0 = std::numeric_limits<double>::quiet_NaN();
+  std::vector<double> buf(sys.n), centerline, directors;
+  if (sc.output.centerline) centerline.resize(3 * N);
+  if (sc.output.directors) directors.resize(9 * N);
+
+  auto deliver = [&](int index, double t, const double* y) {
+    Frame fr;
+    fr.index = index;
+    fr.t = t;
+    fr.N = N;
+    fr.y = y;
+    const EnergyParts parts = energy_parts(y, N, h, sc.material, Gamma0, Omega0);
+    const double E = parts.total();
+    if (index == 0) E0 = E;
+    const double drift = std::abs(E0) > 0.0 ? std::abs(E - E0) / std::abs(E0) : std::abs(E - E0);
+    summary.energy_drift = std::max(summary.energy_drift, drift);
+    if (!(drift <= sc.checks.max_energy_drift))
+      throw NumericalError(sc.source + ": relative energy drift " + num(drift) + " at t = " +
+                           num(t) + " exceeds checks.max_energy_drift = " +
+                           num(sc.checks.max_energy_drift) +
+                           "; tighten solver.rtol/atol, reduce dt, or raise rod.points");
+    if (sc.output.energy || sc.output.energy_parts) fr.energy = E;
+    if (sc.output.energy_parts) fr.energy_parts = parts.as_map();
+    if (recon) {
+      const Quat q0{y[12 * N], y[12 * N + 1], y[12 * N + 2], y[12 * N + 3]};
+      const Vec3 r0{y[12 * N + 4], y[12 * N + 5], y[12 * N + 6]};
+      d.rec->sweep(y, q0, r0, centerline.empty() ? nullptr : centerline.data(),
+                   directors.empty() ? nullptr : directors.data());
+      fr.max_director_norm_error = d.rec->max_director_norm_error();
+      if (fr.max_director_norm_error > sc.checks.max_director_norm_error)
+        throw NumericalError(sc.source + ": director norm error " +
+                             num(fr.max_director_norm_error) + " at t = " + num(t) +
+                             " exceeds checks.max_director_norm_error");
+      if (!centerline.empty()) fr.centerline = centerline.data();
+      if (!directors.empty()) fr.directors = directors.data();
+    }
+    if (on_frame) on_frame(fr);
+  };
+
+  const int frames = sc.output.frames;
+  const double t_end = sc.output.t_end;
+  auto frame_time = [&](int j) {
+    return (j == frames - 1 || frames == 1) ? (j == 0 && frames == 1 ? 0.0 : t_end)
+                                            : t_end * static_cast<double>(j) /
+                                                  static_cast<double>(frames - 1);
+  };
+  deliver(0, 0.0, integ->y().data());
+  int j = 1;
+  while (j < frames && t_end == 0.0) deliver(j++, 0.0, integ->y().data());
+
+  while (j < frames) {
+    integ->step(t_end);
+    const double t = integ->t();
+    const double* y = integ->y().data();
+    if (long bad = first_non_finite(y, sys.n); bad >= 0) {
+      std::string where = "the s = 0 frame";
+      if (static_cast<std::size_t>(bad) < 12 * N) {
+        const std::size_t r = static_cast<std::size_t>(bad) / N, i = static_cast<std::size_t>(bad) % N;
+        where = std::string(kComponentNames[r]) + " at s = " + num(d.s[i]);
+      }
+      throw NumericalError(sc.source + ": non-finite value (NaN/Inf) in " + where + ", t = " +
+                           num(t) + ". The run blew up: reduce solver.dt or tolerances, raise "
+                           "rod.points, or check the initial fields.");
+    }
+    if (sc.checks.stop_on_fold) {
+      const auto [i, G3] = min_Gamma3(y, N);
+      if (G3 <= 0.0)
+        throw NumericalError(sc.source + ": the rod folded (Gamma3 = " + num(G3) + " <= 0) at s = " +
+                             num(d.s[i]) + ", t = " + num(t) +
+                             ". The deformation is too large for the model: lower the amplitude, "
+                             "or set checks.stop_on_fold = false to continue anyway.");
+    }
+    while (j < frames && frame_time(j) <= t) {
+      const double tj = frame_time(j);
+      if (tj == t) {
+        deliver(j, tj, y);
+      } else {
+        integ->dense(tj, buf.data());
+        deliver(j, tj, buf.data());
+      }
+      ++j;
+    }
+    if (progress) progress(t, t_end);
+  }
+
+  d.t = integ->t();
+  std::copy(integ->y().begin(), integ->y().begin() + 12 * N, d.state.begin());
+  summary.steps = integ->steps();
+  summary.rejected = integ->rejected();
+  summary.rhs_evaluations = integ->rhs_evaluations();
+  summary.reduced = false;
+  summary.wall_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+  return summary;
+}
+
+}  // namespace rodcore
