@@ -156,3 +156,26 @@ def test_rotation_log_exp_inverse():
     v *= (rng.uniform(0, np.pi - 1e-3, 1000) / np.linalg.norm(v, axis=1))[:, None]
     v[:10] *= 1e-12
     assert np.abs(rotation_log(rotation_exp(v)) - v).max() < 1e-12
+
+
+@pytest.mark.parametrize("base", "ACGT")
+def test_fast_horn_fit_equals_svd_fit(base):
+    """The vectorised quaternion solver and the Kabsch/SVD solver minimise the
+    same function: same frames to round-off on noisy, randomly placed bases."""
+    from dna_models.nucleotides import standard_ring_coordinates
+    rng = np.random.default_rng(11)
+    S = standard_ring_coordinates(base)
+    Rt = rotation_exp(rng.normal(size=(2000, 3)) * 2)
+    E = np.einsum("kij,nj->kni", Rt, S) + rng.normal(size=(2000, 1, 3)) * 30 \
+        + rng.normal(0, 0.3, (2000, len(S), 3))
+    R, o, rms = fit_frames(S, E)
+    R2, o2, rms2 = fit_frames(S, E, method="svd")
+    assert np.abs(R - R2).max() < 1e-12 and np.abs(o - o2).max() < 1e-11
+    assert np.abs(rms - rms2).max() < 1e-10
+    assert np.abs(np.linalg.det(R) - 1).max() < 1e-13
+
+
+def test_fit_degenerate_input_falls_back():
+    from dna_models.nucleotides import standard_ring_coordinates
+    R, o, rms = fit_frames(standard_ring_coordinates("A"), np.zeros((2, 9, 3)))
+    assert np.all(np.isfinite(R)) and np.allclose(R @ np.swapaxes(R, -1, -2), np.eye(3))
