@@ -40,9 +40,12 @@ class ElasticPreset:
     I: tuple       # moment of inertia density [kg m]
     rho: float     # mass density [kg/m]
     source: str
+    star: dict | None = None   # dimensionless values to use instead of the computed ones
 
     def dimensionless(self, units: Units | None = None) -> dict:
         """C*, D*, I* in the paper's unit system (Eq 15)."""
+        if self.star is not None and units is None:
+            return dict(self.star)
         u = Units.paper() if units is None else units
         return {"C_star": tuple(c / u.C for c in self.C),
                 "D_star": tuple(d * u.rho / (u.I * u.C) for d in self.D),
@@ -54,7 +57,9 @@ def paper() -> ElasticPreset:
     return ElasticPreset(
         name="paper", C=tuple(u.C * r for r in u.C_ratios), D=tuple(u.D * r for r in u.D_ratios),
         I=tuple(u.I * r for r in u.I_ratios), rho=u.rho,
-        source="paper Sec 2.1 (dna_models/data/dna_elastic_constants.toml)")
+        source="paper Sec 2.1 (dna_models/data/dna_elastic_constants.toml)",
+        # the solver's material: D* with the printed 1.21 (the constants give 1.2115)
+        star={"C_star": u.C_star, "D_star": u.D_star, "I_star": u.I_star})
 
 
 def olson1998_table(path: Path = DATA / "olson1998_average.toml") -> dict:
