@@ -148,3 +148,17 @@ def test_1kx5_nucleosome_runs(refdata):
     assert 33.0 < s[:, 5].mean() < 36.5
     assert s[:, 4].std() > 4.0
     assert np.all(r.results.rmsd < 0.3)
+
+
+@pytest.mark.parametrize("pdb,par", [("rebuilt_ideal_B.pdb", "ideal_B_36_3.38.par"),
+                                     ("rebuilt_355d_steps_zero_bp.pdb", "355d_steps_zero_bp.par")])
+def test_3dna_rebuilt_structures_give_back_their_parameters(refdata, pdb, par):
+    """3DNA `rebuild` made these duplexes from known step parameters (and zero
+    base-pair parameters); analysing them returns those parameters up to the
+    PDB's 3-decimal coordinate rounding (~0.01 deg over a base's ~5 A lever)."""
+    d = refdata / "rebuild_3dna_bdna"
+    r = _analyse(d / pdb)
+    _, bp_ref, step_ref = read_bp_step_par(d / par)
+    err = np.abs(r.step_parameters()[0] - step_ref)
+    assert err[:, :3].max() < 0.002 and err[:, 3:].max() < 0.02, err.max(axis=0)
+    assert np.abs(r.results.bp_parameters[0] - bp_ref).max() < 0.03
