@@ -169,3 +169,59 @@ def test_command_errors_exit_2(tmp_path):
     pdb.write_text("ATOM      1  O   HOH A   1       0.000   0.000   0.000  1.00  0.00           O\nEND\n")
     r = _dnarod(str(pdb), "--pairs", str(bad))
     assert r.returncode == 2 and "pairs.txt, line 1" in r.stderr
+
+
+def _dna_only_pdb(refdata, tmp_path):
+    src = refdata / "355d" / "355d.pdb"
+    out = tmp_path / "dna.pdb"
+    out.write_text("".join(ln for ln in open(src) if ln.startswith("ATOM") and ln[17:20].strip() in
+                           ("DA", "DC", "DG", "DT")) + "END\n")
+    return out
+
+
+def test_gro_and_xtc_without_chain_ids(refdata, tmp_path):
+    """GRO + XTC (no chain/segment ids: strands split at O3'-P breaks). GRO and
+    XTC store 0.01 A, which moves angles by up to ~0.3 deg."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        u = MDAnalysis.Universe(str(_dna_only_pdb(refdata, tmp_path)))
+        ref = BasePairFrames(u).run().step_parameters()
+        u.atoms.write(str(tmp_path / "dna.gro"))
+        with MDAnalysis.Writer(str(tmp_path / "dna.xtc"), u.atoms.n_atoms) as w:
+            for _ in range(3):
+                w.write(u.atoms)
+        v = MDAnalysis.Universe(str(tmp_path / "dna.gro"), str(tmp_path / "dna.xtc"))
+    assert len(set(v.atoms.segids)) == 1
+    b = BasePairFrames(v).run()
+    assert b.sequence == "CGCGAATTCGCG" and b.results.R.shape[0] == 3
+    err = np.abs(b.step_parameters() - ref)
+    assert err[..., :3].max() < 0.02 and err[..., 3:].max() < 0.4
+
+
+def test_gromacs_tpr(refdata, tmp_path):
+    """TPR + GRO from GROMACS pdb2gmx/grompp (charmm27) of 355D's DNA."""
+    import shutil
+    gmx = shutil.which("gmx")
+    if gmx is None:
+        pytest.skip("GROMACS (gmx) not on PATH: install it with scripts/setup.sh")
+    pdb = _dna_only_pdb(refdata, tmp_path)
+
+    def run(args, stdin=""):
+        r = subprocess.run([gmx, "-quiet"] + args, input=stdin, capture_output=True, text=True,
+                           cwd=tmp_path, timeout=300)
+        assert r.returncode == 0, r.stderr[-2000:]
+
+    # termini: 5' and 3' for both strands (DNA, not protein)
+    run(["pdb2gmx", "-f", str(pdb), "-o", "conf.gro", "-p", "topol.top", "-ff", "charmm27",
+         "-water", "none", "-ignh", "-ter"], "2\n4\n2\n4\n")
+    run(["editconf", "-f", "conf.gro", "-o", "box.gro", "-box", "8", "8", "8", "-noc"])
+    (tmp_path / "m.mdp").write_text("integrator = md\nnsteps = 0\ncutoff-scheme = Verlet\npbc = xyz\n")
+    run(["grompp", "-f", "m.mdp", "-c", "box.gro", "-p", "topol.top", "-o", "topol.tpr", "-maxwarn", "5"])
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        ref = BasePairFrames(MDAnalysis.Universe(str(pdb))).run().step_parameters()
+        v = MDAnalysis.Universe(str(tmp_path / "topol.tpr"), str(tmp_path / "box.gro"))
+    b = BasePairFrames(v).run()
+    assert b.sequence == "CGCGAATTCGCG"
+    err = np.abs(b.step_parameters() - ref)
+    assert err[..., :3].max() < 0.02 and err[..., 3:].max() < 0.4
