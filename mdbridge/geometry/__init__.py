@@ -8,8 +8,9 @@ from .steps import (STEP_NAMES, BP_NAMES, cehs, step_parameters, step_parameters
                     base_pair_parameters, base_pair_frames, base_frames_from_pair)
 from .basefit import fit_frames
 from .pbc import minimum_image
+from .structure import BasePairFrames, read_pairs_file
 
 __all__ = ["STEP_NAMES", "BP_NAMES", "cehs", "step_parameters", "step_parameters_along",
            "step_transform", "next_frame", "frames_from_steps", "flip_strand_II",
            "base_pair_parameters", "base_pair_frames", "base_frames_from_pair",
-           "fit_frames", "minimum_image"]
+           "fit_frames", "minimum_image", "BasePairFrames", "read_pairs_file"]

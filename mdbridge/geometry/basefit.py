@@ -69,7 +69,9 @@ def _rotation_horn(H):
     """H (..., 3, 3) -> R (..., 3, 3). Works on structure-of-arrays (each matrix
     entry one contiguous vector over all bases), so the squarings are ~100
     long vector operations instead of millions of tiny matrix products."""
-    Hs = [[np.ascontiguousarray(H[..., a, b]) for b in range(3)] for a in range(3)]
+    lead = H.shape[:-2]
+    H = H.reshape(-1, 3, 3)
+    Hs = [[np.ascontiguousarray(H[:, a, b]) for b in range(3)] for a in range(3)]
     N = _horn_entries(Hs)
     # With singular values s1 >= s2 >= s3 of H (proper case), N's eigenvalues are
     # s1+s2+s3 > s1-s2-s3 >= -s1+s2-s3 >= -s1-s2+s3. Any shift c > 0 makes the top
@@ -99,8 +101,8 @@ def _rotation_horn(H):
     R = _quaternion_matrix(q)
     bad = ~(resid <= 1e-10 * (c + 1e-300))
     if np.any(bad):
-        R[bad] = _rotation_svd(np.asarray(H)[bad])
-    return R
+        R[bad] = _rotation_svd(H[bad])
+    return R.reshape(lead + (3, 3))
 
 
 def _rotation_svd(H):
@@ -128,9 +130,11 @@ def fit_frames(standard, observed, method="horn"):
     H = np.swapaxes(Sc, -1, -2) @ Ec               # cross-covariance S^T E
     R = _rotation_horn(H) if method == "horn" else _rotation_svd(H)
     o = e_ave - np.einsum("...ij,...j->...i", R, s_ave)
-    # sum |Ec - R Sc|^2 = |Sc|^2 + |Ec|^2 - 2 tr(R H^T)
-    n = E.shape[-2]
-    resid = np.sum(Sc * Sc, axis=(-2, -1)) + np.sum(Ec * Ec, axis=(-2, -1)) \
-        - 2.0 * np.sum(R * np.swapaxes(H, -1, -2), axis=(-2, -1))
-    rmsd = np.sqrt(np.maximum(resid, 0.0) / n)
+    # residuals from the fitted coordinates themselves (the shortcut
+    # |Sc|^2 + |Ec|^2 - 2 tr(R H^T) cancels to ~1e-8 A for exact fits)
+    sq = 0.0
+    for k in range(3):
+        fit_k = R[..., None, k, 0] * Sc[..., 0] + R[..., None, k, 1] * Sc[..., 1] + R[..., None, k, 2] * Sc[..., 2]
+        sq = sq + (Ec[..., k] - fit_k) ** 2
+    rmsd = np.sqrt(np.mean(sq, axis=-1))
     return R, o, rmsd

@@ -179,3 +179,14 @@ def test_fit_degenerate_input_falls_back():
     from dna_models.nucleotides import standard_ring_coordinates
     R, o, rms = fit_frames(standard_ring_coordinates("A"), np.zeros((2, 9, 3)))
     assert np.all(np.isfinite(R)) and np.allclose(R @ np.swapaxes(R, -1, -2), np.eye(3))
+
+
+def test_fit_single_base_shapes_and_exact_rmsd():
+    """Unbatched input gives unbatched output, and an exact copy of the standard
+    base has RMSD at round-off (peers rely on this to check templates)."""
+    from dna_models.nucleotides import standard_ring_coordinates
+    S = standard_ring_coordinates("G")
+    Rt = rotation_exp(np.array([0.3, 1.0, 2.0]))
+    R, o, rms = fit_frames(S, S @ Rt.T + [10.0, 20.0, 30.0])
+    assert R.shape == (3, 3) and o.shape == (3,) and np.ndim(rms) == 0
+    assert rms < 1e-13 and np.abs(R - Rt).max() < 1e-14
