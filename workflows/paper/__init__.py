@@ -1,0 +1,9 @@
+"""Reproduction of the paper's rod results (Sections 3-6): figures 1-7 and the
+quantitative checks of docs/reproduction.md.
+
+One module per figure or check; all of them run real simulations through
+`workflows.paper.rod.run_scene` (the `rodcore` Python module, or `rodsim` when the
+module is not built) or evaluate the closed-form results of `workflows.paper.theory`
+(which prefers the C++ `rodcore.analytic` functions). `dnarod paper-figures` drives
+them (`workflows.paper.registry`).
+"""
