@@ -196,7 +196,13 @@ def phase_velocity(times_ps, c, k_per_A) -> dict:
         sel = slice(n // 10, n - n // 10)  # drop the FFT's edge effects
     phase = np.unwrap(np.angle(z[sel]))
     slope, se = _slope(t[sel], phase)
-    return {"method": f"phase velocity ({how})", "modulation": modulation,
-            "omega_per_ps": abs(slope), "speed_A_per_ps": abs(slope) / k_per_A,
-            "speed_err_A_per_ps": se / k_per_A,
-            "direction": "forward" if slope < 0 else "backward"}
+    periods = abs(slope) * (t[-1] - t[0]) / (2 * np.pi)
+    out = {"method": f"phase velocity ({how})", "modulation": modulation,
+           "omega_per_ps": abs(slope), "speed_A_per_ps": abs(slope) / k_per_A,
+           "speed_err_A_per_ps": se / k_per_A, "periods_in_record": periods,
+           "direction": "forward" if slope < 0 else "backward", "reliable": True}
+    if modulation >= 0.3 and periods < 1.5:
+        # the frequency split of a standing wave needs a few periods in the record
+        out["reliable"] = False
+        out["reason"] = f"standing/mixed wave with only {periods:.2f} periods in the record"
+    return out
