@@ -17,8 +17,9 @@ branch, omega_+ the shear branch. Here kappa is per unit FIDUCIAL arclength; the
 laboratory length of the rod is Gamma03 L, so a speed along the laboratory axis is
 Gamma03 omega / kappa (in l / tau).
 
-If the compiled module exposes `rodcore.analytic.dispersion_omega`, that is used instead,
-so the physics is not duplicated; otherwise this is the only implementation in Python.
+The formula's home is rodcore/src/analytic.cpp (`analytic::dispersion`). When the compiled
+module exposes it (`rodcore.analytic.dispersion(kappa, D1, Gamma03, +1|-1)`) it is used;
+otherwise this is the project's only Python copy (workflows/paper/theory.py uses it too).
 """
 from __future__ import annotations
 
@@ -29,11 +30,14 @@ from dna_models.units import Units
 
 def omega_pm(kappa, D1: float, Gamma03: float, branch: str = "minus"):
     """Eq (39)/(26): frequency of the bend-shear branch `branch` ('plus' or 'minus')."""
+    if branch not in ("plus", "minus"):
+        raise ValueError(f"branch must be 'plus' or 'minus', got {branch!r}")
     try:  # prefer the C++ implementation when it is there
         import rodcore  # type: ignore
-        f = getattr(getattr(rodcore, "analytic", None), "dispersion_omega", None)
+        f = getattr(getattr(rodcore, "analytic", None), "dispersion", None)
         if f is not None:
-            return np.vectorize(lambda q: f(q, D1, Gamma03, branch))(kappa)
+            sign = 1 if branch == "plus" else -1
+            return np.vectorize(lambda q: f(float(q), float(D1), float(Gamma03), sign))(kappa) * 1.0
     except ImportError:
         pass
     kappa = np.asarray(kappa, float)
