@@ -1,0 +1,87 @@
+"""Shared bits of the figure and check modules: output files and small numerics."""
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+
+
+def plt():
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as pyplot
+    return pyplot
+
+
+def _jsonable(x):
+    if isinstance(x, dict):
+        return {str(k): _jsonable(v) for k, v in x.items()}
+    if isinstance(x, (list, tuple)):
+        return [_jsonable(v) for v in x]
+    if isinstance(x, np.ndarray):
+        return _jsonable(x.tolist())
+    if isinstance(x, (np.floating, float)):
+        x = float(x)
+        return x if math.isfinite(x) else str(x)  # JSON has no inf/nan
+    if isinstance(x, (np.integer,)):
+        return int(x)
+    if isinstance(x, np.bool_):
+        return bool(x)
+    return x
+
+
+def write_json(path: Path, data: dict) -> Path:
+    path = Path(path)
+    path.write_text(json.dumps(_jsonable(data), indent=2) + "\n")
+    return path
+
+
+def save(fig, path: Path, dpi: int = 90) -> Path:
+    fig.savefig(path, dpi=dpi)
+    plt().close(fig)
+    return Path(path)
+
+
+def mode_amplitude(u: np.ndarray, m: int) -> np.ndarray:
+    """Complex amplitude c_m(t) of Fourier mode m of u (T, N) on a uniform periodic grid:
+    u = sum_m Re(c_m e^{i 2 pi m s / L}) for m >= 1."""
+    u = np.asarray(u, float)
+    return 2.0 / u.shape[-1] * np.fft.fft(u, axis=-1)[..., m].conj()
+
+
+def fit_frequencies(t, signals, guesses):
+    """Least-squares fit of real signals (S, T) to sum_j a_sj cos(w_j t) + b_sj sin(w_j t)
+    with frequencies w_j shared by all signals; starts from `guesses`. Returns the
+    frequencies (sorted as the guesses) and the rms residual / rms signal."""
+    from scipy.optimize import least_squares
+    t = np.asarray(t, float)
+    Y = np.atleast_2d(np.asarray(signals, float))
+
+    def design(w):
+        return np.column_stack([f(wj * t) for wj in w for f in (np.cos, np.sin)])
+
+    def resid(w):
+        A = design(w)
+        coef = np.linalg.lstsq(A, Y.T, rcond=None)[0]
+        return (A @ coef - Y.T).ravel()
+
+    sol = least_squares(resid, np.asarray(guesses, float), xtol=1e-14, ftol=1e-14, gtol=1e-14)
+    rel = np.sqrt(np.mean(sol.fun ** 2)) / max(np.sqrt(np.mean(Y ** 2)), 1e-300)
+    return sol.x, float(rel)
+
+
+def spectral_peaks(t, signals, n_peaks: int, pad: int = 8):
+    """Frequencies of the n_peaks largest local maxima of the summed power spectrum
+    (Hann window, zero-padded FFT) of real signals (S, T) sampled uniformly at t."""
+    t = np.asarray(t, float)
+    Y = np.atleast_2d(np.asarray(signals, float))
+    dt = t[1] - t[0]
+    n = len(t) * pad
+    win = np.hanning(len(t))
+    P = sum(np.abs(np.fft.rfft((y - y.mean()) * win, n)) ** 2 for y in Y)
+    f = 2 * np.pi * np.fft.rfftfreq(n, dt)
+    idx = [i for i in range(1, len(P) - 1) if P[i] >= P[i - 1] and P[i] > P[i + 1]]
+    idx = sorted(idx, key=lambda i: -P[i])[:n_peaks]
+    return np.sort(f[idx])
