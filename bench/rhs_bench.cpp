@@ -1,0 +1,116 @@
+// Cost of the right-hand side (Eqs 11-14) and of one adaptive step, per grid
+// point, for both spatial operators, N = 32 .. 131072.
+//
+//   rodbench --benchmark_filter=RHS     (items_per_second = grid-point updates/s)
+//
+// One "grid-point update" = all 12 components of dy/dt at one point,
+// derivative included. The state is a smooth, non-trivial rod state (the
+// exact twisted wave, Eq 24) so no branch or denormal shortcut applies.
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <numbers>
+#include <vector>
+
+#include "rodcore/analytic.hpp"
+#include "rodcore/integrators.hpp"
+#include "rodcore/operators.hpp"
+#include "rodcore/rhs.hpp"
+#include "rodcore/scene.hpp"
+
+namespace {
+
+struct Setup {
+  rodcore::Rod rod;
+  rodcore::Material mat;
+  std::unique_ptr<rodcore::DerivativeOperator> op;
+  std::unique_ptr<rodcore::RodRHS> rhs;
+  std::vector<double> y, f;
+
+  Setup(const char* space, std::size_t N) {
+    rod.length = 2.0 * std::numbers::pi;
+    rod.points = static_cast<int>(N);
+    rod.Gamma0 = {0.0, 0.0, 1.0};
+    rod.Omega0 = {0.0, 0.0, 1.0};
+    op = rodcore::make_derivative_operator(space, N, rod.length);
+    rhs = std::make_unique<rodcore::RodRHS>(rod, mat, *op);
+    rodcore::analytic::TwistedWave w;
+    w.A = 0.3;
+    w.k = 3.0;
+    y.assign(12 * N, 0.0);
+    f.assign(12 * N, 0.0);
+    for (std::size_t i = 0; i < N; ++i) {
+      const auto v = w.at(rod.length * static_cast<double>(i) / static_cast<double>(N), 0.0);
+      for (int r = 0; r < 12; ++r) y[r * N + i] = v[r];
+    }
+  }
+};
+
+void RHS(benchmark::State& state, const char* space) {
+  const auto N = static_cast<std::size_t>(state.range(0));
+  Setup s(space, N);
+  for (auto _ : state) {
+    (*s.rhs)(s.y.data(), s.f.data());
+    benchmark::DoNotOptimize(s.f.data());
+    benchmark::ClobberMemory();
+  }
+  state.SetItemsProcessed(static_cast<int64_t>(state.iterations()) * static_cast<int64_t>(N));
+  state.counters["N"] = static_cast<double>(N);
+}
+
+// Only the derivative operator on 12 rows: how much of the RHS is d/ds.
+void Derivative(benchmark::State& state, const char* space) {
+  const auto N = static_cast<std::size_t>(state.range(0));
+  Setup s(space, N);
+  for (auto _ : state) {
+    s.op->apply(s.y.data(), s.f.data(), 12);
+    benchmark::DoNotOptimize(s.f.data());
+    benchmark::ClobberMemory();
+  }
+  state.SetItemsProcessed(static_cast<int64_t>(state.iterations()) * static_cast<int64_t>(N));
+  state.counters["N"] = static_cast<double>(N);
+}
+
+// One accepted DOP853 step (12 RHS evaluations + error norm + bookkeeping)
+// with a fixed tolerance; the step is restarted from the same state each time.
+void Step(benchmark::State& state, const char* space) {
+  const auto N = static_cast<std::size_t>(state.range(0));
+  Setup s(space, N);
+  rodcore::OdeSystem sys;
+  sys.n = 12 * N;
+  rodcore::RodRHS* rhs = s.rhs.get();
+  sys.f = [rhs](double, const double* y, double* f) { (*rhs)(y, f); };
+  rodcore::IntegratorOptions io;
+  io.rtol = io.atol = 1e-6;
+  // A step well inside the stability region at every N (the step size does
+  // not change the cost of a step).
+  io.dt = 0.5 / s.op->max_wavenumber();
+  auto integ = rodcore::make_time_integrator("dop853", sys, io);
+  for (auto _ : state) {
+    state.PauseTiming();
+    integ->reset(0.0, s.y.data());
+    state.ResumeTiming();
+    integ->step(1e9);
+    benchmark::DoNotOptimize(integ->y().data());
+  }
+  state.SetItemsProcessed(static_cast<int64_t>(state.iterations()) * static_cast<int64_t>(N));
+  state.counters["N"] = static_cast<double>(N);
+}
+
+void sizes(benchmark::internal::Benchmark* b) {
+  for (long n = 32; n <= 131072; n *= 2) b->Arg(n);
+  b->Arg(158);
+  b->Arg(1000);
+  b->Arg(100000);
+}
+
+}  // namespace
+
+BENCHMARK_CAPTURE(RHS, fd4, "fd4")->Apply(sizes);
+BENCHMARK_CAPTURE(RHS, spectral, "spectral")->Apply(sizes);
+BENCHMARK_CAPTURE(Derivative, fd4, "fd4")->Apply(sizes);
+BENCHMARK_CAPTURE(Derivative, spectral, "spectral")->Apply(sizes);
+BENCHMARK_CAPTURE(Step, fd4, "fd4")->Apply(sizes);
+BENCHMARK_CAPTURE(Step, spectral, "spectral")->Apply(sizes);
+
+BENCHMARK_MAIN();
