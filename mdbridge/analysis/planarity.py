@@ -35,5 +35,6 @@ def planarity(u_in: np.ndarray, u_out: np.ndarray) -> dict:
     with np.errstate(invalid="ignore", divide="ignore"):
         return {"in_rms_A": in_rms, "out_rms_A": out_rms, "ratio": out_rms / in_rms,
                 "angle_deg": angle, "svd_ratio": svd_ratio,
-                "planarity": float(np.sqrt(np.mean(u_out ** 2)) / total_in) if total_in > 0 else float("nan"),
+                # no in-plane motion (a rod at rest): planarity is undefined, not 0
+                "planarity": float(np.sqrt(np.mean(u_out ** 2)) / total_in) if total_in > 1e-9 else float("nan"),
                 "plane_angle_deg": float(np.degrees(np.arctan2(v[1], v[0])))}

@@ -214,7 +214,9 @@ def figures(cfg: dict, data: dict, res: dict) -> dict:
         mdv = [(av, _num(j["wave_speed_A_per_ps"])) for (av, s), (j, _) in data["md"].items() if j]
         if mdv:
             ax.plot(*zip(*mdv), "s", color="C3", label="MD (this run)")
-        ax.set(xscale="symlog", xlabel="A_v [A/ps]", ylabel="wave speed [A/ps]", title="wave speed vs amplitude")
+        pos = a[a > 0]
+        ax.set_xscale("symlog", linthresh=float(pos.min()) if len(pos) else 1.0)
+        ax.set(xlabel="A_v [A/ps]", ylabel="wave speed [A/ps]", title="wave speed vs amplitude")
         ax.legend(fontsize=7)
         figs["amplitude"] = _png(fig)
     return figs
@@ -246,7 +248,8 @@ def write_html(cfg: dict, res: dict, figs: dict, path: Path):
         f"<tr><td>{j['kind']}</td><td>{_f(j.get('A_v_A_per_ps'))}</td><td>{j.get('seed', '')}</td>"
         f"<td>{_f(j['wave_speed_A_per_ps'])} &plusmn; {_f(j['wave_speed_err_A_per_ps'], 2)}</td>"
         f"<td>{_f(j.get('wave_speed_check_A_per_ps'))}</td><td>{_f(j['planarity'])}</td>"
-        f"<td>{_f(j.get('bp_intact_fraction_final', ''))}</td><td>{_f(j['t_end_ps'])}</td></tr>"
+        f"<td>{_f(j.get('bp_intact_fraction_final', ''))}</td><td>{_f(j['t_end_ps'])}"
+        f"{'' if j.get('complete', True) else ' (stopped: ' + html.escape(j.get('stopped', '')) + ')'}</td></tr>"
         for j in res["runs"]["rod"] + res["runs"]["md"] + res["runs"]["sweep"])
     imgs = "\n".join(f'<h3>{html.escape(k)}</h3><img alt="{html.escape(k)}" src="data:image/png;base64,{v}">'
                      for k, v in figs.items())

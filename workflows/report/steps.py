@@ -99,6 +99,12 @@ def rod_dispersion(scene: dict) -> dict:
             "shear_branch_speed_A_per_ps": lab_speed_A_per_ps(L, D1, 1.0, "plus", 1, u)}
 
 
+def _rod_complete(h5_path) -> bool:
+    import h5py
+    with h5py.File(h5_path, "r") as f:
+        return bool(f.attrs.get("complete", 1))
+
+
 def analyse_rod(scene_path, h5_path, prefix, n_boot=200):
     from mdbridge.analysis import BasePairTrajectory, WaveAnalysis
     scene = load_scene(scene_path)
@@ -106,7 +112,11 @@ def analyse_rod(scene_path, h5_path, prefix, n_boot=200):
     a = WaveAnalysis(traj, n_boot=n_boot).run()
     s = a.summary()
     s.update(kind="rod", A_v_A_per_ps=scene["initial"].get("A_v_A_per_ps"),
-             A_A=scene["initial"].get("A_A", 0.0), dispersion=rod_dispersion(scene))
+             A_A=scene["initial"].get("A_A", 0.0), dispersion=rod_dispersion(scene),
+             complete=_rod_complete(h5_path))
+    if not s["complete"]:
+        log = Path(h5_path).with_name("rodsim.log")
+        s["stopped"] = log.read_text().strip().splitlines()[0] if log.is_file() else "run incomplete"
     _write(prefix, a, s, {})
     return s
 
