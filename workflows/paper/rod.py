@@ -137,7 +137,12 @@ def run_scene(scene: dict, use_module: bool | None = None) -> RodRun:
     None = the Python module if built, else rodsim; False = always rodsim."""
     run = _module_run() if use_module in (None, True) else None
     if run is not None and not _has_file_kind(scene):
-        return _from_mapping(run(scene))
+        try:
+            return _from_mapping(run(scene))
+        except FloatingPointError as e:  # rodcore.NumericalError
+            raise ExternalToolError(f"rodcore: numerical error: {e}") from None
+        except ValueError as e:  # rodcore.InputError
+            raise InputError(f"rodcore: {e}") from None
     with tempfile.TemporaryDirectory(prefix="dnarod-paper-") as tmp:
         toml = Path(tmp) / "scene.toml"
         toml.write_text(scene_to_toml(scene))
