@@ -82,14 +82,18 @@ def error_block(text: str, max_lines: int = 40) -> str:
 
 
 def run_gmx(gmx: str, args: list[str], cwd: Path, *, stdin: str | None = None,
-            log_name: str | None = None) -> subprocess.CompletedProcess:
+            log_name: str | None = None, timeout_s: float | None = None) -> subprocess.CompletedProcess:
     """Run `gmx ARGS` in cwd; on failure raise ExternalToolError with GROMACS's own words.
 
     The full output is kept in cwd/LOG_NAME (default gmx_<tool>.log) so nothing is lost."""
     cwd = Path(cwd)
     cmd = [gmx, *args]
-    proc = subprocess.run(cmd, cwd=cwd, input=stdin if stdin is not None else "",
-                          capture_output=True, text=True)
+    try:
+        proc = subprocess.run(cmd, cwd=cwd, input=stdin if stdin is not None else "",
+                              capture_output=True, text=True, timeout=timeout_s)
+    except subprocess.TimeoutExpired:
+        raise ExternalToolError(f"`gmx {args[0]}` did not finish within {timeout_s:g} s in {cwd} "
+                                "(waiting for interactive input?)") from None
     log = cwd / (log_name or f"gmx_{args[0]}.log")
     log.write_text(f"$ {' '.join(cmd)}\n--- stdout\n{proc.stdout}\n--- stderr\n{proc.stderr}")
     if proc.returncode != 0:

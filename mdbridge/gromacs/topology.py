@@ -164,7 +164,12 @@ def run_pdb2gmx(gmx: str, pdb: Path, workdir: Path, forcefield: str, *, lb_nm: f
         args.append("-ter")   # default termini are protein ones; cyclic strands get none
     elif forcefield == "amber99sb-ildn":
         _local_amber_ff(gmx, workdir)
-    proc = run_gmx(gmx, args, workdir, stdin="", log_name="gmx_pdb2gmx.log")
+    # With -ter pdb2gmx asks for each terminus it finds, and spins forever on a closed
+    # stdin. Closed rings have no termini; should closure fail, the answers below pick
+    # "None" for charmm27's DNA start (3) and end (5) termini, pdb2gmx finishes, and
+    # the junction check reports the failure.
+    proc = run_gmx(gmx, args, workdir, stdin="3\n5\n" * 8, log_name="gmx_pdb2gmx.log",
+                   timeout_s=600)
     itps = sorted(workdir.glob("topol_*.itp"))
     if not itps:   # a single chain goes straight into topol.top
         raise ExternalToolError(f"pdb2gmx in {workdir} wrote no per-strand .itp files; "
