@@ -72,6 +72,21 @@ def fit_frequencies(t, signals, guesses):
     return sol.x, float(rel)
 
 
+def find_frequencies(t, signals, n: int, tol: float = 1e-5, extra: int = 2):
+    """Frequencies of a sum of n (or up to n + extra) sinusoids shared by signals (S, T):
+    start from the n largest spectral peaks, fit (fit_frequencies); while the fit leaves
+    more than tol of the signal, add the largest peak of the residual and refit (a weak
+    component hidden next to a strong one is found this way). Returns (w, rel)."""
+    t = np.asarray(t, float)
+    Y = np.atleast_2d(np.asarray(signals, float))
+    w, rel = fit_frequencies(t, Y, spectral_peaks(t, Y, n))
+    while rel > tol and len(w) < n + extra:
+        A = np.column_stack([f(wj * t) for wj in w for f in (np.cos, np.sin)])
+        R = Y.T - A @ np.linalg.lstsq(A, Y.T, rcond=None)[0]
+        w, rel = fit_frequencies(t, Y, np.append(w, spectral_peaks(t, R.T, 1)))
+    return w, rel
+
+
 def spectral_peaks(t, signals, n_peaks: int, pad: int = 8):
     """Frequencies of the n_peaks largest local maxima of the summed power spectrum
     (Hann window, zero-padded FFT) of real signals (S, T) sampled uniformly at t."""
