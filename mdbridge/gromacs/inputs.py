@@ -12,6 +12,7 @@ Order matters and is the reason for this module:
 from __future__ import annotations
 
 import json
+import warnings
 import platform
 from dataclasses import dataclass
 from pathlib import Path
@@ -108,7 +109,9 @@ def _unwrap_against(x_nm, ref_nm, box_nm):
 
 def _frames_of_gro(gro_path: Path, n_bp: int):
     """Base-pair frames of a built structure, re-analysed with mdbridge.geometry (3DNA)."""
-    import MDAnalysis as mda
+    with warnings.catch_warnings():   # MDAnalysis 2.4 imports the deprecated xdrlib
+        warnings.simplefilter("ignore", DeprecationWarning)
+        import MDAnalysis as mda
     from mdbridge.geometry.structure import BasePairFrames
     u = mda.Universe(str(gro_path))
     pairs = [(k, 2 * n_bp + 1 - k) for k in range(1, n_bp + 1)]

@@ -13,23 +13,36 @@ from __future__ import annotations
 
 from collections import Counter
 
+import numpy as np
+
 from .topology import Molecule
 
 KINDS = ("bonds", "pairs", "angles", "proper_dihedrals", "improper_dihedrals", "cmap")
 
 
-def _step_terms(mol: Molecule, res_a: int, res_b: int) -> dict[str, Counter]:
-    """Terms that involve atoms of both residues a (5') and b (3') and no other residue."""
-    out = {k: Counter() for k in KINDS}
+def _terms_by_step(mol: Molecule, steps: list[tuple[int, int]]) -> dict:
+    """For each step (a, b) (a 5' of b): per kind, the Counter of term patterns that
+    involve atoms of both residues a and b and of no other residue. One pass over all
+    terms (a 158-bp strand has ~10^4 of them)."""
+    index = {step: n for n, step in enumerate(steps)}
+    out = [{k: Counter() for k in KINDS} for _ in steps]
+    resnr = mol.resnr
     for kind, terms in mol.terms.items():
-        for atoms in terms:
-            res = {int(mol.resnr[a - 1]) for a in atoms}
-            if res != {res_a, res_b}:
+        if not terms:
+            continue
+        atoms = np.asarray(terms) - 1
+        res = resnr[atoms]                                   # (n_terms, n_atoms)
+        lo, hi = res.min(axis=1), res.max(axis=1)
+        two = np.all((res == lo[:, None]) | (res == hi[:, None]), axis=1) & (lo != hi)
+        for t in np.flatnonzero(two):
+            r = set(res[t].tolist())
+            step = next((st for st in ((lo[t], hi[t]), (hi[t], lo[t])) if st in index), None)
+            if step is None or set(step) != r:
                 continue
-            pattern = tuple((mol.atomname[a - 1], 0 if mol.resnr[a - 1] == res_a else 1)
-                            for a in atoms)
+            a = step[0]
+            pattern = tuple((mol.atomname[i], 0 if resnr[i] == a else 1) for i in atoms[t])
             # a term and its reverse are the same interaction
-            out[kind][min(pattern, pattern[::-1])] += 1
+            out[index[step]][kind][min(pattern, pattern[::-1])] += 1
     return out
 
 
@@ -41,8 +54,9 @@ def junction_report(mol: Molecule) -> dict:
     res = mol.residues
     if len(res) < 3:
         return {"molecule": mol.name, "ok": False, "reason": "fewer than 3 residues"}
-    interior = [_step_terms(mol, a, b) for a, b in zip(res[:-1], res[1:])]
-    junction = _step_terms(mol, res[-1], res[0])
+    steps = [(int(a), int(b)) for a, b in zip(res[:-1], res[1:])] + [(res[-1], res[0])]
+    per_step = _terms_by_step(mol, steps)
+    interior, junction = per_step[:-1], per_step[-1]
     ref = interior[0]
     interior_uniform = all(step == ref for step in interior)
     counts = {k: sum(junction[k].values()) for k in KINDS}

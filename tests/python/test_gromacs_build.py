@@ -1,0 +1,242 @@
+"""MD inputs of a periodic, ligated duplex built for real with GROMACS, and a short run.
+
+Rod initial conditions here are the paper's Table 1 written out by hand (a
+straight twisted rod along lab Y, d1 = Z and d2 = X at s = 0, shear-only
+displacement A cos(2 pi s / L) along Z, lab velocity (0, 0, A_v sin(2 pi s/L)))
+plus a twist rate omega = (0, w sin(2 pi s / L), 0) about the axis, so every
+expected number comes from these formulas, not from the code under test.
+"""
+import json
+import subprocess
+from pathlib import Path
+
+import MDAnalysis as mda
+import numpy as np
+import pytest
+
+from dna_models.errors import ExternalToolError
+from mdbridge.build import build_duplex
+from mdbridge.gromacs.box import plan_box
+from mdbridge.gromacs.gmx import find_gmx
+from mdbridge.gromacs.gro import read_gro
+from mdbridge.gromacs.inputs import RodInitial, build_inputs
+from mdbridge.gromacs.mdp import MdSettings
+from mdbridge.gromacs.run import run_md
+
+RISE = 3.38
+KB = 8.314462618e-3     # kJ/(mol K)
+A_V = 1.0               # A/ps
+W = 0.05                # rad/ps
+A_DISP = 3.0            # A
+
+
+@pytest.fixture(scope="module")
+def gmx():
+    try:
+        return find_gmx()
+    except ExternalToolError as e:
+        pytest.skip(f"GROMACS not installed: {e}")
+
+
+def table1_rod(n_bp, turns, A=A_DISP, Av=A_V, w=W):
+    L = n_bp * RISE
+    s = np.arange(n_bp) * RISE
+    k, tw = 2 * np.pi / L, 2 * np.pi * turns / L
+    origins = np.stack([0 * s, s, A * np.cos(k * s)], 1)
+    d1 = np.stack([np.sin(tw * s), 0 * s, np.cos(tw * s)], 1)    # Eq 47, rows of T^-1
+    d2 = np.stack([np.cos(tw * s), 0 * s, -np.sin(tw * s)], 1)
+    d3 = np.tile([0.0, 1.0, 0.0], (n_bp, 1))
+    gamma = np.stack([0 * s, 0 * s, Av * np.sin(k * s)], 1)
+    omega = np.stack([0 * s, w * np.sin(k * s), 0 * s], 1)
+    return RodInitial(origins, np.stack([d1, d2, d3], axis=2), gamma, omega, L)
+
+
+def make(tmp, n_bp=21, turns=2, T=0.0, seed=7, **kw):
+    rod = table1_rod(n_bp, turns)
+    seq = ("ACGTTGCAGGCATCGATCCGA" * 10)[:n_bp]
+    st = build_duplex(seq, rod.origins_A, rod.R, periodic_box=(0, rod.closure_length_A, 0))
+    # the rod "predicts" the centerline swinging +-8 A along Z during the run
+    swing = rod.origins_A[None] + np.array([[[0, 0, 8.0]], [[0, 0, -8.0]]])
+    box = plan_box(np.concatenate([rod.origins_A[None], swing]), rod.origins_A,
+                   rod.closure_length_A, rod_run_ps=1.0)
+    info = build_inputs(tmp, st, rod, box, sequence=seq, temperature_K=T, seed=seed,
+                        settings=MdSettings(nsteps=200), **kw)
+    return rod, info
+
+
+@pytest.fixture(scope="module")
+def cold(gmx, tmp_path_factory):
+    d = tmp_path_factory.mktemp("cold")
+    rod, info = make(d, T=0.0, gmx=gmx)
+    return d, rod, info
+
+
+@pytest.fixture(scope="module")
+def warm(gmx, tmp_path_factory):
+    d = tmp_path_factory.mktemp("warm")
+    rod, info = make(d, T=300.0, seed=11, gmx=gmx)
+    return d, rod, info
+
+
+def _tpr(d, gmx):
+    subprocess.run([gmx, "grompp", "-f", "md.mdp", "-c", "conf.gro", "-p", "topol.top",
+                    "-o", "test.tpr", "-po", "test_out.mdp"], cwd=d, check=True,
+                   capture_output=True)
+    return mda.Universe(str(d / "test.tpr"), str(d / "conf.gro"))
+
+
+def _pair_of_each_atom(u, n_bp):
+    """Base pair (0-based, = index along strand I) of every atom, found from geometry:
+    each strand II nucleotide pairs with the strand I one whose N1/N3 is nearest."""
+    res = list(u.residues)
+    I, II = res[:n_bp], res[n_bp:]
+    def n13(r):
+        return r.atoms.select_atoms("name N1" if r.resname in ("DA", "DG") else "name N3").positions[0]
+    XI = np.array([n13(r) for r in I])
+    pair = {r.ix: i for i, r in enumerate(I)}
+    for r in II:
+        pair[r.ix] = int(np.argmin(np.linalg.norm(XI - n13(r), axis=1)))
+    return np.array([pair[a.residue.ix] for a in u.atoms])
+
+
+def _expected_rod_velocity(x_A, pair, rod, shift):
+    r = rod.origins_A[pair] + shift
+    v = rod.gamma_lab_A_ps[pair] + np.cross(rod.omega_lab_rad_ps[pair], x_A - r)
+    return v / 10.0   # nm/ps
+
+
+def test_files_and_build_record(cold):
+    d, rod, info = cold
+    for f in ("conf.gro", "topol.top", "topol_DNA_chain_A.itp", "topol_DNA_chain_B.itp",
+              "md.mdp", "em.mdp", "build.json"):
+        assert (d / f).is_file(), f
+    b = json.loads((d / "build.json").read_text())
+    assert b["sequence"] == "ACGTTGCAGGCATCGATCCGA" and b["seed"] == 7
+    assert b["units"]["tau_ps"] == pytest.approx(0.9416, abs=1e-3)
+    assert b["total_charge_e"] == -42          # cyclic strands: -1 e per nucleotide
+    mdp = (d / "md.mdp").read_text()
+    for line in ("periodic-molecules      = yes", "pbc                     = xyz",
+                 "integrator              = md", "tcoupl                  = no",
+                 "rcoulomb                = 1.0", "rvdw                    = 1.0",
+                 "coulombtype             = Cut-off", "gen-vel                 = no"):
+        assert line in mdp
+
+
+def test_junction_terms_exact_and_bonded_in_the_tpr(cold, gmx):
+    d, rod, info = cold
+    for rep in info["junctions"]:
+        assert rep["ok"]
+        c = rep["junction_counts"]
+        assert (c["bonds"], c["angles"], c["proper_dihedrals"], c["pairs"]) == (1, 4, 7, 7)
+    # independent reader: MDAnalysis's TPR parser sees the two ring-closing O3'-P bonds
+    u = _tpr(d, gmx)
+    n = 21
+    for first, last in ((1, n), (n + 1, 2 * n)):
+        o3 = u.select_atoms(f"resid {last} and name O3'")[0]
+        p = u.select_atoms(f"resid {first} and name P")[0]
+        assert p in o3.bonded_atoms
+    # and the minimum-image junction links at t = 0 are ordinary O3'-P bonds
+    for s, v in info["junction_O3P_t0_A"].items():
+        assert 1.5 < v["junction"] < 1.7
+
+
+def test_box_closes_the_helix_and_holds_the_predicted_swing(cold):
+    d, rod, info = cold
+    g = read_gro(d / "conf.gro")
+    assert g.box[1] == pytest.approx(21 * RISE / 10, abs=1e-5)        # exact closure along Y
+    # across: the swing's range along Z (A cos at the 21 base pairs, +-8 A)
+    # + diameter 20 + 2 x cut-off 10 + margin 10
+    c = A_DISP * np.cos(2 * np.pi * np.arange(21) / 21)
+    z_range = (c.max() + 8.0) - (c.min() - 8.0)
+    assert g.box[2] == pytest.approx((z_range + 20 + 20 + 10) / 10, abs=1e-4)
+    assert g.box[0] == pytest.approx((20 + 20 + 10) / 10, abs=1e-4)
+
+
+def test_zero_kelvin_velocities_are_exactly_the_rod_rigid_body_field(cold, gmx):
+    d, rod, info = cold
+    u = _tpr(d, gmx)
+    g = read_gro(d / "conf.gro")
+    pair = _pair_of_each_atom(u, 21)
+    shift = np.array(info["box"]["shift_A"])
+    v_expect = _expected_rod_velocity(g.x * 10.0, pair, rod, shift)
+    assert np.abs(g.v - v_expect).max() < 6e-5          # .gro keeps 4 decimals of nm/ps
+    assert np.abs(v_expect).max() > 0.05                # the field is not trivially zero
+    # base pairs built where the rod puts them (re-analysed with 3DNA's definitions)
+    fr = info["frames_t0_vs_rod"]
+    assert fr["max_origin_A"] < 0.01 and fr["max_angle_deg"] < 0.2
+
+
+def test_warm_velocities_are_rod_plus_thermal_at_300K_with_zero_momentum(warm, gmx):
+    d, rod, info = warm
+    u = _tpr(d, gmx)
+    g = read_gro(d / "conf.gro")
+    m = u.atoms.masses
+    pair = _pair_of_each_atom(u, 21)
+    v_th = g.v - _expected_rod_velocity(g.x * 10.0, pair, rod, np.array(info["box"]["shift_A"]))
+    n = len(m)
+    T = np.sum(m[:, None] * v_th ** 2) / ((3 * n - 3) * KB)
+    assert T == pytest.approx(300.0, abs=0.5)
+    assert np.abs((m[:, None] * v_th).sum(axis=0)).max() < 0.05   # amu nm/ps; rounding only
+    assert np.abs((m[:, None] * v_th).sum(axis=0)).max() < 1e-3 * np.sqrt(n) * m.mean() * 0.5 * 100
+
+
+def test_short_md_runs_and_checks_hold(warm, gmx):
+    d, rod, info = warm
+    rec = run_md(d, steps=200, gmx=gmx, threads=2, output_ps=0.05, stream=None)
+    for f in ("md.tpr", "md.xtc", "md.edr", "md.log", "confout.gro", "md.done", "checks.json"):
+        assert (d / f).is_file(), f
+    assert not list(d.glob("*.part.*"))
+    assert rec["steps"] == 200 and json.loads((d / "md.done").read_text())["steps"] == 200
+    c = json.loads((d / "checks.json").read_text())
+    assert c["n_frames"] == 5 and c["times_ps"] == [0.0, pytest.approx(0.2)]
+    assert c["junction_ok"]
+    for s in ("I", "II"):
+        assert 1.4 < c["junction_O3P"][s]["junction_min_A"] < c["junction_O3P"][s]["junction_max_A"] < 1.8
+    assert c["watson_crick"]["fraction_intact"][0] == 1.0
+    assert c["side_image"]["ok"] and c["side_image"]["min_distance_A"] > 20.0
+    e = c["energy"]
+    # 0.2 ps of NVE: total energy within a few % of the kinetic energy
+    assert e["max_abs_deviation_over_kinetic_start"] < 0.05
+
+
+def test_gromacs_failure_surfaces_and_never_looks_finished(warm, gmx, tmp_path):
+    d, rod, info = warm
+    broken = tmp_path / "broken"
+    broken.mkdir()
+    for f in ("conf.gro", "topol.top", "topol_DNA_chain_A.itp", "topol_DNA_chain_B.itp",
+              "posre_bases_DNA_chain_A.itp", "posre_bases_DNA_chain_B.itp", "build.json",
+              "posre_DNA_chain_A.itp", "posre_DNA_chain_B.itp"):
+        (broken / f).write_bytes((d / f).read_bytes())
+    mdp = (d / "md.mdp").read_text().replace("integrator              = md",
+                                             "integrator              = bogus")
+    (broken / "md.mdp").write_text(mdp)
+    (broken / "md.done").write_text("{}")               # a stale marker from an earlier run
+    with pytest.raises(ExternalToolError) as e:
+        run_md(broken, steps=10, gmx=gmx, stream=None)
+    assert "grompp" in str(e.value) and "bogus" in str(e.value)
+    assert not (broken / "md.done").exists()
+
+
+def test_neutral_phosphates_make_every_nucleotide_neutral(gmx, tmp_path):
+    rod, info = make(tmp_path, electrostatics="neutral-phosphates", gmx=gmx)
+    assert info["total_charge_e"] == pytest.approx(0.0, abs=1e-6)
+    u = _tpr(tmp_path, gmx)
+    q = np.array([r.atoms.charges.sum() for r in u.residues])
+    assert np.abs(q).max() < 1e-4
+
+
+def test_amber_and_restrained_minimisation(gmx, tmp_path):
+    rod, info = make(tmp_path, forcefield="amber99sb-ildn", minimize=True, gmx=gmx)
+    assert all(r["ok"] for r in info["junctions"])
+    em = info["minimization"]
+    assert em["converged"]
+    # base heavy atoms held: the base-pair frames barely move, the rest relaxes
+    assert em["frames_moved"]["max_origin_A"] < 0.1 and em["frames_moved"]["max_angle_deg"] < 2.0
+
+
+def test_158bp_paper_system_passes_grompp(gmx, tmp_path):
+    rod, info = make(tmp_path, n_bp=158, turns=15, T=300.0, gmx=gmx)
+    assert info["total_charge_e"] == -316
+    assert 9900 < info["n_atoms"] < 10200
+    assert all(r["ok"] for r in info["junctions"])
+    assert info["box_nm"][1] == pytest.approx(53.404, abs=1e-6)
