@@ -24,6 +24,7 @@ from dna_models.units import Units
 
 from . import charges, posres
 from .box import BoxPlan
+from .clashes import CLASH_A, closest_contact
 from .gmx import gmx_version, run_gmx
 from .gro import Gro, read_gro, write_gro
 from .junction import junction_report
@@ -214,6 +215,13 @@ def build_inputs(outdir: Path, structure, rod: RodInitial, box: BoxPlan, *, sequ
     write_gro(outdir / "conf.gro", conf)
     np.save(outdir / "velocities_rod.npy", v_rod)
 
+    contact = closest_contact(x_nm * NM, box_nm * NM, mols, g.name, g.resid)
+    if contact["min_distance_A"] is not None and contact["min_distance_A"] < CLASH_A:
+        warnings.warn(f"{outdir}/conf.gro: {contact['n_below_clash']} atom pairs closer than "
+                      f"{CLASH_A} A (closest {contact['atoms']} at {contact['min_distance_A']:.2f} A)"
+                      "; MD will blow up from these contacts: build with --minimize",
+                      stacklevel=2)
+
     # t = 0 geometry checks: frames of the built structure vs the rod's; junction links
     o_b, R_b = _frames_of_gro(outdir / "conf.gro", n)
     frames_t0 = frame_deviation(rod.origins_A + shift, rod.R, o_b, R_b, box.box_A)
@@ -241,6 +249,7 @@ def build_inputs(outdir: Path, structure, rod: RodInitial, box: BoxPlan, *, sequ
                                   "interior_max": float(d["interior_A"].max())}
                               for s, d in links.items()},
         "frames_t0_vs_rod": frames_t0,
+        "closest_nonbonded_contact": contact,
         "velocities": {
             "rule": "v = thermal (Maxwell-Boltzmann, COM removed, rescaled to exactly T with "
                     "3N-3 dof) + gamma_lab(s_i) + omega_lab(s_i) x (x - r(s_i)) for every atom "

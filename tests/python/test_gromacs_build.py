@@ -74,7 +74,9 @@ def cold(gmx, tmp_path_factory):
 @pytest.fixture(scope="module")
 def warm(gmx, tmp_path_factory):
     d = tmp_path_factory.mktemp("warm")
-    rod, info = make(d, T=300.0, seed=11, gmx=gmx)
+    # rigid templates + pdb2gmx hydrogens put H within ~1 A of the next nucleotide at
+    # sheared steps: without the restrained minimisation this MD explodes at step 0
+    rod, info = make(d, T=300.0, seed=11, gmx=gmx, minimize=True)
     return d, rod, info
 
 
@@ -177,11 +179,11 @@ def test_warm_velocities_are_rod_plus_thermal_at_300K_with_zero_momentum(warm, g
     T = np.sum(m[:, None] * v_th ** 2) / ((3 * n - 3) * KB)
     assert T == pytest.approx(300.0, abs=0.5)
     assert np.abs((m[:, None] * v_th).sum(axis=0)).max() < 0.05   # amu nm/ps; rounding only
-    assert np.abs((m[:, None] * v_th).sum(axis=0)).max() < 1e-3 * np.sqrt(n) * m.mean() * 0.5 * 100
 
 
 def test_short_md_runs_and_checks_hold(warm, gmx):
     d, rod, info = warm
+    assert info["closest_nonbonded_contact"]["min_distance_A"] > 1.5
     rec = run_md(d, steps=200, gmx=gmx, threads=2, output_ps=0.05, stream=None)
     for f in ("md.tpr", "md.xtc", "md.edr", "md.log", "confout.gro", "md.done", "checks.json"):
         assert (d / f).is_file(), f
@@ -240,3 +242,33 @@ def test_158bp_paper_system_passes_grompp(gmx, tmp_path):
     assert 9900 < info["n_atoms"] < 10200
     assert all(r["ok"] for r in info["junctions"])
     assert info["box_nm"][1] == pytest.approx(53.404, abs=1e-6)
+
+
+def test_cli_build_md_from_the_dna21_scene_then_run_md(gmx, tmp_path, capsys):
+    """The real chain: scene -> rodcore -> builder -> GROMACS. The scene is the paper's
+    Table 1 with A = 0 and A_v = 1 A/ps, so at 0 K every atom of base pair i must move
+    with (0, 0, sin(2 pi i / 21)) A/ps in the lab: a formula, not the rod's output."""
+    pytest.importorskip("rodcore", reason="rodcore Python module not built (bash scripts/build.sh)")
+    from workflows.cli import main
+    scene = Path(__file__).resolve().parents[2] / "workflows" / "scenes" / "dna21.toml"
+    out = tmp_path / "md21"
+    assert main(["build-md", str(scene), "-o", str(out), "--ps", "0.2", "--temperature", "0",
+                 "--seed", "3"]) == 0
+    b = json.loads((out / "build.json").read_text())
+    assert b["n_bp"] == 21 and b["turns"] == 2 and b["twist_deg"] == pytest.approx(720 / 21)
+    assert b["sequence_source"] == "random, seed 3" and len(b["sequence"]) == 21
+    assert b["box"]["rod_run_ps"] == 0.2 and b["box"]["axis"] == 1
+    assert b["box_nm"][1] == pytest.approx(21 * RISE / 10, abs=1e-9)
+    u = _tpr(out, gmx)
+    g = read_gro(out / "conf.gro")
+    pair = _pair_of_each_atom(u, 21)
+    v_expect = np.zeros_like(g.v)
+    v_expect[:, 2] = np.sin(2 * np.pi * pair / 21) * 0.1      # nm/ps
+    assert np.abs(g.v - v_expect).max() < 6e-5
+    assert main(["run-md", str(out), "--steps", "100", "--threads", "2", "--output-ps", "0.05"]) == 0
+    assert (out / "md.done").is_file()
+    c = json.loads((out / "checks.json").read_text())
+    assert c["junction_ok"] and c["side_image"]["ok"]
+    # bad input is a clear error, exit 2
+    assert main(["build-md", str(tmp_path / "missing.toml"), "-o", str(tmp_path / "x")]) == 2
+    assert "missing.toml: scene file not found" in capsys.readouterr().err
