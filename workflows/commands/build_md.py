@@ -71,6 +71,9 @@ def add_arguments(p):
 def run(args):
     import secrets
     import sys
+    import warnings
+    # MDAnalysis 2.4 (Debian) imports the deprecated xdrlib: noise for a user
+    warnings.filterwarnings("ignore", message="'xdrlib' is deprecated")
 
     import numpy as np
 

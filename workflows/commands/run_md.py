@@ -34,6 +34,9 @@ def add_arguments(p):
 def run(args):
     import json
     import sys
+    import warnings
+    # MDAnalysis 2.4 (Debian) imports the deprecated xdrlib: noise for a user
+    warnings.filterwarnings("ignore", message="'xdrlib' is deprecated")
 
     from mdbridge.gromacs.run import run_md
     rec = run_md(args.directory, ps=args.ps, steps=args.steps, gmx=args.gmx, threads=args.threads,
