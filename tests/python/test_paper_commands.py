@@ -111,6 +111,13 @@ def test_second_harmonic(quick_figures):
         assert row["forced_frequency"] == pytest.approx(2 * row["omega_measured"], rel=1e-4)
 
 
+def test_validation_claims(quick_figures):
+    v = _json(quick_figures, "validation")
+    assert all(abs(r - 16) < 0.5 for r in v["rk4_error_ratio_when_halving_dt"])   # RK4: 2^4
+    assert v["dop853_rtol_1e-13"]["relative_energy_drift"] < 1e-11
+    assert v["dop853_rtol_1e-13"]["max_director_norm_error"] < 1e-13
+
+
 def test_energy_components_and_rings_and_wavespeed(quick_figures):
     e = _json(quick_figures, "sec52_energy")
     assert e["relative_total_energy_drift"] < 1e-8
