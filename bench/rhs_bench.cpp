@@ -15,6 +15,7 @@
 #include "rodcore/analytic.hpp"
 #include "rodcore/integrators.hpp"
 #include "rodcore/operators.hpp"
+#include "rodcore/reduced_planar.hpp"
 #include "rodcore/rhs.hpp"
 #include "rodcore/scene.hpp"
 
@@ -97,6 +98,55 @@ void Step(benchmark::State& state, const char* space) {
   state.counters["N"] = static_cast<double>(N);
 }
 
+// The P3 wave (untwisted rod, k = 2, eps = 0.5, paper Sec 5.2) integrated to
+// t = 10 with DOP853 at rtol = atol = 1e-10: the full 12-row system vs the
+// reduced planar system (reduced_planar.hpp). Arg 0: N; `reduced` selects.
+void PlanarRun(benchmark::State& state, const char* space, bool reduced) {
+  const auto N = static_cast<std::size_t>(state.range(0));
+  rodcore::Rod rod;
+  rod.length = 2.0 * std::numbers::pi;
+  rod.points = static_cast<int>(N);
+  rod.Gamma0 = {0.0, 0.0, 1.0};
+  rod.Omega0 = {0.0, 0.0, 0.0};
+  rodcore::Material mat;
+  auto op = rodcore::make_derivative_operator(space, N, rod.length);
+  rodcore::RodRHS rhs(rod, mat, *op);
+  rodcore::analytic::UntwistedWave w;
+  w.eps = 0.5;
+  w.k = 2.0;
+  std::vector<double> y0(12 * N);
+  for (std::size_t i = 0; i < N; ++i) {
+    const auto v = w.at(rod.length * static_cast<double>(i) / static_cast<double>(N), 0.0);
+    for (int r = 0; r < 12; ++r) y0[r * N + i] = v[r];
+  }
+  std::unique_ptr<rodcore::PlanarRHS> planar;
+  rodcore::OdeSystem sys;
+  std::vector<double> start = y0;
+  if (reduced) {
+    planar = std::make_unique<rodcore::PlanarRHS>(rhs);
+    start.resize(6 * N);
+    planar->reduce(y0.data(), start.data());
+    sys.n = 6 * N;
+    sys.f = [&](double, const double* y, double* f) { (*planar)(y, f); };
+  } else {
+    sys.n = 12 * N;
+    sys.f = [&](double, const double* y, double* f) { rhs(y, f); };
+  }
+  rodcore::IntegratorOptions io;
+  io.rtol = io.atol = 1e-10;
+  io.dt = 0.01;
+  long steps = 0;
+  for (auto _ : state) {
+    auto integ = rodcore::make_time_integrator("dop853", sys, io);
+    integ->reset(0.0, start.data());
+    while (integ->t() < 10.0) integ->step(10.0);
+    steps = integ->steps();
+    benchmark::DoNotOptimize(integ->y().data());
+  }
+  state.counters["steps"] = static_cast<double>(steps);
+  state.counters["N"] = static_cast<double>(N);
+}
+
 void sizes(benchmark::internal::Benchmark* b) {
   for (long n = 32; n <= 131072; n *= 2) b->Arg(n);
   b->Arg(158);
@@ -112,5 +162,10 @@ BENCHMARK_CAPTURE(Derivative, fd4, "fd4")->Apply(sizes);
 BENCHMARK_CAPTURE(Derivative, spectral, "spectral")->Apply(sizes);
 BENCHMARK_CAPTURE(Step, fd4, "fd4")->Apply(sizes);
 BENCHMARK_CAPTURE(Step, spectral, "spectral")->Apply(sizes);
+
+BENCHMARK_CAPTURE(PlanarRun, fd4_full, "fd4", false)->Arg(256)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(PlanarRun, fd4_reduced, "fd4", true)->Arg(256)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(PlanarRun, spectral_full, "spectral", false)->Arg(64)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(PlanarRun, spectral_reduced, "spectral", true)->Arg(64)->Unit(benchmark::kMillisecond);
 
 BENCHMARK_MAIN();

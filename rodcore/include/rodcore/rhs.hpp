@@ -31,6 +31,11 @@ class RodRHS {
   // No allocation (work arrays are members), so not thread-safe.
   void operator()(const double* y, double* dydt) const;
 
+  // Rows of y that the caller guarantees to be exactly zero need no
+  // derivative: with a non-empty list, d/ds is applied only to `rows` (a
+  // reduced system, reduced_planar.hpp). Empty list: all 12 rows (default).
+  void set_nonzero_rows(std::vector<int> rows);
+
   const Material& material() const { return material_; }
   const DerivativeOperator& op() const { return op_; }
   // Intrinsic shape at every grid point, component-major (3 N each).
@@ -44,6 +49,7 @@ class RodRHS {
   std::vector<double> Gamma0_, Omega0_;          // 3 N each
   std::vector<double> dGamma0_ds_, dOmega0_ds_;  // same operator applied once
   mutable std::vector<double> dy_ds_;            // 12 N work array
+  std::vector<int> nonzero_rows_;                // empty: differentiate all rows
 };
 
 // Intrinsic shape of `rod` expanded to 3 N component-major values (uniform
