@@ -31,10 +31,6 @@ def _frames(run, idx):
     return out
 
 
-def _field_error(a, b):
-    return float(max(np.max(np.abs(a.fields[f][-1] - b.fields[f][0])) for f in a.fields)) if b else None
-
-
 def fig3(outdir: Path, quick: bool = False) -> dict:
     k, A, O03, G03 = 2.0, 0.5, 1.0, 1.0
     kappa = k + O03
@@ -150,7 +146,7 @@ def fig6(outdir: Path, quick: bool = False) -> dict:
     png = outdir / "fig6.png"
     snapshot_figure(png, _frames(run, range(len(run.time))), radius=0.1,
                     titles=[f"t = {t:.1f}" for t in run.time],
-                    suptitle=rf"Fig 6: untwisted wave, $\omega_+$, k = 2, $\epsilon$ = 0.5",
+                    suptitle=r"Fig 6: untwisted wave, $\omega_+$, k = 2, $\epsilon$ = 0.5",
                     view=(15, -80), rings_every=2 if quick else 4)
     Om2, G1 = run.fields["Omega"][..., 1], run.fields["Gamma"][..., 0]
     data = {"figure": 6, "k": k, "epsilon": eps, "Gamma03": G03, "omega_plus": w,
