@@ -212,6 +212,12 @@ class Embedded : public TimeIntegrator {
     }
   }
 
+  std::vector<double> controller_memory() const override { return {facold_}; }
+  void set_controller_memory(const std::vector<double>& m) override {
+    if (m.size() != 1) throw InputError(name() + ": controller memory must hold 1 value");
+    facold_ = m[0];
+  }
+
   std::vector<std::vector<double>> k_;
   std::vector<double> tmp_, ynew_;
   double expo_, beta_, fac1_, fac2_;
@@ -415,6 +421,35 @@ void TimeIntegrator::reset(double t0, const double* y0) {
   eval(t_, y_.data(), f_.data());
   y_prev_ = y_;
   f_prev_ = f_;
+}
+
+IntegratorState TimeIntegrator::save_state() const {
+  IntegratorState s;
+  s.t = t_;
+  s.dt_next = h_;
+  s.y = y_;
+  s.f = f_;
+  s.controller = controller_memory();
+  s.steps = steps_;
+  s.rejected = rejected_;
+  s.rhs_evaluations = rhs_evals_;
+  return s;
+}
+
+void TimeIntegrator::restore_state(const IntegratorState& s) {
+  if (s.y.size() != sys_.n || s.f.size() != sys_.n)
+    throw InputError(name() + ": saved state has " + std::to_string(s.y.size()) + " values, the system has " +
+                     std::to_string(sys_.n));
+  y_ = s.y;
+  f_ = s.f;
+  y_prev_ = y_;
+  f_prev_ = f_;
+  t_ = t_prev_ = s.t;
+  h_ = s.dt_next;
+  set_controller_memory(s.controller);
+  steps_ = s.steps;
+  rejected_ = s.rejected;
+  rhs_evals_ = s.rhs_evaluations;
 }
 
 bool TimeIntegrator::clamp(double& h, double t_stop) const {

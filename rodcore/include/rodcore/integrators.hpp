@@ -31,6 +31,17 @@ struct OdeSystem {
   std::function<void(double t, const double* y, double* dydt)> f;
 };
 
+// Everything an integrator needs to continue exactly from a step boundary
+// (checkpoint/resume, checkpoint.hpp): restoring it and stepping on gives the
+// same bits as never having stopped.
+struct IntegratorState {
+  double t = 0.0;
+  double dt_next = 0.0;            // the step the controller will try next
+  std::vector<double> y, f;        // y(t) and f(t, y) (FSAL stage / Hermite slope)
+  std::vector<double> controller;  // step-size controller memory (scheme-specific)
+  long steps = 0, rejected = 0, rhs_evaluations = 0;
+};
+
 struct IntegratorOptions {
   double rtol = 1e-10;
   double atol = 1e-10;
@@ -53,6 +64,10 @@ class TimeIntegrator {
 
   // Start from (t0, y0); evaluates f(t0, y0).
   void reset(double t0, const double* y0);
+  // Snapshot / restore at a step boundary (instead of reset()). restore_state
+  // throws InputError if the sizes do not match this system.
+  IntegratorState save_state() const;
+  void restore_state(const IntegratorState& state);
   // Take one accepted step, never past t_stop. Throws NumericalError on step
   // underflow (adaptive), too many steps, or non-finite numbers in the step.
   virtual void step(double t_stop) = 0;
@@ -77,6 +92,9 @@ class TimeIntegrator {
   // Clamp the trial step to t_stop; returns true if this step ends at t_stop.
   bool clamp(double& h, double t_stop) const;
   void check_steps() const;
+  // Controller memory beyond dt_next (e.g. the PI controller's last error).
+  virtual std::vector<double> controller_memory() const { return {}; }
+  virtual void set_controller_memory(const std::vector<double>&) {}
   // Cubic Hermite interpolation on [t_prev, t] from y, f at both ends.
   void hermite(double t, double* out) const;
 
