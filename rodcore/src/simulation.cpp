@@ -40,6 +40,8 @@ struct Simulation::Impl {
   std::vector<double> state;  // current 12 N
   double t = 0.0;
   std::vector<double> s;
+  CheckpointHooks hooks;
+  std::optional<Checkpoint> resume;
 
   double wave_speed() const {
     const Material& m = scene.material;
@@ -104,6 +106,24 @@ Simulation::Simulation(const Scene& scene) : impl_(std::make_unique<Impl>()) {
 
 Simulation::~Simulation() = default;
 
+void Simulation::set_checkpoint_hooks(CheckpointHooks hooks) { impl_->hooks = std::move(hooks); }
+
+void Simulation::resume_from(const Checkpoint& c) {
+  const Impl& d = *impl_;
+  // The scene text itself is compared by check_checkpoint_matches (rodsim);
+  // here only what would make the run meaningless or unsafe.
+  if (c.method != d.scene.solver.time)
+    throw InputError(d.scene.source + ": the checkpoint was made with solver.time = \"" + c.method +
+                     "\", the scene asks for \"" + d.scene.solver.time + "\"");
+  if (c.integrator.y.size() != d.y0.size())
+    throw InputError(d.scene.source + ": the checkpoint holds " + std::to_string(c.integrator.y.size()) +
+                     " state values, this scene needs " + std::to_string(d.y0.size()));
+  if (c.next_frame < 1 || c.next_frame > d.scene.output.frames)
+    throw InputError(d.scene.source + ": the checkpoint's next frame " + std::to_string(c.next_frame) +
+                     " is outside 1.." + std::to_string(d.scene.output.frames));
+  impl_->resume = c;
+}
+
 const Scene& Simulation::scene() const { return impl_->scene; }
 std::vector<double> Simulation::grid() const { return impl_->s; }
 const std::vector<double>& Simulation::state() const { return impl_->state; }
@@ -150,7 +170,14 @@ RunSummary Simulation::run(const FrameHandler& on_frame, const ProgressHandler& 
   io.dt_min = sc.solver.dt_min;
   io.max_steps = sc.solver.max_steps;
   auto integ = make_time_integrator(sc.solver.time, sys, io);
-  integ->reset(0.0, d.y0.data());
+  double wall_before = 0.0;
+  if (d.resume) {
+    integ->restore_state(d.resume->integrator);
+    wall_before = d.resume->wall_seconds;
+    summary.energy_drift = d.resume->energy_drift;
+  } else {
+    integ->reset(0.0, d.y0.data());
+  }
 
   const auto Gamma0 = d.rhs->Gamma0();
   const auto Omega0 = d.rhs->Omega0();
@@ -201,9 +228,15 @@ RunSummary Simulation::run(const FrameHandler& on_frame, const ProgressHandler& 
                                             : t_end * static_cast<double>(j) /
                                                   static_cast<double>(frames - 1);
   };
-  deliver(0, 0.0, integ->y().data());
   int j = 1;
-  while (j < frames && t_end == 0.0) deliver(j++, 0.0, integ->y().data());
+  if (d.resume) {
+    E0 = d.resume->E0;
+    j = d.resume->next_frame;
+    d.resume.reset();
+  } else {
+    deliver(0, 0.0, integ->y().data());
+    while (j < frames && t_end == 0.0) deliver(j++, 0.0, integ->y().data());
+  }
 
   while (j < frames) {
     integ->step(t_end);
@@ -238,6 +271,17 @@ RunSummary Simulation::run(const FrameHandler& on_frame, const ProgressHandler& 
       ++j;
     }
     if (progress) progress(t, t_end);
+    if (j < frames && d.hooks.due && d.hooks.save && d.hooks.due()) {
+      Checkpoint c;
+      c.scene = checkpoint_scene_text(sc);
+      c.method = sc.solver.time;
+      c.integrator = integ->save_state();
+      c.next_frame = j;
+      c.E0 = E0;
+      c.energy_drift = summary.energy_drift;
+      c.wall_seconds = wall_before + std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+      d.hooks.save(c);
+    }
   }
 
   d.t = integ->t();
@@ -247,7 +291,7 @@ RunSummary Simulation::run(const FrameHandler& on_frame, const ProgressHandler& 
   summary.rhs_evaluations = integ->rhs_evaluations();
   summary.reduced = false;
   summary.wall_seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+      wall_before + std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   return summary;
 }
 

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "rodcore/checkpoint.hpp"
 #include "rodcore/scene.hpp"
 
 namespace rodcore {
@@ -52,6 +53,19 @@ class Simulation {
   // (including t = 0). Throws NumericalError on bad numbers; the frames
   // already handed to on_frame are complete.
   RunSummary run(const FrameHandler& on_frame, const ProgressHandler& progress = {});
+
+  // Checkpoints (checkpoint.hpp): after every accepted step, once the frames
+  // up to that time are delivered, `due()` is asked; when it says yes the
+  // run point is handed to `save`, which may throw to stop the run.
+  struct CheckpointHooks {
+    std::function<bool()> due;
+    std::function<void(const Checkpoint&)> save;
+  };
+  void set_checkpoint_hooks(CheckpointHooks hooks);
+  // The next run() continues from `checkpoint` (no frame before
+  // checkpoint.next_frame is delivered again). Throws InputError if it does
+  // not belong to this scene.
+  void resume_from(const Checkpoint& checkpoint);
 
   const Scene& scene() const;
   std::vector<double> grid() const;  // s_i
