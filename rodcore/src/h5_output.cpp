@@ -149,6 +149,80 @@ H5Output::H5Output(const std::string& path, const Scene& scene, const std::vecto
   }
 }
 
+H5Output::H5Output(const std::string& path, const Scene& scene, const std::vector<double>& s, Resume resume)
+    : path_(path), want_(scene.output), N_(s.size()), row_(9 * s.size()) {
+  h5::QuietErrors quiet;
+  const std::string p = partial_path();
+  if (!std::filesystem::exists(p))
+    throw InputError("cannot resume: '" + p + "' (the output of the interrupted run) does not exist");
+  auto fapl = h5::plist(H5Pcreate(H5P_FILE_ACCESS));
+  H5Pset_file_locking(fapl, 0, 1);
+  file_ = H5Fopen(p.c_str(), H5F_ACC_RDWR, fapl);
+  if (file_ < 0)
+    throw InputError("cannot resume: '" + p + "' cannot be opened as HDF5 (damaged by the kill?); "
+                     "delete it and its .ckpt and run again without --resume");
+  try {
+    {
+      auto d = h5::dataset(H5Dopen2(file_, "s", H5P_DEFAULT));
+      auto sp = h5::space(d.valid() ? H5Dget_space(d) : H5I_INVALID_HID);
+      hsize_t n = 0;
+      if (!sp.valid() || H5Sget_simple_extent_ndims(sp) != 1 || (H5Sget_simple_extent_dims(sp, &n, nullptr), n) != N_)
+        throw InputError("cannot resume: '" + p + "' has no grid 's' of " + std::to_string(N_) + " points");
+    }
+    time_ = reopen("time", resume.frames);
+    if (want_.internal)
+      for (const char* name : kFieldNames) fields_.push_back(reopen(std::string("fields/") + name, resume.frames));
+    if (want_.energy) energy_ = reopen("energy", resume.frames);
+    if (want_.energy_parts) {
+      auto g = h5::group(H5Gopen2(file_, "energy_parts", H5P_DEFAULT));
+      H5G_info_t info{};
+      if (!g.valid() || H5Gget_info(g, &info) < 0)
+        throw InputError("cannot resume: '" + p + "' has no group 'energy_parts'");
+      for (hsize_t k = 0; k < info.nlinks; ++k) {
+        char name[256];
+        if (H5Lget_name_by_idx(g, ".", H5_INDEX_NAME, H5_ITER_INC, k, name, sizeof name, H5P_DEFAULT) < 0)
+          throw InputError("cannot resume: '" + p + "': unreadable group 'energy_parts'");
+        energy_parts_.emplace_back(name, reopen(std::string("energy_parts/") + name, resume.frames));
+      }
+    }
+    if (want_.centerline) centerline_ = reopen("centerline", resume.frames);
+    if (want_.directors) directors_ = reopen("directors", resume.frames);
+    frames_ = resume.frames;
+    attr_int(file_, "complete", 0);
+    H5Fflush(file_, H5F_SCOPE_GLOBAL);
+  } catch (...) {
+    for (hid_t d : fields_) H5Dclose(d);
+    for (auto& [n, d] : energy_parts_) H5Dclose(d);
+    for (hid_t d : {time_, energy_, centerline_, directors_})
+      if (d >= 0) H5Dclose(d);
+    H5Fclose(file_);
+    file_ = H5I_INVALID_HID;
+    throw;
+  }
+}
+
+// Opens dataset `name` of a file being resumed and cuts it to `frames` rows.
+hid_t H5Output::reopen(const std::string& name, int frames) {
+  hid_t d = h5::exists(file_, name) ? H5Dopen2(file_, name.c_str(), H5P_DEFAULT) : H5I_INVALID_HID;
+  if (d < 0) throw InputError("cannot resume: '" + partial_path() + "' has no dataset '" + name + "'");
+  auto sp = h5::space(H5Dget_space(d));
+  const int rank = H5Sget_simple_extent_ndims(sp);
+  std::vector<hsize_t> dims(rank > 0 ? rank : 1, 0);
+  if (rank > 0) H5Sget_simple_extent_dims(sp, dims.data(), nullptr);
+  if (rank < 1 || dims[0] < static_cast<hsize_t>(frames)) {
+    H5Dclose(d);
+    throw InputError("cannot resume: dataset '" + name + "' of '" + partial_path() + "' holds " +
+                     std::to_string(rank < 1 ? 0 : dims[0]) + " frames, the checkpoint needs " +
+                     std::to_string(frames));
+  }
+  dims[0] = static_cast<hsize_t>(frames);
+  if (H5Dset_extent(d, dims.data()) < 0) {
+    H5Dclose(d);
+    throw Error("HDF5: cannot cut dataset '" + name + "' of '" + partial_path() + "' to " + std::to_string(frames) + " frames");
+  }
+  return d;
+}
+
 H5Output::~H5Output() {
   if (file_ >= 0) {
     for (hid_t d : fields_) H5Dclose(d);

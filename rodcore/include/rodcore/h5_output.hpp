@@ -35,6 +35,14 @@ class H5Output {
   // the resolved scene as TOML, git revision, version). Throws InputError if
   // the file cannot be created.
   H5Output(const std::string& path, const Scene& scene, const std::vector<double>& s);
+  // Resume (checkpoint.hpp): reopens `path`.partial left by an interrupted or
+  // killed run, keeps its first `frames` frames (drops any written after the
+  // checkpoint) and appends from there. Throws InputError if the file is
+  // missing, damaged, has a different grid, or holds fewer frames.
+  struct Resume {
+    int frames;
+  };
+  H5Output(const std::string& path, const Scene& scene, const std::vector<double>& s, Resume resume);
   ~H5Output();  // without finish()/fail(): closes and leaves `path`.partial
   H5Output(const H5Output&) = delete;
   H5Output& operator=(const H5Output&) = delete;
@@ -52,6 +60,7 @@ class H5Output {
  private:
   void close_and_rename();
   hid_t extendible(const std::string& name, std::vector<hsize_t> row_dims);
+  hid_t reopen(const std::string& name, int frames);
   void append(hid_t dataset, const double* row);
 
   std::string path_;
