@@ -1,22 +1,28 @@
 // rodsim: run a rod scene (TOML) and write the result to HDF5.
 //
 //   rodsim run SCENE.toml -o OUT.h5 [--quiet] [--set section.key=value ...]
+//              [--checkpoint-every SECONDS] [--resume]
 //   rodsim check SCENE.toml [--set ...]     validate and print the resolved scene
 //   rodsim kinds                            list initial-condition kinds and parameters
 //
 // Exit status: 0 ok, 2 bad input (scene, IC file, arguments), 3 numerical
 // error (the frames written before it stay readable in OUT.h5, complete = 0),
-// 1 anything else. Errors go to stderr prefixed "rodsim: error:".
+// 1 anything else, 128 + signal number after SIGINT/SIGTERM (a checkpoint
+// OUT.h5.ckpt is written first; `--resume` continues). Errors go to stderr
+// prefixed "rodsim: error:".
 #include <CLI/CLI.hpp>
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <memory>
 #include <iostream>
 #include <limits>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "rodcore/checkpoint.hpp"
 #include "rodcore/error.hpp"
 #include "rodcore/h5_output.hpp"
 #include "rodcore/initial_conditions.hpp"
@@ -61,31 +67,79 @@ void print_kinds() {
   }
 }
 
+// The command that continues an interrupted run (for messages).
+std::string resume_command(const std::string& scene_path, const std::string& out_path,
+                           const std::vector<std::string>& sets) {
+  std::string cmd = "rodsim run " + scene_path + " -o " + out_path;
+  for (const auto& s : sets) cmd += " --set " + s;
+  return cmd + " --resume";
+}
+
 int run(const std::string& scene_path, const std::string& out_path, const std::vector<std::string>& sets,
-        bool quiet) {
+        bool quiet, bool resume, double checkpoint_every) {
+  namespace fs = std::filesystem;
   rodcore::Scene scene = rodcore::read_scene_file(scene_path, sets);
+  if (checkpoint_every >= 0.0) scene.output.checkpoint_interval_s = checkpoint_every;
   rodcore::Simulation sim(scene);
-  rodcore::H5Output out(out_path, scene, sim.grid());
+  const std::string ckpt = rodcore::checkpoint_path(out_path);
+  std::unique_ptr<rodcore::H5Output> out;
+  if (resume && fs::exists(ckpt)) {
+    const rodcore::Checkpoint c = rodcore::read_checkpoint(ckpt);
+    rodcore::check_checkpoint_matches(c, scene, ckpt);
+    sim.resume_from(c);
+    out = std::make_unique<rodcore::H5Output>(out_path, scene, sim.grid(), rodcore::H5Output::Resume{c.next_frame});
+    if (!quiet)
+      std::cerr << "rodsim: resuming from " << ckpt << " at t = " << c.integrator.t << " (" << c.next_frame << " of "
+                << scene.output.frames << " frames written)\n";
+  } else {
+    if (resume && !quiet) std::cerr << "rodsim: no checkpoint " << ckpt << ": starting from t = 0\n";
+    std::error_code ec;
+    fs::remove(ckpt, ec);  // a stale checkpoint of an earlier run must never be paired with this output
+    out = std::make_unique<rodcore::H5Output>(out_path, scene, sim.grid());
+  }
+  rodcore::CheckpointSchedule schedule(scene.output.checkpoint_interval_s);
+  rodcore::install_stop_signal_handlers();
+  sim.set_checkpoint_hooks({[&] { return schedule.due(); },
+                            [&](const rodcore::Checkpoint& c) {
+                              rodcore::write_checkpoint(ckpt, c);
+                              schedule.written();
+                              if (int sig = rodcore::stop_signal())
+                                throw rodcore::Interrupted(
+                                    std::string(sig == SIGINT ? "SIGINT" : "SIGTERM") + " received: stopped at t = " +
+                                        num(c.integrator.t) + " with " + std::to_string(c.next_frame) + " of " +
+                                        std::to_string(scene.output.frames) + " frames in " + out->partial_path() +
+                                        "; checkpoint " + ckpt + ". Continue with:\n  " +
+                                        resume_command(scene_path, out_path, sets),
+                                    sig);
+                            }});
   rodcore::ProgressBar bar(!quiet && rodcore::ProgressBar::stderr_is_terminal());
   rodcore::RunSummary sum;
   try {
-    sum = sim.run([&](const rodcore::Frame& f) { out.write_frame(f); },
+    sum = sim.run([&](const rodcore::Frame& f) { out->write_frame(f); },
                   [&](double t, double t_end) { bar.update(t, t_end); });
+  } catch (const rodcore::Interrupted& e) {
+    bar.finish();
+    std::cerr << "rodsim: " << e.what() << "\n";
+    return 128 + e.signal;
   } catch (const rodcore::NumericalError& e) {
     bar.finish();
-    int written = out.frames_written();
-    out.fail(e.what());
+    int written = out->frames_written();
+    out->fail(e.what());
+    std::error_code ec;
+    fs::remove(ckpt, ec);  // continuing would meet the same error
     return fail(3, std::string(e.what()) + "\nrodsim: " + std::to_string(written) + " frame(s) written so far are in " +
                        out_path + " (attribute complete = 0)");
   }
   bar.finish();
-  out.finish(sum);
+  out->finish(sum);
+  std::error_code ec;
+  fs::remove(ckpt, ec);
   if (!quiet) {
     char line[512];
     std::snprintf(line, sizeof line,
                   "rodsim: wrote %s: %d frames to t = %g; %ld steps (%ld rejected), %ld RHS evaluations, "
                   "%.3g s wall, energy drift %.2e (%s%s)",
-                  out_path.c_str(), out.frames_written(), scene.output.t_end, sum.steps, sum.rejected,
+                  out_path.c_str(), out->frames_written(), scene.output.t_end, sum.steps, sum.rejected,
                   sum.rhs_evaluations, sum.wall_seconds, sum.energy_drift, sum.method.c_str(),
                   sum.reduced ? ", reduced planar system" : "");
     std::cout << line << std::endl;
@@ -105,13 +159,15 @@ int main(int argc, char** argv) {
       "  rodsim run dna158.toml -o dna.h5 --set solver.rtol=1e-8 --set output.frames=101\n"
       "  rodsim check dna158.toml          # validate, print the resolved scene\n"
       "  rodsim kinds                      # initial-condition kinds and their parameters\n\n"
-      "Exit status: 0 ok, 2 bad input, 3 numerical error (frames so far kept, complete = 0)."};
+      "Exit status: 0 ok, 2 bad input, 3 numerical error (frames so far kept, complete = 0),\n"
+      "130/143 stopped by SIGINT/SIGTERM after writing the checkpoint OUT.h5.ckpt (continue with --resume)."};
   app.require_subcommand(1);
   app.set_help_all_flag("--help-all", "Help for every subcommand");
 
   std::string scene_path, out_path;
   std::vector<std::string> sets;
-  bool quiet = false;
+  bool quiet = false, resume = false;
+  double checkpoint_every = -1.0;  // < 0: the scene's output.checkpoint_interval_s
 
   auto* run_cmd = app.add_subcommand("run", "Run a scene and write OUT.h5 (time, s, fields/*, ...)");
   run_cmd->add_option("scene", scene_path, "Scene file (TOML)")->required();
@@ -120,6 +176,13 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--set", sets,
                       "Override a scene key, e.g. --set solver.rtol=1e-8 (repeatable; validated like the file)");
   run_cmd->add_flag("-q,--quiet", quiet, "No progress bar and no summary line");
+  run_cmd->add_option("--checkpoint-every", checkpoint_every,
+                      "Write the checkpoint OUT.h5.ckpt every SECONDS of wall time (overrides "
+                      "output.checkpoint_interval_s; 0: only on SIGINT/SIGTERM)")
+      ->check(CLI::NonNegativeNumber);
+  run_cmd->add_flag("--resume", resume,
+                    "Continue an interrupted run from OUT.h5.ckpt, appending to OUT.h5.partial (same scene and --set "
+                    "options; the result equals an uninterrupted run). Without a checkpoint: start from t = 0");
 
   auto* check_cmd = app.add_subcommand("check", "Validate a scene and print it resolved (all defaults filled)");
   check_cmd->add_option("scene", scene_path, "Scene file (TOML)")->required();
@@ -144,7 +207,7 @@ int main(int argc, char** argv) {
       std::cout << rodcore::scene_to_toml(rodcore::read_scene_file(scene_path, sets));
       return 0;
     }
-    return run(scene_path, out_path, sets, quiet);
+    return run(scene_path, out_path, sets, quiet, resume, checkpoint_every);
   } catch (const rodcore::InputError& e) {
     return fail(2, e.what());
   } catch (const rodcore::NumericalError& e) {
