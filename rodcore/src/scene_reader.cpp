@@ -59,7 +59,15 @@ std::string fmt_num(double v) {
   o.precision(17);
   o << v;
   std::string s = o.str();
-  // Shortest text that reads back to the same double, so messages stay short.
+  // Whole numbers as integers, else the shortest text that reads back to the
+  // same double, so messages stay short.
+  if (v == std::floor(v) && std::abs(v) < 1e15) {
+    std::ostringstream q;
+    q << std::fixed;
+    q.precision(0);
+    q << v;
+    return q.str();
+  }
   for (int p = 1; p <= 17; ++p) {
     std::ostringstream q;
     q.precision(p);
@@ -108,7 +116,6 @@ struct Range {
   }
 };
 Range positive() { return {0.0, kInf, true, false}; }
-Range at_least(double m) { return {m, kInf, false, false}; }
 
 const std::vector<std::string> kSections = {"rod", "material", "initial", "solver", "output", "checks"};
 const std::vector<std::string> kOutputFields = {"internal", "energy", "energy_parts", "centerline",
@@ -385,7 +392,7 @@ Scene build_scene(toml::table& table, Context& ctx) {
       if (f == "directors") sc.output.directors = true;
     }
   }
-  out.number("checkpoint_interval_s", sc.output.checkpoint_interval_s, at_least(0.0));
+  out.number("checkpoint_interval_s", sc.output.checkpoint_interval_s, Range{0.0, kInf, false, false});
 
   // [checks]
   Section chk = section("checks");
