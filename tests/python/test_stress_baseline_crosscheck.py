@@ -65,9 +65,9 @@ def test_rodsim_agrees_with_independent_baseline_on_dna_scene(rodsim, tmp_path, 
     # level of the tolerance, far below any physics error (a wrong sign or
     # factor in either code gives O(1e-2) or more after 50 time units).
     t_end, rtol = 50.0, 1e-11
-    y_rod = rodsim_run(rodsim, SCENES / "p2_dna158.toml", tmp_path / "p2.h5",
+    y_rod = rodsim_run(rodsim, ROOT / "workflows" / "scenes" / "dna158.toml", tmp_path / "p2.h5",
                        {"rod.points": N, "solver.space": space, "solver.rtol": rtol, "solver.atol": rtol,
-                        "output.t_end": t_end})
+                        "output.t_end": t_end, "output.frames": 2, "output.fields": '["internal"]'})
     t, y_np, _ = baseline_numpy.run(tmp_path / "p2.h5", space, "DOP853", rtol, rtol, t_end, 2)
     assert np.array_equal(y_np[0], y_rod[0])
     with h5py.File(tmp_path / "p2.h5") as f:

@@ -1,0 +1,24 @@
+#!/usr/bin/env bash
+# One command for every benchmark; writes bench/results/*.json and *.png.
+#   bench/run.sh           full run (< 20 min on 2 cores)
+#   bench/run.sh --quick   coarse sweeps, a few minutes (used to test the scripts)
+# Uses $DNAROD_BUILD (default build/), building it first.
+set -euo pipefail
+source "$(dirname "$0")/../scripts/env.sh"
+QUICK=""
+[[ "${1:-}" == "--quick" ]] && QUICK="--quick"
+OUT="${BENCH_OUT:-$DNAROD_ROOT/bench/results}"
+mkdir -p "$OUT"
+bash "$DNAROD_ROOT/scripts/build.sh" > /dev/null
+echo "== machine"; nproc; uptime
+echo "== RHS / step microbenchmarks (Google Benchmark)"
+MINTIME=0.1; [[ -n "$QUICK" ]] && MINTIME=0.02
+"$DNAROD_BUILD/bin/rodbench" --benchmark_min_time="$MINTIME" \
+  --benchmark_out="$OUT/rhs_bench.json" --benchmark_out_format=json | tail -n +1
+echo "== work-precision (P1, P2, P3)"
+"$PYTHON" "$DNAROD_ROOT/bench/workprecision.py" --build "$DNAROD_BUILD" --out "$OUT" $QUICK
+echo "== stability stress"
+"$PYTHON" "$DNAROD_ROOT/bench/stress/stability.py" --build "$DNAROD_BUILD" --out "$OUT" $QUICK
+echo "== output cost, rod vs MD, cost per point"
+"$PYTHON" "$DNAROD_ROOT/bench/costs.py" --build "$DNAROD_BUILD" --rhs-json "$OUT/rhs_bench.json" --out "$OUT" $QUICK
+echo "== done: $OUT"
