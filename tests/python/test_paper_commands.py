@@ -94,6 +94,15 @@ def test_fig7_equal_energy_and_bend_shear_ratio(quick_figures):
     for b in ("plus", "minus"):
         assert r[b]["bend_over_shear_time_mean"] == pytest.approx(r[b]["bend_over_shear_linear_theory"], rel=1e-2)
     assert r["minus"]["min_Gamma3_over_norm"] < r["plus"]["min_Gamma3_over_norm"]  # omega_- shears more
+    small = _json(quick_figures, "fig7")["small_k_0.5"]   # ... and the reverse for k < 1
+    assert small["minus"]["initial_energy"] == pytest.approx(small["plus"]["initial_energy"], rel=1e-8)
+    assert small["minus"]["min_Gamma3_over_norm"] > small["plus"]["min_Gamma3_over_norm"]
+
+
+def test_max_displacement_formula_sec41(quick_figures):
+    d = _json(quick_figures, "sec41_displacement")
+    assert len(d["rows"]) == 6
+    assert d["max_rel_diff"] < 1e-3   # the formula is first order: corrections O(eps), eps = 1e-3
 
 
 def test_dispersion_check_numbers(quick_figures):

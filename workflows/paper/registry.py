@@ -24,6 +24,7 @@ TARGETS = {
     "fig7": ("Fig 7: Gamma3/|Gamma| at k = 8, equal energy (runs)", _fig("sec52", "fig7")),
     "dispersion_check": ("measured frequencies of small-amplitude runs vs Eqs 26/39",
                          _fig("check_dispersion", "check")),
+    "sec41_displacement": ("Sec 4.1: maximum centerline displacement formula", _fig("sec52", "max_displacement")),
     "sec52_energy": ("Sec 5.2: energy components, run vs Eqs 40-45", _fig("sec52", "energy_components")),
     "sec52_harmonic": ("Sec 4.1/5.2: second-harmonic extension wave vs Eq 45", _fig("sec52", "second_harmonic")),
     "validation": ("Sec 5.1: RK4 order, energy and director-norm conservation (exact wave)",

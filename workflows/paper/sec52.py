@@ -87,13 +87,21 @@ def _initial_energy(k, eps, branch, N, mode):
     return float(untwisted_run(k, eps, branch, 1e-3, 2, N, mode, fields=("energy",)).energy[0])
 
 
-def fig7(outdir: Path, quick: bool = False, k=8.0, eps_plus=0.1, t_fix=1.0) -> dict:
-    mode, N = 2, 32 if quick else 64
+def equal_energy_pair(k, eps_plus, t_fix, quick=False, N=None, mode=2):
+    """Runs on both branches at wavenumber k with equal total energy: eps_plus given, eps of
+    the omega_- run by root finding on the initial energy. Returns {branch: (run, index of
+    t_fix, summary)}."""
+    N = N or (32 if quick else 64)
     E_plus = _initial_energy(k, eps_plus, "plus", N, mode)
-    eps_minus = brentq(lambda e: _initial_energy(k, e, "minus", N, mode) - E_plus, 1e-4, 5.0, xtol=1e-10)
-    res = {}
-    fig, ax = plt().subplots(figsize=(5.5, 3.6))
-    for b, eps, style in (("minus", eps_minus, ":"), ("plus", eps_plus, "-")):
+    f = (lambda e: _initial_energy(k, e, "minus", N, mode) - E_plus)  # increasing in eps
+    lo, hi = eps_plus, eps_plus
+    while f(hi) < 0:
+        lo, hi = hi, 2 * hi
+    while f(lo) > 0:
+        lo, hi = lo / 2, lo
+    eps_minus = brentq(f, lo, hi, xtol=1e-12)
+    out = {}
+    for b, eps in (("minus", eps_minus), ("plus", eps_plus)):
         w = float(theory.omega(k, b))
         t_end = max(t_fix, 2 * np.pi / w * (2 if quick else 10))
         frames = int(round(t_end / t_fix)) * (4 if quick else 20) + 1
@@ -101,26 +109,66 @@ def fig7(outdir: Path, quick: bool = False, k=8.0, eps_plus=0.1, t_fix=1.0) -> d
         i = int(np.argmin(np.abs(run.time - t_fix)))
         G = run.fields["Gamma"][i]
         dot = G[:, 2] / np.linalg.norm(G, axis=1)
+        bend, shear = run.energy_parts["bend"], run.energy_parts["shear"]
+        out[b] = (run, dot, {"epsilon": eps, "omega": w, "initial_energy": float(run.energy[0]),
+                             "t": float(run.time[i]), "min_Gamma3_over_norm": float(dot.min()),
+                             "bend_over_shear_time_mean": float(np.mean(bend) / np.mean(shear)),
+                             "bend_over_shear_at_t": float(bend[i] / shear[i]),
+                             "bend_over_shear_linear_theory": float(1.0 / theory.energy_ratio(w, k))})
+    return out
+
+
+def fig7(outdir: Path, quick: bool = False, k=8.0, eps_plus=0.1, t_fix=1.0) -> dict:
+    pair = equal_energy_pair(k, eps_plus, t_fix, quick)
+    fig, ax = plt().subplots(figsize=(5.5, 3.6))
+    for b, style in (("minus", ":"), ("plus", "-")):
+        run, dot, _ = pair[b]
         ss = np.append(run.s, run.L)
         ax.plot(ss, np.append(dot, dot[0]), "k" + style, label=rf"$\omega_{{{'+' if b == 'plus' else '-'}}}$")
-        bend = run.energy_parts["bend"]
-        shear = run.energy_parts["shear"]
-        res[b] = {"epsilon": eps, "omega": w, "initial_energy": float(run.energy[0]), "t": float(run.time[i]),
-                  "min_Gamma3_over_norm": float(dot.min()),
-                  "bend_over_shear_time_mean": float(np.mean(bend) / np.mean(shear)),
-                  "bend_over_shear_at_t": float(bend[i] / shear[i]),
-                  "bend_over_shear_linear_theory": float(1.0 / theory.energy_ratio(w, k))}
     ax.set_xlabel("s")
     ax.set_ylabel(r"$\Gamma_3 / |\Gamma|$")
     ax.set_title(f"Fig 7: k = 8, equal energy, t = {t_fix}", fontsize=9)
     ax.legend(fontsize=8)
     fig.tight_layout()
     png = save(fig, outdir / "fig7.png")
-    data = {"figure": 7, "k": k, "t_fixed": t_fix, "runs": res,
+    # Sec 5.2: "for small wave number (k < 1) ... omega_- corresponds to the small oscillations
+    # of Gamma3/|Gamma| and omega_+ to the large ones"
+    small = equal_energy_pair(0.5, 0.02, 2.0, quick, N=16, mode=1)
+    data = {"figure": 7, "k": k, "t_fixed": t_fix, "runs": {b: pair[b][2] for b in pair},
             "paper_claim_bend_over_shear_omega_plus": 7.0,
-            "note": "the paper does not give eps or the time; eps_+ = 0.1 here, eps_- from equal energy"}
+            "small_k_0.5": {b: small[b][2] for b in small},
+            "note": "the paper does not give eps or the time; eps_+ = 0.1 here (0.02 at k = 0.5), "
+                    "eps_- from equal energy"}
     write_json(outdir / "fig7.json", data)
     return {"png": png, "json": outdir / "fig7.json", "data": data}
+
+
+def max_displacement(outdir: Path | None = None, quick: bool = False, eps=1e-3, ks=(0.5, 2.0, 8.0)) -> dict:
+    """Sec 4.1: the largest centerline displacement of the bend-shear wave,
+    k Gamma03 eps / (w (w^2 - k^2)) (with eps -> a = eps (1 + eps), the amplitude of Eq 40),
+    against the amplitude of the reconstructed centerline's transverse mode k."""
+    rows = []
+    for k in ks:
+        for b in ("plus", "minus"):
+            run = untwisted_run(k, eps, b, 1e-3, 2, 16 if quick else 32, 1,
+                                fields=("internal", "centerline", "directors"))
+            c = run.centerline[0]
+            # period vector P = r(L) - r(0) = int T Gamma ds (periodic trapezoid): the exact axis
+            axis = np.einsum("ixk,ik->x", run.directors[0], run.fields["Gamma"][0])
+            axis /= np.linalg.norm(axis)
+            d = c - c.mean(axis=0)
+            perp = d - np.outer(d @ axis, axis)
+            x = perp @ np.linalg.svd(perp, full_matrices=False)[2][0]   # in-plane component
+            amp = float(np.abs(mode_amplitude(x, 1)))
+            w = float(theory.omega(k, b))
+            a = eps * (1 + eps)
+            pred = abs(k * a / (w * (w ** 2 - k ** 2)))
+            rows.append({"k": k, "branch": b, "measured": amp, "formula": pred, "rel_diff": abs(amp - pred) / pred})
+    data = {"check": "Sec 4.1 maximum centerline displacement", "epsilon": eps, "rows": rows,
+            "max_rel_diff": max(r["rel_diff"] for r in rows)}
+    if outdir is not None:
+        write_json(outdir / "sec41_displacement.json", data)
+    return data
 
 
 def _fit_complex_exponentials(t, c, guesses):
