@@ -83,6 +83,8 @@ def collect(cfg: dict, out: Path) -> dict:
         if cfg.get("md", {}).get("enabled", True):
             for s in seeds:
                 data["md"][(av, s)] = _load(out / "md" / f"Av{fmt_av(av)}_seed{s}" / "analysis")
+    fit = out / "fit" / "modulus.json"
+    data["modulus"] = json.loads(fit.read_text()) if fit.is_file() else None
     for av in cfg.get("sweep", {}).get("A_v_A_per_ps", []) or []:
         data["sweep"][float(av)] = _load(out / "sweep" / f"Av{fmt_av(av)}" / "analysis")
     return data
@@ -128,8 +130,11 @@ def results_json(cfg: dict, data: dict) -> dict:
                  "sweep": [j for j, _ in data["sweep"].values() if j]},
     }
     if rod_j and math.isfinite(md_speed):
-        res["effective_bend_modulus_for_md_speed"] = bend_modulus_for_speed(
+        # Eq 39 inverted: only meaningful if the MD wave were small-amplitude (see modulus.py)
+        res["bend_modulus_for_md_speed_small_amplitude"] = bend_modulus_for_speed(
             md_speed, rod_j["dispersion"]["fiducial_length"], rod_j["dispersion"]["Gamma03"])
+    if data.get("modulus"):
+        res["modulus_fit_for_md_speed"] = data["modulus"]
     rmsd = []
     for s in seeds:
         r = data["rod"].get(head, (None, None))[1]
@@ -240,6 +245,8 @@ def write_html(cfg: dict, res: dict, figs: dict, path: Path):
         ("MD planarity (out/in RMS)", _f(res["md_planarity"]), "planar (A_v = 1), non-planar (A_v = 5)"),
         ("MD base pairs intact, last frame", _f(res["md_bp_intact_fraction"]), "not reported"),
         ("rod-MD axis RMSD, last frame [A]", _f(res["rod_md_rmsd_A_final"]), "not reported"),
+        ("rod D reproducing the MD speed (x paper D)", _f(((res.get("modulus_fit_for_md_speed") or {}).get("fits") or {}).get("bend", {}).get("scale")), "-"),
+        ("rod C3 reproducing the MD speed (x paper C3)", _f(((res.get("modulus_fit_for_md_speed") or {}).get("fits") or {}).get("stretch", {}).get("scale")), "-"),
         ("rod / MD run length [ps]", f"{_f(res['rod_run_ps'])} / {_f(res['md_run_ps'])}", "? / 600"),
         ("seeds", ", ".join(map(str, res["seeds"])), "one run per A_v"),
     ]

@@ -3,6 +3,7 @@
     python -m workflows.report.steps scene   BASE.toml OUT.toml --A-v 1 --run-ps 600 --every-ps 1
     python -m workflows.report.steps rod     SCENE.toml ROD.h5 OUT_PREFIX [--n-boot 200]
     python -m workflows.report.steps md      SCENE.toml MD_DIR OUT_PREFIX [--n-boot 200]
+    python -m workflows.report.steps modulus SCENE.toml OUT.json MD_ANALYSIS.json...
 
 `rod` and `md` run the same `mdbridge.analysis.WaveAnalysis` and write OUT_PREFIX.json
 (scalars) and OUT_PREFIX.npz (u(s, t), axis, planarity and integrity over time).
@@ -161,6 +162,22 @@ def analyse_md(scene_path, md_dir, prefix, n_boot=200):
     return s
 
 
+def fit_moduli(scene_path, md_jsons, out_json, which=("bend", "stretch")):
+    """Rod modulus (bend D, stretch C3) that reproduces the mean MD wave speed of md_jsons."""
+    from mdbridge.analysis.modulus import fit_modulus
+    scene = load_scene(scene_path)
+    speeds = [json.loads(Path(p).read_text()).get("wave_speed_A_per_ps") for p in md_jsons]
+    speeds = [v for v in speeds if v is not None and math.isfinite(v)]
+    res = {"md_wave_speed_A_per_ps": float(np.mean(speeds)) if speeds else None, "fits": {}}
+    if speeds:
+        for w in which:
+            res["fits"][w] = fit_modulus(str(Path(scene_path).resolve()), scene_n_bp(scene, scene_path),
+                                         float(np.mean(speeds)), which=w)
+    Path(out_json).parent.mkdir(parents=True, exist_ok=True)
+    Path(out_json).write_text(json.dumps(_jsonable(res), indent=1))
+    return res
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(prog="python -m workflows.report.steps", description=__doc__.splitlines()[0])
     sub = ap.add_subparsers(dest="step", required=True)
@@ -176,10 +193,16 @@ def main(argv=None) -> int:
         p.add_argument("input")
         p.add_argument("prefix")
         p.add_argument("--n-boot", type=int, default=200)
+    p = sub.add_parser("modulus")
+    p.add_argument("scene")
+    p.add_argument("out")
+    p.add_argument("md_json", nargs="+")
     a = ap.parse_args(argv)
     try:
         if a.step == "scene":
             make_scene(a.base, a.out, a.A_v, a.run_ps, a.every_ps)
+        elif a.step == "modulus":
+            fit_moduli(a.scene, a.md_json, a.out)
         elif a.step == "rod":
             analyse_rod(a.scene, a.input, a.prefix, a.n_boot)
         else:
