@@ -53,6 +53,16 @@ def rod_md_rmsd(rod_npz, md_npz):
     return t_ok, np.array(out)
 
 
+def _check(j):
+    """The cross-check speed of a run, NaN when the estimator flagged itself unreliable
+    (a standing wave with too few periods in the record)."""
+    if not j:
+        return float("nan")
+    if not j.get("wave_check", {}).get("reliable", True):
+        return float("nan")
+    return _num(j.get("wave_speed_check_A_per_ps"))
+
+
 def _combine(values, errors):
     """Mean over seeds; error = sqrt(fit errors^2 / n^2 summed + between-seed variance / n)."""
     v = np.array([_num(x) for x in values])
@@ -103,11 +113,11 @@ def results_json(cfg: dict, data: dict) -> dict:
         "headline_A_v_A_per_ps": head,
         "rod_wave_speed_A_per_ps": _num(rod_j and rod_j["wave_speed_A_per_ps"]),
         "rod_wave_speed_err_A_per_ps": _num(rod_j and rod_j["wave_speed_err_A_per_ps"]),
-        "rod_wave_speed_check_A_per_ps": _num(rod_j and rod_j.get("wave_speed_check_A_per_ps")),
+        "rod_wave_speed_check_A_per_ps": _check(rod_j),
         "rod_dispersion_speed_A_per_ps": _num(rod_j and rod_j["dispersion"]["bend_branch_speed_A_per_ps"]),
         "md_wave_speed_A_per_ps": md_speed,
         "md_wave_speed_err_A_per_ps": md_err,
-        "md_wave_speed_check_A_per_ps": _combine([m.get("wave_speed_check_A_per_ps") for m in md_runs],
+        "md_wave_speed_check_A_per_ps": _combine([_check(m) for m in md_runs],
                                                  [0.0] * len(md_runs))[0] if md_runs else float("nan"),
         "rod_planarity": _num(rod_j and rod_j["planarity"]),
         "md_planarity": float(np.mean([_num(m["planarity"]) for m in md_runs])) if md_runs else float("nan"),
@@ -254,7 +264,7 @@ def write_html(cfg: dict, res: dict, figs: dict, path: Path):
     runs = "\n".join(
         f"<tr><td>{j['kind']}</td><td>{_f(j.get('A_v_A_per_ps'))}</td><td>{j.get('seed', '')}</td>"
         f"<td>{_f(j['wave_speed_A_per_ps'])} &plusmn; {_f(j['wave_speed_err_A_per_ps'], 2)}</td>"
-        f"<td>{_f(j.get('wave_speed_check_A_per_ps'))}</td><td>{_f(j['planarity'])}</td>"
+        f"<td>{_f(_check(j))}{'' if j.get('wave_check', {}).get('reliable', True) else ' (' + html.escape(j['wave_check'].get('reason', '')) + ')'}</td><td>{_f(j['planarity'])}</td>"
         f"<td>{_f(j.get('bp_intact_fraction_final', ''))}</td><td>{_f(j['t_end_ps'])}"
         f"{'' if j.get('complete', True) else ' (stopped: ' + html.escape(j.get('stopped', '')) + ')'}</td></tr>"
         for j in res["runs"]["rod"] + res["runs"]["md"] + res["runs"]["sweep"])
