@@ -181,7 +181,7 @@ def figures(cfg: dict, data: dict, res: dict) -> dict:
     fig.colorbar(im, ax=axs[0].tolist(), label="in-plane displacement [A]")
     figs["kymographs"] = _png(fig)
     # snapshots (paper Figs 8-9)
-    fig, axs = plt.subplots(len(pairs), 1, figsize=(8, 3 * len(pairs)), squeeze=False)
+    fig, axs = plt.subplots(len(pairs), 1, figsize=(8, 3 * len(pairs)), squeeze=False, constrained_layout=True)
     for ax, (name, z) in zip(axs[:, 0], pairs):
         if z is None:
             continue
