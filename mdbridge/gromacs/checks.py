@@ -174,5 +174,7 @@ def write_checks(directory: Path, *, gmx: str) -> dict:
                        "ok": bool(min(side) > cutoff_A),
                        "per_frame_A": [float(x) for x in side]},
     }
-    (d / "checks.json").write_text(json.dumps(checks, indent=1))
+    tmp = d / "checks.json.part"
+    tmp.write_text(json.dumps(checks, indent=1))
+    tmp.replace(d / "checks.json")
     return checks

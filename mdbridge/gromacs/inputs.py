@@ -116,7 +116,9 @@ def _frames_of_gro(gro_path: Path, n_bp: int):
     from mdbridge.geometry.structure import BasePairFrames
     u = mda.Universe(str(gro_path))
     pairs = [(k, 2 * n_bp + 1 - k) for k in range(1, n_bp + 1)]
-    bp = BasePairFrames(u, pairs=pairs).run()
+    with warnings.catch_warnings():   # a single .gro frame has no time step: irrelevant here
+        warnings.simplefilter("ignore", UserWarning)
+        bp = BasePairFrames(u, pairs=pairs).run()
     return np.asarray(bp.results.origins)[0], np.asarray(bp.results.R)[0]
 
 

@@ -3,7 +3,8 @@
 A half-finished MD must never look finished: mdrun writes md.part.* and
 confout.part.gro, which are renamed to md.xtc, md.edr, md.log, confout.gro
 only after mdrun exits cleanly, and the marker md.done (JSON) is written
-last. Anything that reads results should require md.done.
+after them. checks.json follows (written whole or not at all). Anything that
+reads MD results should require md.done.
 """
 from __future__ import annotations
 
@@ -95,10 +96,12 @@ def run_md(directory: Path, *, ps: float | None = None, steps: int | None = None
     record = {"steps": steps, "dt_ps": dt, "length_ps": run_ps, "wall_s": round(wall, 2),
               "ns_per_day": float(m.group(1)) if m else None, "threads": threads,
               "gmx": {"path": gmx_path, "version": gmx_version(gmx_path)}}
+    # written after every MD output is in place: its presence means the MD is complete
+    tmp = d / "md.done.part"
+    tmp.write_text(json.dumps(record, indent=1))
+    tmp.replace(d / "md.done")
     if checks:
         from .checks import write_checks
         write_checks(d, gmx=gmx_path)
         record["checks"] = "checks.json"
-    # written last: its presence means every output above is complete
-    (d / "md.done").write_text(json.dumps(record, indent=1))
     return record
