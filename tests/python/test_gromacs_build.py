@@ -51,7 +51,7 @@ def table1_rod(n_bp, turns, A=A_DISP, Av=A_V, w=W):
     return RodInitial(origins, np.stack([d1, d2, d3], axis=2), gamma, omega, L)
 
 
-def make(tmp, n_bp=21, turns=2, T=0.0, seed=7, **kw):
+def make(tmp, n_bp=21, turns=2, T=0.0, seed=7, settings=None, **kw):
     rod = table1_rod(n_bp, turns)
     seq = ("ACGTTGCAGGCATCGATCCGA" * 10)[:n_bp]
     st = build_duplex(seq, rod.origins_A, rod.R, periodic_box=(0, rod.closure_length_A, 0))
@@ -60,7 +60,7 @@ def make(tmp, n_bp=21, turns=2, T=0.0, seed=7, **kw):
     box = plan_box(np.concatenate([rod.origins_A[None], swing]), rod.origins_A,
                    rod.closure_length_A, rod_run_ps=1.0)
     info = build_inputs(tmp, st, rod, box, sequence=seq, temperature_K=T, seed=seed,
-                        settings=MdSettings(nsteps=200), **kw)
+                        settings=settings or MdSettings(nsteps=200), **kw)
     return rod, info
 
 
@@ -220,7 +220,14 @@ def test_gromacs_failure_surfaces_and_never_looks_finished(warm, gmx, tmp_path):
 
 
 def test_neutral_phosphates_make_every_nucleotide_neutral(gmx, tmp_path):
-    rod, info = make(tmp_path, electrostatics="neutral-phosphates", gmx=gmx)
+    # also the other offered settings: thermostat, 2 fs with h-bond constraints (grompp
+    # accepts them: build_inputs runs grompp on md.mdp)
+    st = MdSettings(nsteps=200, thermostat=True, temperature_K=300.0, dt_ps=0.002,
+                    constraints="h-bonds")
+    rod, info = make(tmp_path, electrostatics="neutral-phosphates", gmx=gmx, settings=st)
+    mdp = (tmp_path / "md.mdp").read_text()
+    assert "tcoupl                  = V-rescale" in mdp and "ref-t                   = 300.0" in mdp
+    assert "constraints             = h-bonds" in mdp and "dt                      = 0.002" in mdp
     assert info["total_charge_e"] == pytest.approx(0.0, abs=1e-6)
     u = _tpr(tmp_path, gmx)
     q = np.array([r.atoms.charges.sum() for r in u.residues])
