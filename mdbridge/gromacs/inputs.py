@@ -170,13 +170,14 @@ def build_inputs(outdir: Path, structure, rod: RodInitial, box: BoxPlan, *, sequ
                           + json.dumps(bad or junctions, indent=1)[:3000])
 
     # 3. electrostatics and restraints
-    residue_charges = {}
     for p, m in zip(top["itps"], mols):
-        residue_charges[m.name] = charges.apply_electrostatics(p, electrostatics)
+        charges.apply_electrostatics(p, electrostatics)
         posres.add_base_restraints(p, m)
     mols = [parse_itp(p) for p in top["itps"]]
     masses = np.concatenate([m.mass for m in mols])
     total_charge = float(sum(m.charge.sum() for m in mols))
+    q_res = np.concatenate([np.bincount(m.resnr - m.resnr.min(), weights=m.charge)[
+        np.unique(m.resnr - m.resnr.min())] for m in mols])
 
     g = read_gro(top["gro"])
     names_itp = sum((m.atomname for m in mols), [])
@@ -204,6 +205,9 @@ def build_inputs(outdir: Path, structure, rod: RodInitial, box: BoxPlan, *, sequ
               "max_atom_displacement_A": float(np.linalg.norm(x_em - x_nm, axis=1).max() * NM),
               "log": str(outdir / "em.log")}
         em.update(_em_summary(outdir / "gmx_mdrun_em.log"))
+        if not em["converged"]:
+            warnings.warn(f"{outdir}/em.log: the restrained minimisation did not reach Fmax < "
+                          "500 kJ/mol/nm; check closest_nonbonded_contact in build.json", stacklevel=2)
         x_nm = x_em
 
     # 5. velocities on the final coordinates
@@ -241,7 +245,8 @@ def build_inputs(outdir: Path, structure, rod: RodInitial, box: BoxPlan, *, sequ
         "sequence": sequence, "n_bp": n, "seed": seed, "temperature_K": temperature_K,
         "forcefield": forcefield, "electrostatics": electrostatics,
         "electrostatics_doc": charges.__doc__.strip(),
-        "total_charge_e": round(total_charge, 4), "n_atoms": int(g.n_atoms),
+        "total_charge_e": round(total_charge, 4) or 0.0, "n_atoms": int(g.n_atoms),
+        "nucleotide_charge_range_e": [round(float(q_res.min()), 4), round(float(q_res.max()), 4)],
         "units": u.as_dict(),
         "box": box.as_dict(), "box_nm": box_nm.tolist(),
         "md_settings": settings.as_dict(),

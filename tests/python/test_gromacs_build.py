@@ -116,6 +116,7 @@ def test_files_and_build_record(cold):
     assert b["sequence"] == "ACGTTGCAGGCATCGATCCGA" and b["seed"] == 7
     assert b["units"]["tau_ps"] == pytest.approx(0.9416, abs=1e-3)
     assert b["total_charge_e"] == -42          # cyclic strands: -1 e per nucleotide
+    assert b["nucleotide_charge_range_e"] == [-1.0, -1.0]
     mdp = (d / "md.mdp").read_text()
     for line in ("periodic-molecules      = yes", "pbc                     = xyz",
                  "integrator              = md", "tcoupl                  = no",
@@ -229,6 +230,7 @@ def test_neutral_phosphates_make_every_nucleotide_neutral(gmx, tmp_path):
     assert "tcoupl                  = V-rescale" in mdp and "ref-t                   = 300.0" in mdp
     assert "constraints             = h-bonds" in mdp and "dt                      = 0.002" in mdp
     assert info["total_charge_e"] == pytest.approx(0.0, abs=1e-6)
+    assert info["nucleotide_charge_range_e"] == [0.0, 0.0]
     u = _tpr(tmp_path, gmx)
     q = np.array([r.atoms.charges.sum() for r in u.residues])
     assert np.abs(q).max() < 1e-4
