@@ -55,7 +55,7 @@ void insert_value(toml::table& table, const std::string& key, const py::handle& 
     toml::table sub;
     for (auto item : py::reinterpret_borrow<py::dict>(v)) {
       std::string k = py::str(item.first);
-      insert_value(sub, k, item.second, where + "." + k);
+      insert_value(sub, k, item.second, where.empty() ? k : where + "." + k);
     }
     table.insert_or_assign(key, std::move(sub));
   } else if (is_bool(v)) {
@@ -102,7 +102,7 @@ SceneSource scene_source(const py::object& scene) {
   SceneSource src;
   if (py::isinstance<py::dict>(scene)) {
     toml::table wrapper;
-    insert_value(wrapper, "scene", scene, "scene");
+    insert_value(wrapper, "scene", scene, "");
     src.table = std::move(*wrapper.get("scene")->as_table());
     src.label = "<dict>";
     return src;
