@@ -344,14 +344,53 @@ class Dop853 final : public Embedded {
   }
 
   void accept(double h, double t_new) override {
-    const std::size_t n = sys_.n;
-    // f(t + h, y_new): FSAL stage 12, needed for the dense output and next step.
+    // f(t + h, y_new): FSAL stage 12, the next step's first stage.
     eval(t_ + h, ynew_.data(), k_[kDop853Stages].data());
+    // The 7th-order continuous extension costs three more RHS evaluations
+    // per step; like Hairer's dop853.f it is built only for steps that hold
+    // an output time, i.e. on the first dense() call (prepare_dense).
+    dense_ready_ = false;
+    h_dense_ = h;
+    y_prev_.swap(y_);
+    f_prev_.swap(f_);
+    std::copy(ynew_.begin(), ynew_.end(), y_.begin());
+    std::copy(k_[kDop853Stages].begin(), k_[kDop853Stages].end(), f_.begin());
+    t_prev_ = t_;
+    t_ = t_new;
+  }
+
+  void dense(double t, double* out) const override {
+    const std::size_t n = sys_.n;
+    if (t_ == t_prev_) {  // no step taken yet (reset / restored state)
+      std::copy(y_.begin(), y_.end(), out);
+      return;
+    }
+    // Building the extension evaluates f, which is not a const operation;
+    // the result is a cache of this step's continuous extension.
+    if (!dense_ready_) const_cast<Dop853*>(this)->prepare_dense();
+    const double h = t_ - t_prev_;
+    const double s = h > 0.0 ? (t - t_prev_) / h : 0.0, s1 = 1.0 - s;
+    for (std::size_t i = 0; i < n; ++i)
+      out[i] = rcont_[0][i] +
+               s * (rcont_[1][i] +
+                    s1 * (rcont_[2][i] +
+                          s * (rcont_[3][i] +
+                               s1 * (rcont_[4][i] +
+                                     s * (rcont_[5][i] + s1 * (rcont_[6][i] + s * rcont_[7][i]))))));
+  }
+
+ private:
+  // Continuous extension of the last step [t_prev_, t_] (dop853.f, CONTD8),
+  // from y_prev_, y_ and this step's stages k_ (still intact: the next
+  // attempt() has not run yet).
+  void prepare_dense() {
+    const std::size_t n = sys_.n;
+    const double h = h_dense_;
     const auto& f1 = k_[kDop853Stages];
     for (std::size_t i = 0; i < n; ++i) {
-      const double ydiff = ynew_[i] - y_[i];
+      const double ydiff = y_[i] - y_prev_[i];
       const double bspl = h * k_[0][i] - ydiff;
-      rcont_[0][i] = y_[i];
+      rcont_[0][i] = y_prev_[i];
       rcont_[1][i] = ydiff;
       rcont_[2][i] = bspl;
       rcont_[3][i] = ydiff - h * f1[i] - bspl;
@@ -363,10 +402,17 @@ class Dop853 final : public Embedded {
         rcont_[4 + r][i] = s;
       }
     }
-    // three extra stages for the 7th-order continuous extension
+    // three extra stages for the 7th-order continuous extension, from y_prev_
     for (int s = kDop853Stages + 1; s < kDop853Extended; ++s) {
-      combine(kDop853A[s], s, h);
-      eval(t_ + kDop853C[s] * h, tmp_.data(), k_[s].data());
+      const double* a = kDop853A[s];
+      std::copy(y_prev_.begin(), y_prev_.end(), tmp_.begin());
+      for (int j = 0; j < s; ++j) {
+        if (a[j] == 0.0) continue;
+        const double c = h * a[j];
+        const double* kj = k_[j].data();
+        for (std::size_t i = 0; i < n; ++i) tmp_[i] += c * kj[i];
+      }
+      eval(t_prev_ + kDop853C[s] * h, tmp_.data(), k_[s].data());
       for (int r = 0; r < 4; ++r) {
         const double dr = kDop853D[r][s];
         for (std::size_t i = 0; i < n; ++i) rcont_[4 + r][i] += dr * k_[s][i];
@@ -374,28 +420,11 @@ class Dop853 final : public Embedded {
     }
     for (int r = 4; r < 8; ++r)
       for (std::size_t i = 0; i < n; ++i) rcont_[r][i] *= h;
-    y_prev_.swap(y_);
-    f_prev_.swap(f_);
-    std::copy(ynew_.begin(), ynew_.end(), y_.begin());
-    std::copy(f1.begin(), f1.end(), f_.begin());
-    t_prev_ = t_;
-    t_ = t_new;
+    dense_ready_ = true;
   }
 
-  void dense(double t, double* out) const override {
-    const double h = t_ - t_prev_;
-    const double s = h > 0.0 ? (t - t_prev_) / h : 0.0, s1 = 1.0 - s;
-    const std::size_t n = sys_.n;
-    for (std::size_t i = 0; i < n; ++i)
-      out[i] = rcont_[0][i] +
-               s * (rcont_[1][i] +
-                    s1 * (rcont_[2][i] +
-                          s * (rcont_[3][i] +
-                               s1 * (rcont_[4][i] +
-                                     s * (rcont_[5][i] + s1 * (rcont_[6][i] + s * rcont_[7][i]))))));
-  }
-
- private:
+  bool dense_ready_ = false;
+  double h_dense_ = 0.0;
   std::vector<double> rcont_[8];
   std::vector<double> err5_, err3_;
 };
