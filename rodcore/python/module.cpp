@@ -225,7 +225,9 @@ py::dict run(const py::object& scene, const py::object& initial, const std::vect
              const py::object& output) {
   std::optional<TempFile> tmp;
   Scene sc = resolve(scene, initial, sets, tmp);
-  Simulation sim(sc);
+  Simulation sim(sc);  // reads the initial state now
+  // The temporary IC file dies with this call: say where the state came from instead.
+  if (tmp) sc.initial.path = "(initial= arrays given to rodcore.run; the t = 0 frame holds them)";
   const std::vector<double> s = sim.grid();
   const std::size_t N = s.size();
 
