@@ -81,7 +81,8 @@ Vec3 cross(const Vec3& a, const Vec3& b) {
 constexpr int kRows = 6;  // Omega1..3, Gamma1..3
 }  // namespace
 
-Reconstructor::Reconstructor(std::size_t N, double L) : N_(N), L_(L), M_(N / 2 + 1) {
+Reconstructor::Reconstructor(std::size_t N, double L, double max_turn)
+    : N_(N), L_(L), M_(N / 2 + 1), max_turn_(max_turn) {
   if (N < 2 || !(L > 0.0)) throw InputError("reconstruction: need N >= 2 and L > 0");
   real_ = static_cast<double*>(fftw_malloc(sizeof(double) * N * kRows));
   spec_ = fftw_malloc(sizeof(fftw_complex) * M_ * kRows);
@@ -95,8 +96,6 @@ Reconstructor::Reconstructor(std::size_t N, double L) : N_(N), L_(L), M_(N / 2 +
                                        m, real_, nullptr, 1, n, FFTW_ESTIMATE);
   }
   coef_.resize(2 * M_ * kRows);
-  at_c1_.resize(kRows * N);
-  at_c2_.resize(kRows * N);
 }
 
 Reconstructor::~Reconstructor() {
@@ -111,34 +110,76 @@ void Reconstructor::interpolate(const double* y) {
   const std::size_t N = N_;
   std::copy(y + 9 * N, y + 12 * N, real_);          // Omega
   std::copy(y + 6 * N, y + 9 * N, real_ + 3 * N);   // Gamma
+  // Substeps so that each Magnus step turns the frame by <= ~0.05 rad
+  // (the 4th-order error constant grows with (h |Omega|)^4).
+  double wmax = 0.0;
+  for (std::size_t i = 0; i < N; ++i)
+    wmax = std::max(wmax, std::sqrt(real_[i] * real_[i] + real_[N + i] * real_[N + i] +
+                                    real_[2 * N + i] * real_[2 * N + i]));
+  const double h = L_ / static_cast<double>(N);
+  substeps_ = std::clamp(static_cast<int>(std::ceil(std::min(h * wmax / max_turn_, 64.0))), 1, 64);
   fftw_execute(static_cast<fftw_plan>(forward_));
   auto* spec = static_cast<fftw_complex*>(spec_);
   for (std::size_t j = 0; j < M_ * kRows; ++j) {
     coef_[2 * j] = spec[j][0] / static_cast<double>(N);
     coef_[2 * j + 1] = spec[j][1] / static_cast<double>(N);
   }
-  const double h = L_ / static_cast<double>(N);
   const double c[2] = {0.5 - std::sqrt(3.0) / 6.0, 0.5 + std::sqrt(3.0) / 6.0};
-  for (int a = 0; a < 2; ++a) {
-    const double delta = c[a] * h;
-    for (int r = 0; r < kRows; ++r) {
+  at_.resize(static_cast<std::size_t>(2 * substeps_) * kRows * N);
+  for (int sub = 0; sub < substeps_; ++sub) {
+    for (int a = 0; a < 2; ++a) {
+      const double delta = (sub + c[a]) * h / substeps_;
       for (std::size_t j = 0; j < M_; ++j) {
         const double k = 2.0 * std::numbers::pi * static_cast<double>(j) / L_;
-        const double re = coef_[2 * (r * M_ + j)], im = coef_[2 * (r * M_ + j) + 1];
-        if (N % 2 == 0 && j == N / 2) {
-          // Nyquist mode as the real cosine mode: shifted by cos(k delta)
-          spec[r * M_ + j][0] = re * std::cos(k * delta);
-          spec[r * M_ + j][1] = 0.0;
-        } else {
-          const double cs = std::cos(k * delta), sn = std::sin(k * delta);
+        const bool nyquist = N % 2 == 0 && j == N / 2;
+        // Nyquist mode as the real cosine mode: shifted by cos(k delta)
+        const double cs = std::cos(k * delta), sn = nyquist ? 0.0 : std::sin(k * delta);
+        for (int r = 0; r < kRows; ++r) {
+          const double re = coef_[2 * (r * M_ + j)], im = nyquist ? 0.0 : coef_[2 * (r * M_ + j) + 1];
           spec[r * M_ + j][0] = re * cs - im * sn;
           spec[r * M_ + j][1] = re * sn + im * cs;
         }
       }
+      fftw_execute(static_cast<fftw_plan>(backward_));
+      std::copy(real_, real_ + kRows * N, at_.begin() + (2 * sub + a) * kRows * N);
     }
-    fftw_execute(static_cast<fftw_plan>(backward_));
-    std::copy(real_, real_ + kRows * N, a == 0 ? at_c1_.begin() : at_c2_.begin());
   }
+}
+
+void Reconstructor::magnus_step(std::size_t i, int sub, double h, Quat& q, Vec3& r) const {
+  const std::size_t N = N_;
+  const double* a1 = at_.data() + (2 * sub) * kRows * N;
+  const double* a2 = at_.data() + (2 * sub + 1) * kRows * N;
+  const Vec3 W1{a1[0 * N + i], a1[1 * N + i], a1[2 * N + i]};
+  const Vec3 V1{a1[3 * N + i], a1[4 * N + i], a1[5 * N + i]};
+  const Vec3 W2{a2[0 * N + i], a2[1 * N + i], a2[2 * N + i]};
+  const Vec3 V2{a2[3 * N + i], a2[4 * N + i], a2[5 * N + i]};
+  const double k3 = std::sqrt(3.0) / 12.0 * h * h;
+  const Vec3 WxW = cross(W1, W2);
+  const Vec3 c12 = cross(W1, V2), c21 = cross(W2, V1);
+  Vec3 phi, u;
+  for (int a = 0; a < 3; ++a) {
+    phi[a] = 0.5 * h * (W1[a] + W2[a]) + k3 * WxW[a];
+    u[a] = 0.5 * h * (V1[a] + V2[a]) + k3 * (c12[a] - c21[a]);
+  }
+  // SE(3) exponential: translation V u, V = I + b [phi]x + c [phi]x^2
+  const double a2n = phi[0] * phi[0] + phi[1] * phi[1] + phi[2] * phi[2];
+  const double an = std::sqrt(a2n);
+  double b, c;
+  if (an < 1e-2) {
+    b = 0.5 - a2n / 24.0 + a2n * a2n / 720.0;
+    c = 1.0 / 6.0 - a2n / 120.0 + a2n * a2n / 5040.0;
+  } else {
+    b = (1.0 - std::cos(an)) / a2n;
+    c = (an - std::sin(an)) / (a2n * an);
+  }
+  const Vec3 pu = cross(phi, u);
+  const Vec3 ppu = cross(phi, pu);
+  Vec3 p;
+  for (int a = 0; a < 3; ++a) p[a] = u[a] + b * pu[a] + c * ppu[a];
+  const Vec3 dp = quat_rotate(q, p);
+  for (int a = 0; a < 3; ++a) r[a] += dp[a];
+  q = quat_normalized(quat_mul(q, quat_exp(phi)));
 }
 
 Reconstructor::End Reconstructor::sweep(const double* y, const Quat& q0, const Vec3& r0,
@@ -146,7 +187,6 @@ Reconstructor::End Reconstructor::sweep(const double* y, const Quat& q0, const V
   interpolate(y);
   const std::size_t N = N_;
   const double h = L_ / static_cast<double>(N);
-  const double k3 = std::sqrt(3.0) / 12.0 * h * h;
   Quat q = quat_normalized(q0);
   Vec3 r = r0;
   norm_error_ = 0.0;
@@ -165,35 +205,8 @@ Reconstructor::End Reconstructor::sweep(const double* y, const Quat& q0, const V
       }
     }
     if (i == N) break;
-    const Vec3 W1{at_c1_[0 * N + i], at_c1_[1 * N + i], at_c1_[2 * N + i]};
-    const Vec3 V1{at_c1_[3 * N + i], at_c1_[4 * N + i], at_c1_[5 * N + i]};
-    const Vec3 W2{at_c2_[0 * N + i], at_c2_[1 * N + i], at_c2_[2 * N + i]};
-    const Vec3 V2{at_c2_[3 * N + i], at_c2_[4 * N + i], at_c2_[5 * N + i]};
-    const Vec3 WxW = cross(W1, W2);
-    const Vec3 c12 = cross(W1, V2), c21 = cross(W2, V1);
-    Vec3 phi, u;
-    for (int a = 0; a < 3; ++a) {
-      phi[a] = 0.5 * h * (W1[a] + W2[a]) + k3 * WxW[a];
-      u[a] = 0.5 * h * (V1[a] + V2[a]) + k3 * (c12[a] - c21[a]);
-    }
-    // SE(3) exponential: translation V u, V = I + b [phi]x + c [phi]x^2
-    const double a2 = phi[0] * phi[0] + phi[1] * phi[1] + phi[2] * phi[2];
-    const double an = std::sqrt(a2);
-    double b, c;
-    if (an < 1e-2) {
-      b = 0.5 - a2 / 24.0 + a2 * a2 / 720.0;
-      c = 1.0 / 6.0 - a2 / 120.0 + a2 * a2 / 5040.0;
-    } else {
-      b = (1.0 - std::cos(an)) / a2;
-      c = (an - std::sin(an)) / (a2 * an);
-    }
-    const Vec3 pu = cross(phi, u);
-    const Vec3 ppu = cross(phi, pu);
-    Vec3 p;
-    for (int a = 0; a < 3; ++a) p[a] = u[a] + b * pu[a] + c * ppu[a];
-    const Vec3 dp = quat_rotate(q, p);
-    for (int a = 0; a < 3; ++a) r[a] += dp[a];
-    q = quat_normalized(quat_mul(q, quat_exp(phi)));
+    for (int sub = 0; sub < substeps_; ++sub)
+      magnus_step(i, sub, h / substeps_, q, r);
   }
   return {q, r};
 }
