@@ -1,0 +1,120 @@
+// Bad numbers never pass: NaN in initial fields, folding, CFL violation of
+// the fixed-step scheme, step underflow, energy drift beyond the scene's
+// bound, unknown names. Frames delivered before the error are complete.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "physics_test_util.hpp"
+#include "rodcore/error.hpp"
+#include "rodcore/initial_conditions.hpp"
+
+using namespace rodcore;
+using namespace rodtest;
+
+namespace {
+bool message_has(const std::function<void()>& f, const std::string& what) {
+  try {
+    f();
+  } catch (const Error& e) {
+    return std::string(e.what()).find(what) != std::string::npos;
+  }
+  return false;
+}
+}  // namespace
+
+TEST(PhysicsErrors, NaNInInitialFields) {
+  Scene sc = twisted_wave_scene(16, "p", "plus");
+  sc.initial.kind = "rest";
+  sc.initial.numbers.clear();
+  sc.initial.strings.clear();
+  sc.rod.Gamma0_s.assign(3 * 16, 0.0);
+  sc.rod.Omega0_s.assign(3 * 16, 0.0);
+  for (int i = 0; i < 16; ++i) sc.rod.Gamma0_s[32 + i] = 1.0;
+  sc.rod.Gamma0_s[32 + 5] = std::nan("");
+  EXPECT_THROW(Simulation{sc}, InputError);
+  sc = twisted_wave_scene(16, "p", "plus");
+  sc.initial.numbers["A"] = std::numeric_limits<double>::infinity();
+  EXPECT_TRUE(message_has([&] { Simulation s(sc); }, "initial.A"));
+}
+
+TEST(PhysicsErrors, FoldStopsTheRunAndKeepsFrames) {
+  Scene sc;
+  sc.source = "fold.toml";
+  sc.rod.length = 1.0;
+  sc.rod.points = 8;
+  sc.initial.kind = "shear_oscillation";
+  sc.initial.numbers = {{"omega2", -3.0}, {"Gamma1", 0.8}, {"Gamma3", 0.6}};
+  sc.output.t_end = 5.0;
+  sc.output.frames = 101;
+  int frames = 0;
+  bool complete = true;
+  Simulation sim(sc);
+  try {
+    sim.run([&](const Frame& f) {
+      ++frames;
+      complete = complete && f.N == 8 && f.y != nullptr && std::isfinite(f.y[12 * 8 - 1]);
+    });
+    FAIL() << "no fold detected";
+  } catch (const NumericalError& e) {
+    EXPECT_NE(std::string(e.what()).find("folded"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("fold.toml"), std::string::npos);
+  }
+  EXPECT_GT(frames, 0);
+  EXPECT_TRUE(complete);
+  // with the check off the same run goes on
+  sc.checks.stop_on_fold = false;
+  sc.output.t_end = 0.5;
+  EXPECT_NO_THROW(run_scene(sc));
+}
+
+TEST(PhysicsErrors, Rk4BeyondCflIsAnError) {
+  Scene sc = twisted_wave_scene(64, "p", "plus");
+  sc.solver.time = "rk4";
+  sc.solver.dt = 0.05;  // spectral: lambda ~ sqrt(1.21*1.67/2)... * pi/h ~ 65 -> dt_max ~ 0.04
+  EXPECT_TRUE(message_has([&] { run_scene(sc); }, "stability limit"));
+  sc.solver.dt = 0.01;
+  sc.output.t_end = 0.1;
+  EXPECT_NO_THROW(run_scene(sc));
+}
+
+TEST(PhysicsErrors, UnderflowAndDriftAreErrors) {
+  Scene sc = twisted_wave_scene(16, "p", "plus");
+  sc.solver.dt_min = 0.5;  // the first step (dt = 1e-2) is already below it
+  EXPECT_TRUE(message_has([&] { run_scene(sc); }, "underflow"));
+  sc = twisted_wave_scene(16, "p", "plus");
+  sc.solver.time = "rk4";
+  sc.solver.dt = 0.03;
+  sc.checks.max_energy_drift = 1e-15;
+  sc.output.t_end = 2.0;
+  sc.output.frames = 5;
+  EXPECT_TRUE(message_has([&] { run_scene(sc); }, "energy drift"));
+}
+
+TEST(PhysicsErrors, UnknownNamesListWhatIsAllowed) {
+  Scene sc = twisted_wave_scene(16, "p", "plus");
+  sc.solver.space = "fd2";
+  EXPECT_TRUE(message_has([&] { Simulation s(sc); }, "\"spectral\""));
+  sc = twisted_wave_scene(16, "p", "plus");
+  sc.solver.time = "euler";
+  EXPECT_TRUE(message_has([&] { Simulation s(sc); }, "\"dop853\""));
+  sc = twisted_wave_scene(16, "x", "plus");
+  EXPECT_TRUE(message_has([&] { Simulation s(sc); }, "allowed: \"p\", \"m\""));
+  EXPECT_TRUE(message_has([] { initial_kind("wave"); }, "\"twisted_wave\""));
+  sc = twisted_wave_scene(16, "p", "plus");
+  sc.rod.Omega0 = {0.1, 0.0, 1.0};
+  EXPECT_TRUE(message_has([&] { Simulation s(sc); }, "rod.Omega0"));
+}
+
+TEST(PhysicsErrors, RegistryDeclaresEveryKind) {
+  for (const char* k : {"rest", "twisted_wave", "untwisted_wave", "shear_oscillation", "dna_planar",
+                        "ring_rotating", "ring_twisting", "file"}) {
+    const auto& kind = initial_kind(k);
+    EXPECT_FALSE(kind.doc.empty()) << k;
+    for (const auto& p : kind.numbers) {
+      EXPECT_FALSE(p.doc.empty()) << k << "." << p.name;
+      EXPECT_LE(p.min, p.max);
+    }
+  }
+}
