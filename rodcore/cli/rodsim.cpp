@@ -15,6 +15,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <memory>
 #include <iostream>
 #include <limits>
@@ -96,6 +97,16 @@ int run(const std::string& scene_path, const std::string& out_path, const std::v
     std::error_code ec;
     fs::remove(ckpt, ec);  // a stale checkpoint of an earlier run must never be paired with this output
     out = std::make_unique<rodcore::H5Output>(out_path, scene, sim.grid());
+  }
+  // The scene as written, and the overrides, next to the resolved `scene`.
+  {
+    std::ifstream in(scene_path, std::ios::binary);
+    std::ostringstream text;
+    text << in.rdbuf();
+    out->annotate("scene_file", text.str());
+    std::string overrides;
+    for (const auto& s : sets) overrides += s + "\n";
+    out->annotate("scene_overrides", overrides);
   }
   rodcore::CheckpointSchedule schedule(scene.output.checkpoint_interval_s);
   rodcore::install_stop_signal_handlers();

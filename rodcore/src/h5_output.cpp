@@ -336,6 +336,17 @@ void H5Output::finish(const RunSummary& sum) {
   close_and_rename();
 }
 
+void H5Output::annotate(const std::string& name, const std::string& text) {
+  h5::QuietErrors quiet;
+  if (text.size() <= kMaxAttributeBytes) {
+    attr(file_, name, text);
+  } else {
+    if (!h5::exists(file_, name)) string_dataset(file_, name, text);
+    attr(file_, name, "(too long for an attribute: see the string dataset /" + name + ")");
+  }
+  H5Fflush(file_, H5F_SCOPE_GLOBAL);
+}
+
 void H5Output::fail(const std::string& message) {
   h5::QuietErrors quiet;
   attr_int(file_, "complete", 0);

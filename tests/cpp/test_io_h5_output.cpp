@@ -280,6 +280,33 @@ TEST(IoH5Output, FailureKeepsFramesAndRecordsTheError) {
   H5Fclose(f);
 }
 
+TEST(IoH5Output, LongTextGoesToADataset) {
+  TempDir dir;
+  std::string out = (dir.path / "run.h5").string();
+  Scene sc = small_scene(false);
+  std::string big(100000, 'x');  // beyond the 64 KiB an attribute can hold
+  {
+    H5Output w(out, sc, grid(6, sc.rod.length));
+    w.annotate("short_note", "hello");
+    w.annotate("scene_file", big);
+    w.finish(RunSummary{});
+  }
+  hid_t f = H5Fopen(out.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  EXPECT_EQ(attr_string(f, "short_note"), "hello");
+  EXPECT_NE(attr_string(f, "scene_file").find("see the string dataset /scene_file"), std::string::npos);
+  hid_t d = H5Dopen2(f, "scene_file", H5P_DEFAULT);
+  hid_t t = H5Tcopy(H5T_C_S1);
+  H5Tset_size(t, H5T_VARIABLE);
+  H5Tset_cset(t, H5T_CSET_UTF8);
+  char* p = nullptr;
+  H5Dread(d, t, H5S_ALL, H5S_ALL, H5P_DEFAULT, &p);
+  EXPECT_EQ(std::string(p), big);
+  H5free_memory(p);
+  H5Tclose(t);
+  H5Dclose(d);
+  H5Fclose(f);
+}
+
 TEST(IoH5Output, UnwritableFolderIsAnInputError) {
   Scene sc = small_scene(false);
   try {

@@ -55,6 +55,9 @@ def test_run_writes_a_complete_file_and_a_summary_line(rodsim, tmp_path):
         steps = int(re.search(r"; (\d+) steps", p.stdout).group(1))
         assert f.attrs["summary.steps"] == steps
         assert f.attrs["initial.kind"] == "twisted_wave"
+        # the scene as written, byte for byte, and no overrides
+        assert f.attrs["scene_file"] == (SCENES / "twisted_wave.toml").read_text()
+        assert f.attrs["scene_overrides"] == ""
         # the resolved scene in the file is valid TOML with every section
         sc = tomllib.loads(f.attrs["scene"])
         assert set(sc) == {"rod", "material", "initial", "solver", "output", "checks"}
@@ -105,6 +108,7 @@ def test_set_overrides_and_their_errors(rodsim, tmp_path):
     with h5py.File(out, "r") as f:
         assert f["time"].shape == (4,) and f["s"].shape == (40,)
         assert f.attrs["solver.space"] == "fd4"
+        assert f.attrs["scene_overrides"] == "output.frames=4\nsolver.space=fd4\nrod.points=40\n"
     p = run(rodsim, "run", SCENES / "twisted_wave.toml", "-o", out, "--set", "solver.rtol=2")
     assert p.returncode == 2
     assert "--set solver.rtol: found 2; allowed: a number > 0 and < 1" in p.stderr

@@ -50,6 +50,9 @@ class H5Output {
   void write_frame(const Frame& frame);
   // Writes the summary attributes and complete = 1, closes, renames to `path`.
   void finish(const RunSummary& summary);
+  // A text attribute on the file (e.g. the scene file as the user wrote it);
+  // text too long for an attribute goes to a string dataset of that name.
+  void annotate(const std::string& name, const std::string& text);
   // Writes complete = 0 and error = message, closes, renames to `path`.
   void fail(const std::string& message);
 
