@@ -195,6 +195,11 @@ RunSummary Simulation::run(const FrameHandler& on_frame, const ProgressHandler& 
     fr.y = y;
     const EnergyParts parts = energy_parts(y, N, h, sc.material, Gamma0, Omega0);
     const double E = parts.total();
+    if (!std::isfinite(E))
+      throw NumericalError(sc.source + ": the energy is not finite (E = " + num(E) + ") at t = " + num(t) +
+                           (index == 0 ? ": the initial fields are so large that their squares overflow; check "
+                                         "the initial fields and their units (dimensionless, paper Sec 2.2)"
+                                       : ": the run blew up; reduce solver.dt or tolerances, or raise rod.points"));
     if (index == 0) E0 = E;
     const double drift = std::abs(E0) > 0.0 ? std::abs(E - E0) / std::abs(E0) : std::abs(E - E0);
     summary.energy_drift = std::max(summary.energy_drift, drift);
@@ -214,7 +219,11 @@ RunSummary Simulation::run(const FrameHandler& on_frame, const ProgressHandler& 
       if (fr.max_director_norm_error > sc.checks.max_director_norm_error)
         throw NumericalError(sc.source + ": director norm error " +
                              num(fr.max_director_norm_error) + " at t = " + num(t) +
-                             " exceeds checks.max_director_norm_error");
+                             " exceeds checks.max_director_norm_error = " +
+                             num(sc.checks.max_director_norm_error) +
+                             ". Directors are unit quaternions, exact to round-off (~1e-15): a larger error "
+                             "means non-finite or huge curvatures Omega; check the fields, or raise the bound "
+                             "if it is below round-off");
       if (!centerline.empty()) fr.centerline = centerline.data();
       if (!directors.empty()) fr.directors = directors.data();
     }
