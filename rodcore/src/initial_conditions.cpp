@@ -123,7 +123,20 @@ std::vector<InitialKind> build_kinds() {
       const std::size_t N = s.size();
       Reconstructor rec(N, sc.rod.length);
       std::vector<double> d(9 * N);
-      rec.sweep(y.data(), Quat{1, 0, 0, 0}, Vec3{0, 0, 0}, nullptr, d.data());
+      const auto end = rec.sweep(y.data(), Quat{1, 0, 0, 0}, Vec3{0, 0, 0}, nullptr, d.data());
+      // gamma(s) = R(s)^T v is periodic only if R(L)^T v = R(0)^T v = v.
+      double qe[3][3];
+      quat_to_matrix(end.q, qe);
+      const double vn = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+      for (int c = 0; c < 3; ++c) {
+        const double gL = qe[0][c] * v[0] + qe[1][c] * v[1] + qe[2][c] * v[2];
+        if (std::abs(gL - v[c]) > 1e-8 * vn)
+          throw InputError(sc.source + ": initial.kind = \"rest\" with velocity (v1, v2, v3): the "
+                           "intrinsic frame does not return to itself over rod.length, so a rigid "
+                           "translation is not periodic (gamma" + std::to_string(c + 1) + " jumps by " +
+                           num(gL - v[c]) + " at s = L). Use a velocity along the axis the frame "
+                           "turns about, or a twist/curvature that closes over L.");
+      }
       for (std::size_t i = 0; i < N; ++i)
         for (int c = 0; c < 3; ++c) {  // gamma_c = d_c . v
           double g = 0.0;

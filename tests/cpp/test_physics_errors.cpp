@@ -118,3 +118,17 @@ TEST(PhysicsErrors, RegistryDeclaresEveryKind) {
     }
   }
 }
+
+TEST(PhysicsErrors, NonPeriodicTranslationIsRejected) {
+  // a twisted rod whose twist does not close over L cannot translate
+  // sideways periodically; along its axis it can
+  Scene sc;
+  sc.source = "<test>";
+  sc.rod.length = 5.0;
+  sc.rod.points = 16;
+  sc.rod.Omega0 = {0.0, 0.0, 1.0};
+  sc.initial.numbers = {{"v1", 0.3}};
+  EXPECT_TRUE(message_has([&] { Simulation s(sc); }, "not periodic"));
+  sc.initial.numbers = {{"v3", 0.3}};
+  EXPECT_NO_THROW(Simulation{sc});
+}
