@@ -6,8 +6,9 @@
   at 300 K) - measure it in checks.json.
 "neutral-phosphates": +0.5 e on each non-bridging phosphate oxygen (O1P,
   O2P), so every nucleotide is neutral, as if a counterion sat on each
-  phosphate. Keeps the duplex paired (~81 % at 20 ps in notes-md.md). Cost
-  to fidelity: the backbone-backbone electrostatic repulsion, part of DNA's
+  phosphate. notes-md.md found it kept a 158-bp duplex paired (~81 % at 20
+  ps); for the 21-bp scene over 20 ps it did not (docs/md.md). Cost to
+  fidelity: the backbone-backbone electrostatic repulsion, part of DNA's
   bending/stretching response, is gone; the phosphate's interactions with
   everything else change; the force field is no longer CHARMM27/AMBER as
   published, so elastic properties measured from the MD change too.

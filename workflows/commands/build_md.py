@@ -53,8 +53,8 @@ def add_arguments(p):
                    help="MD length the box is sized for (rod run of the same length), ps (600)")
     p.add_argument("--forcefield", choices=FORCEFIELDS, default="charmm27")
     p.add_argument("--electrostatics", choices=ELECTROSTATICS, default="paper",
-                   help="paper: full charges (default); neutral-phosphates: +0.5 e on O1P/O2P "
-                        "keeps the duplex paired in vacuum (see docs/md.md for the cost)")
+                   help="paper: full charges (default); neutral-phosphates: +0.5 e on O1P/O2P, "
+                        "every nucleotide neutral (docs/md.md: measured effect and its cost)")
     p.add_argument("--dt", type=float, default=None,
                    help="time step, ps (0.001 without constraints; 0.002 with --constraints h-bonds)")
     p.add_argument("--constraints", choices=("none", "h-bonds"), default="none")
