@@ -78,6 +78,8 @@ def scaling(rhs_json, out):
         if b.get("run_type") == "aggregate":
             continue
         kind, space, N = b["name"].split("/")[:3]
+        if kind == "PlanarRun":
+            continue
         series.setdefault((kind, space), []).append((int(N), b["cpu_time"] * {"ns": 1e-9, "us": 1e-6,
                                                                               "ms": 1e-3, "s": 1.0}[b["time_unit"]]))
     fig, ax = plt.subplots(figsize=(6.5, 4.5))

@@ -9,7 +9,7 @@ QUICK=""
 [[ "${1:-}" == "--quick" ]] && QUICK="--quick"
 OUT="${BENCH_OUT:-$DNAROD_ROOT/bench/results}"
 mkdir -p "$OUT"
-bash "$DNAROD_ROOT/scripts/build.sh" > /dev/null
+[[ -n "${BENCH_NO_BUILD:-}" ]] || bash "$DNAROD_ROOT/scripts/build.sh" > /dev/null  # BENCH_NO_BUILD=1: use the build as is
 echo "== machine"; nproc; uptime
 echo "== RHS / step microbenchmarks (Google Benchmark)"
 MINTIME=0.1; [[ -n "$QUICK" ]] && MINTIME=0.02

@@ -338,9 +338,11 @@ def plot_work(results, outdir, key, xlabel, filename):
             if "error" in r:
                 by.setdefault(r["method"], []).append((r[key], r["error"]))
         for m, pts in by.items():
-            ax.loglog([p[0] for p in pts], [p[1] for p in pts], styles.get(m, "o")[0], alpha=0.25, ms=3)
             f = pareto(pts)
-            ax.loglog([p[0] for p in f], [p[1] for p in f], styles.get(m, "o-"), label=m, ms=4)
+            line, = ax.loglog([p[0] for p in f], [p[1] for p in f], styles.get(m, "o-"), label=m, ms=4)
+            # every run, faint; the line is the lower-left (Pareto) front over N and tolerance
+            ax.loglog([p[0] for p in pts], [p[1] for p in pts], styles.get(m, "o")[0], alpha=0.25, ms=3,
+                      color=line.get_color())
         ax.axhline(1e-6, color="gray", lw=0.5, ls=":")
         ax.set_xlabel(xlabel)
         ax.set_ylabel("relative error at t_end")
@@ -385,13 +387,18 @@ def main(argv=None):
     p.add_argument("--out", default=str(HERE / "results"))
     p.add_argument("--problems", default="P1,P2,P3")
     p.add_argument("--quick", action="store_true", help="coarse sweeps (a test-sized run)")
-    p.add_argument("--repeat", type=int, default=None, help="best of R timings (default 3, quick 1)")
+    p.add_argument("--repeat", type=int, default=None, help="best of R timings (default 2, quick 1)")
     p.add_argument("--target", type=float, default=1e-6, help="error at which wall times are compared")
+    p.add_argument("--plot-only", action="store_true", help="redraw the figures from the JSON in --out")
     a = p.parse_args(argv)
+    if a.plot_only:
+        outdir = Path(a.out)
+        plot([json.loads((outdir / f"workprecision_{n}.json").read_text()) for n in a.problems.split(",")], outdir)
+        return 0
     rodsim = Path(a.build) / "bin" / "rodsim"
     if not rodsim.exists():
         raise SystemExit(f"{rodsim} not found: build first (scripts/build.sh)")
-    repeat = a.repeat or (1 if a.quick else 3)
+    repeat = a.repeat or (1 if a.quick else 2)
     outdir = Path(a.out)
     outdir.mkdir(parents=True, exist_ok=True)
     results = []
