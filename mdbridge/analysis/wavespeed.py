@@ -155,6 +155,15 @@ def fit_wave_speed(times_ps, c, k_per_A, offset=False, n_boot=200, seed=0) -> di
     w_err = max(w_err_cov, w_err_boot)
     A_f, A_b = abs(A[0]), abs(A[1])
     c_var = float(np.vdot(c - c.mean(), c - c.mean()).real)
+    periods = float(w * span / (2 * np.pi))
+    if periods < 0.25:
+        # a record this short cannot tell a frequency from a slow drift: no speed, say why
+        nan = float("nan")
+        return {"method": "NLS fit of forward+backward k-mode (variable projection + LM)",
+                "speed_A_per_ps": nan, "speed_err_A_per_ps": nan, "omega_per_ps": nan,
+                "omega_at_bound_per_ps": w, "periods_in_record": periods,
+                "reason": f"the record ({span:.3g} ps) holds less than a quarter period of the wave; "
+                          "run longer"}
     return {
         "method": "NLS fit of forward+backward k-mode (variable projection + LM)",
         "omega_per_ps": w, "omega_err_per_ps": w_err,

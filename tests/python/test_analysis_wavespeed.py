@@ -95,3 +95,13 @@ def test_phase_velocity_is_independent_of_the_fit():
     pv = phase_velocity(t, c, 0.01)
     assert pv["speed_A_per_ps"] == pytest.approx(5.0, rel=1e-9)
     assert pv["direction"] == "forward"
+
+
+def test_record_too_short_gives_no_speed():
+    """A record of 2 % of a period cannot give a frequency: NaN with the reason, not a
+    number with a tiny error bar."""
+    t = np.arange(0.0, 5.0, 0.4)
+    w = 2 * np.pi / 250.0
+    c = 3.0 * np.exp(-1j * w * t) + 3.0 * np.exp(1j * w * t)
+    f = fit_wave_speed(t, c, 0.01, n_boot=10)
+    assert np.isnan(f["speed_A_per_ps"]) and "quarter period" in f["reason"]

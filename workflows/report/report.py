@@ -263,7 +263,8 @@ def write_html(cfg: dict, res: dict, figs: dict, path: Path):
     table = "\n".join(f"<tr><td>{a}</td><td>{b}</td><td>{c}</td></tr>" for a, b, c in rows)
     runs = "\n".join(
         f"<tr><td>{j['kind']}</td><td>{_f(j.get('A_v_A_per_ps'))}</td><td>{j.get('seed', '')}</td>"
-        f"<td>{_f(j['wave_speed_A_per_ps'])} &plusmn; {_f(j['wave_speed_err_A_per_ps'], 2)}</td>"
+        f"<td>{_f(j['wave_speed_A_per_ps'])} &plusmn; {_f(j['wave_speed_err_A_per_ps'], 2)}"
+        f"{' (' + html.escape(j['wave_fit']['reason']) + ')' if j.get('wave_fit', {}).get('reason') else ''}</td>"
         f"<td>{_f(_check(j))}{'' if j.get('wave_check', {}).get('reliable', True) else ' (' + html.escape(j['wave_check'].get('reason', '')) + ')'}</td><td>{_f(j['planarity'])}</td>"
         f"<td>{_f(j.get('bp_intact_fraction_final', ''))}</td><td>{_f(j['t_end_ps'])}"
         f"{'' if j.get('complete', True) else ' (stopped: ' + html.escape(j.get('stopped', '')) + ')'}</td></tr>"
