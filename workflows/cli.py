@@ -5,6 +5,10 @@ import argparse
 import importlib
 import pkgutil
 import sys
+import warnings
+
+# MDAnalysis 2.4 (Debian) imports the deprecated xdrlib; the warning is noise for users.
+warnings.filterwarnings("ignore", message=".*xdrlib.*", category=DeprecationWarning)
 
 from dna_models.errors import DnarodError
 from workflows import commands
