@@ -238,6 +238,8 @@ def figures(cfg: dict, data: dict, res: dict) -> dict:
 
 
 def _f(x, nd=3):
+    if x is None:
+        return "n/a"
     try:
         x = float(x)
     except (TypeError, ValueError):
