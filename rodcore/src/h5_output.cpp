@@ -166,7 +166,8 @@ H5Output::H5Output(const std::string& path, const Scene& scene, const std::vecto
       auto d = h5::dataset(H5Dopen2(file_, "s", H5P_DEFAULT));
       auto sp = h5::space(d.valid() ? H5Dget_space(d) : H5I_INVALID_HID);
       hsize_t n = 0;
-      if (!sp.valid() || H5Sget_simple_extent_ndims(sp) != 1 || (H5Sget_simple_extent_dims(sp, &n, nullptr), n) != N_)
+      if (sp.valid() && H5Sget_simple_extent_ndims(sp) == 1) H5Sget_simple_extent_dims(sp, &n, nullptr);
+      if (n != N_)
         throw InputError("cannot resume: '" + p + "' has no grid 's' of " + std::to_string(N_) + " points");
     }
     time_ = reopen("time", resume.frames);
