@@ -237,12 +237,16 @@ def long_run_rk4(rodsim, tmp, steps, dt=0.01, N=32, frames=201):
 
 def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    p.add_argument("--build", required=True)
+    p.add_argument("--build", default="build")
     p.add_argument("--out", default=str(HERE.parent / "results"))
     p.add_argument("--quick", action="store_true")
+    p.add_argument("--plot-only", action="store_true", help="redraw stress.png from stress.json in --out")
     a = p.parse_args(argv)
     rodsim = Path(a.build) / "bin" / "rodsim"
     out = Path(a.out)
+    if a.plot_only:
+        plot(json.loads((out / "stress.json").read_text()), out)
+        return 0
     out.mkdir(parents=True, exist_ok=True)
     res = {}
     factors = [0.5, 0.8, 0.9, 0.95, 0.98, 1.02, 1.05, 1.1, 1.2]
@@ -290,12 +294,14 @@ def plot(res, out):
     for r in res["cfl"]:
         xs = [x["factor"] for x in r["runs"] if x["returncode"] == 0]
         ys = [max(x["growth"], 1e-1) for x in r["runs"] if x["returncode"] == 0]
-        ax.semilogy(xs, ys, "o-", ms=3, label=f"{r['space']} N={r['N']} O03={r['Omega0'][2]:.2g}")
+        line, = ax.semilogy(xs, ys, "o-", ms=3, label=f"{r['space']} N={r['N']} O03={r['Omega0'][2]:.2g}")
+        bad = [x["factor"] for x in r["runs"] if x["returncode"] != 0]
+        ax.semilogy(bad, [1e2] * len(bad), "x", color=line.get_color(), ms=6)
         lim = r["dt_rodsim_limit"] / r["dt_star"]
         ax.axvline(lim, color=ax.lines[-1].get_color(), lw=0.6, ls=":")
     ax.axvline(1.0, color="k", lw=0.8)
     ax.set_xlabel("dt / dt*   (dt* = 2 sqrt 2 / lambda_max, exact)")
-    ax.set_ylabel("noise growth after 400 RK4 steps")
+    ax.set_ylabel("noise growth, 400 steps (x: blew up/refused)")
     ax.set_title("fixed-step RK4: stability boundary (dotted: rodsim's limit)")
     ax.legend(fontsize=6)
     ax = axes[1]
