@@ -213,8 +213,13 @@ RunSummary Simulation::run(const FrameHandler& on_frame, const ProgressHandler& 
     if (recon) {
       const Quat q0{y[12 * N], y[12 * N + 1], y[12 * N + 2], y[12 * N + 3]};
       const Vec3 r0{y[12 * N + 4], y[12 * N + 5], y[12 * N + 6]};
-      d.rec->sweep(y, q0, r0, centerline.empty() ? nullptr : centerline.data(),
-                   directors.empty() ? nullptr : directors.data());
+      const auto end = d.rec->sweep(y, q0, r0, centerline.empty() ? nullptr : centerline.data(),
+                                    directors.empty() ? nullptr : directors.data());
+      const Quat qn = quat_normalized(q0);
+      const Quat rel = quat_mul(Quat{qn[0], -qn[1], -qn[2], -qn[3]}, end.q);  // R(0)^T R(L)
+      const double vn = std::sqrt(rel[1] * rel[1] + rel[2] * rel[2] + rel[3] * rel[3]);
+      fr.end_rotation = 2.0 * std::atan2(vn, std::abs(rel[0]));
+      fr.end_to_end = Vec3{end.r[0] - r0[0], end.r[1] - r0[1], end.r[2] - r0[2]};
       fr.max_director_norm_error = d.rec->max_director_norm_error();
       if (fr.max_director_norm_error > sc.checks.max_director_norm_error)
         throw NumericalError(sc.source + ": director norm error " +

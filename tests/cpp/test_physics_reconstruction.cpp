@@ -126,3 +126,35 @@ TEST(PhysicsReconstruction, MagnusSweepIsFourthOrder) {
   const double e1 = err(64), e2 = err(128);
   EXPECT_NEAR(std::log2(e1 / e2), 4.0, 0.4) << e1 << " " << e2;
 }
+
+TEST(PhysicsReconstruction, ClosureOfRingAndStraightRod) {
+  // a balanced rotating ring closes (end_to_end = 0, no net rotation);
+  // a straight rod with 2.25 turns of twist ends L further along d3 and
+  // turned by 0.25 turn
+  Scene sc;
+  sc.source = "<test>";
+  sc.rod.length = 2 * kPi;
+  sc.rod.points = 32;
+  sc.initial.kind = "ring_rotating";
+  sc.output.centerline = true;
+  sc.output.t_end = 2.0;
+  double gap = 1.0, rot = 1.0;
+  Simulation(sc).run([&](const Frame& f) {
+    gap = std::hypot((*f.end_to_end)[0], (*f.end_to_end)[1], (*f.end_to_end)[2]);
+    rot = *f.end_rotation;
+  });
+  EXPECT_LT(gap, 1e-12);
+  EXPECT_LT(rot, 1e-12);
+  Scene st;
+  st.source = "<test>";
+  st.rod.length = 3.0;
+  st.rod.points = 16;
+  st.rod.Omega0 = {0.0, 0.0, 2.25 * 2 * kPi / 3.0};
+  st.output.directors = true;
+  st.output.t_end = 0.0;
+  st.output.frames = 1;
+  Simulation(st).run([&](const Frame& f) {
+    EXPECT_NEAR((*f.end_to_end)[2], 3.0, 1e-12);
+    EXPECT_NEAR(*f.end_rotation, 0.5 * kPi, 1e-12);
+  });
+}

@@ -27,6 +27,13 @@ struct Frame {
   const double* centerline = nullptr;  // N x 3, row-major (point, xyz); lab frame
   const double* directors = nullptr;   // N x 3 x 3, [i][xyz][k] = component xyz of d_k
   double max_director_norm_error = 0.0;
+  // Closure of the reconstructed rod over one period (only with centerline
+  // or directors): end_to_end = r(L) - r(0) in the lab frame, end_rotation =
+  // angle (rad) of the rotation R(0)^T R(L). A closed ring or a ligated DNA
+  // circle has both ~0; a straight periodic rod has end_to_end = its length
+  // along d3 and end_rotation = its total twist mod 2 pi.
+  std::optional<Vec3> end_to_end;
+  std::optional<double> end_rotation;
 };
 
 struct RunSummary {
