@@ -143,6 +143,7 @@ class BasePairFrames:
             pair_idx = self._auto_pairs()
         else:
             pair_idx = self._explicit_pairs(pairs, pair_numbering)
+        self._check_pairs(pair_idx)
         self.pair_index = pair_idx                        # [(i, j)] into self._nts
         self.pairs = [(nts[i][0], nts[j][0]) for i, j in pair_idx]
         self.sequence = "".join(nts[i][1] for i, _ in pair_idx)
@@ -171,6 +172,39 @@ class BasePairFrames:
                     raise InputError(f"base pair ({a}, {b}): no nucleotide with {numbering} {x}")
             out.append((key[a], key[b]))
         return out
+
+    def _check_pairs(self, pair_idx):
+        """Pairs must join two different nucleotides, each nucleotide may be in one
+        pair only, a pair that is not Watson-Crick is flagged, and consecutive
+        pairs must be consecutive along strand I's backbone: a missing nucleotide
+        would otherwise merge two steps into one without a word."""
+        label = lambda k: residue_label(self._nts[k][0])  # noqa: E731
+        used = {}
+        for i, j in pair_idx:
+            if i == j:
+                raise InputError(f"base pair ({label(i)}, {label(j)}): a nucleotide cannot pair with itself")
+            for x in (i, j):
+                if x in used:
+                    raise InputError(f"nucleotide {label(x)} is in two base pairs, ({label(used[x][0])}, "
+                                     f"{label(used[x][1])}) and ({label(i)}, {label(j)}); each may pair once")
+                used[x] = (i, j)
+            if _COMPLEMENT[self._nts[i][1]] != self._nts[j][1]:
+                warnings.warn(f"base pair ({label(i)}, {label(j)}) is not Watson-Crick "
+                              f"({self._nts[i][1]}-{self._nts[j][1]})", stacklevel=3)
+        box = _box(self.universe.dimensions) if self.pbc else None
+        for (i, _), (k, _) in zip(pair_idx, pair_idx[1:]):
+            o3 = [a for a in self._nts[i][0].atoms if _canonical_atom_name(a.name) == "O3'"]
+            p = [a for a in self._nts[k][0].atoms if _canonical_atom_name(a.name) == "P"]
+            if not (o3 and p):
+                continue  # no backbone atoms: nothing to check
+            d = float(np.linalg.norm(minimum_image(p[0].position - o3[0].position, box)))
+            # bonded 1.6 A; rebuilt models (3DNA, mdbridge.build) stretch it to ~2.6 A;
+            # a missing nucleotide leaves >= 5 A
+            if d > 4.0:
+                raise InputError(f"broken chain: {label(i)} O3' and {label(k)} P are {d:.2f} A apart "
+                                 "(bonded: 1.6 A), yet they are consecutive base pairs on strand I; "
+                                 "a nucleotide is missing or the structure is damaged (or the explicit "
+                                 "pairs skip one, or are not in strand-I order)")
 
     def _strands(self):
         """Nucleotide index lists, one per strand, in file order."""
