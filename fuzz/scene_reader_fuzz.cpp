@@ -27,7 +27,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const std::string resolved = rodcore::scene_to_toml(scene);
   std::string again;
   try {
-    again = rodcore::scene_to_toml(rodcore::read_scene_string(resolved, "<resolved>", "/nonexistent-dnarod-fuzz-dir"));
+    again = rodcore::scene_to_toml(rodcore::read_scene_string(resolved, "<fuzz>", "/nonexistent-dnarod-fuzz-dir"));
   } catch (const rodcore::InputError& e) {
     std::fprintf(stderr, "accepted scene does not read back: %s\n--- resolved:\n%s\n", e.what(), resolved.c_str());
     std::abort();
