@@ -69,7 +69,7 @@ def fit_modulus(scene, n_bp: int, target_speed_A_per_ps: float, which: str = "be
     if glo * ghi > 0:
         return {"scale": float("nan"), "which": which, "evaluations": evals,
                 "reason": f"target {target_speed_A_per_ps:.3g} A/ps outside the rod's speeds "
-                          f"{evals[0][1]:.3g}..{evals[1][1]:.3g} A/ps for D x {bracket}"}
+                          f"{evals[0][1]:.3g}..{evals[1][1]:.3g} A/ps for {which} modulus x {bracket}"}
     logf = brentq(g, lo, hi, xtol=rtol, rtol=rtol)
     f = math.exp(logf)
     out = {"scale": f, "which": which, "target_speed_A_per_ps": target_speed_A_per_ps,
