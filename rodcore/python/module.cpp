@@ -290,6 +290,7 @@ py::dict run(const py::object& scene, const py::object& initial, const std::vect
   summary["energy_drift"] = sum.energy_drift;
   summary["method"] = sum.method;
   summary["reduced"] = sum.reduced;
+  summary["reduce_note"] = sum.reduce_note;
   out["summary"] = summary;
   out["scene"] = scene_to_toml(sc);
   out["scales"] = py::dict(py::arg("tau_ps") = dna_units::tau_ps, py::arg("ell_A") = dna_units::ell_A,

@@ -137,6 +137,7 @@ void write_checkpoint(const std::string& path, const Checkpoint& c) {
     put(f, "E0", c.E0);
     put(f, "energy_drift", c.energy_drift);
     put(f, "wall_seconds", c.wall_seconds);
+    put(f, "reduced", c.reduced);
     put(f, "steps", static_cast<long long>(c.integrator.steps));
     put(f, "rejected", static_cast<long long>(c.integrator.rejected));
     put(f, "rhs_evaluations", static_cast<long long>(c.integrator.rhs_evaluations));
@@ -172,6 +173,10 @@ Checkpoint read_checkpoint(const std::string& path) {
   c.E0 = r.number("E0");
   c.energy_drift = r.number("energy_drift");
   c.wall_seconds = r.number("wall_seconds");
+  // Written since the reduced planar system; absent = full system.
+  if (H5Aexists(f, "reduced") > 0) c.reduced = r.text("reduced");
+  if (c.reduced != "" && c.reduced != "omega2" && c.reduced != "omega1")
+    r.bad("attribute 'reduced' must be \"\", \"omega2\" or \"omega1\"");
   c.integrator.steps = r.integer("steps");
   c.integrator.rejected = r.integer("rejected");
   c.integrator.rhs_evaluations = r.integer("rhs_evaluations");

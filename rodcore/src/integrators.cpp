@@ -19,7 +19,7 @@ std::string fmt(double x) {
 
 // RMS norm of err_i / (atol + rtol max(|y0_i|, |y1_i|)).
 double error_norm(const std::vector<double>& err, const std::vector<double>& y0,
-                  const std::vector<double>& y1, double atol, double rtol) {
+                  const std::vector<double>& y1, double atol, double rtol, std::size_t norm_size) {
   double sum = 0.0;
   const std::size_t n = err.size();
   for (std::size_t i = 0; i < n; ++i) {
@@ -27,7 +27,7 @@ double error_norm(const std::vector<double>& err, const std::vector<double>& y0,
     const double e = err[i] / sk;
     sum += e * e;
   }
-  return std::sqrt(sum / static_cast<double>(n));
+  return std::sqrt(sum / static_cast<double>(norm_size > 0 ? norm_size : n));
 }
 
 [[noreturn]] void non_finite(const std::string& method, double t, double h) {
@@ -104,7 +104,7 @@ class RK4Doubling final : public TimeIntegrator {
       eval(t_ + 0.5 * h, yhalf_.data(), k1_.data());
       rk4_step(t_ + 0.5 * h, yhalf_.data(), k1_.data(), 0.5 * h, ysmall_.data());
       for (std::size_t i = 0; i < n; ++i) err_[i] = ysmall_[i] - ybig_[i];
-      const double err = error_norm(err_, y_, ysmall_, opt_.atol, opt_.rtol);
+      const double err = error_norm(err_, y_, ysmall_, opt_.atol, opt_.rtol, opt_.norm_size);
       if (!std::isfinite(err)) non_finite(name(), t_, h);
       if (err <= 1.0) {
         y_prev_.swap(y_);
@@ -262,7 +262,7 @@ class Dopri5 final : public Embedded {
       for (int j = 0; j < 7; ++j) s += e[j] * k_[j][i];
       err_[i] = h * s;
     }
-    return error_norm(err_, y_, ynew_, opt_.atol, opt_.rtol);
+    return error_norm(err_, y_, ynew_, opt_.atol, opt_.rtol, opt_.norm_size);
   }
 
   void accept(double h, double t_new) override {
@@ -340,7 +340,8 @@ class Dop853 final : public Embedded {
     }
     double deno = e5 + 0.01 * e3;
     if (deno <= 0.0) deno = 1.0;
-    return std::abs(h) * e5 * std::sqrt(1.0 / (static_cast<double>(n) * deno));
+    const double n_norm = static_cast<double>(opt_.norm_size > 0 ? opt_.norm_size : n);
+    return std::abs(h) * e5 * std::sqrt(1.0 / (n_norm * deno));
   }
 
   void accept(double h, double t_new) override {

@@ -10,15 +10,27 @@ bool planar_reduction_allowed(const Rod& rod) {
          rod.Omega0[2] == 0.0;
 }
 
-bool in_planar_subspace(const double* y, std::size_t N) {
-  for (int r : kPlanarZeroRows)
+const std::array<int, 6>& planar_rows(Planar p) { return p == Planar::omega2 ? kPlanarRows : kPlanarRows1; }
+const std::array<int, 6>& planar_zero_rows(Planar p) {
+  return p == Planar::omega2 ? kPlanarZeroRows : kPlanarZeroRows1;
+}
+
+bool in_planar_subspace(const double* y, std::size_t N, Planar p) {
+  for (int r : planar_zero_rows(p))
     for (std::size_t i = 0; i < N; ++i)
       if (y[r * N + i] != 0.0) return false;
   return true;
 }
 
-PlanarRHS::PlanarRHS(RodRHS& full) : full_(full), N_(full.N()), y_(12 * N_, 0.0), f_(12 * N_, 0.0) {
-  std::vector<int> rows(kPlanarRows.begin(), kPlanarRows.end());
+std::optional<Planar> planar_polarisation(const double* y, std::size_t N) {
+  if (in_planar_subspace(y, N, Planar::omega2)) return Planar::omega2;
+  if (in_planar_subspace(y, N, Planar::omega1)) return Planar::omega1;
+  return std::nullopt;
+}
+
+PlanarRHS::PlanarRHS(RodRHS& full, Planar p)
+    : full_(full), N_(full.N()), rows_(planar_rows(p)), y_(12 * N_, 0.0), f_(12 * N_, 0.0) {
+  std::vector<int> rows(rows_.begin(), rows_.end());
   full_.set_nonzero_rows(rows);
 }
 
@@ -26,19 +38,19 @@ PlanarRHS::~PlanarRHS() { full_.set_nonzero_rows({}); }
 
 void PlanarRHS::expand(const double* y6, double* y12) const {
   std::fill(y12, y12 + 12 * N_, 0.0);
-  for (std::size_t k = 0; k < kPlanarRows.size(); ++k)
-    std::copy(y6 + k * N_, y6 + (k + 1) * N_, y12 + kPlanarRows[k] * N_);
+  for (std::size_t k = 0; k < rows_.size(); ++k)
+    std::copy(y6 + k * N_, y6 + (k + 1) * N_, y12 + rows_[k] * N_);
 }
 
 void PlanarRHS::reduce(const double* y12, double* y6) const {
-  for (std::size_t k = 0; k < kPlanarRows.size(); ++k)
-    std::copy(y12 + kPlanarRows[k] * N_, y12 + (kPlanarRows[k] + 1) * N_, y6 + k * N_);
+  for (std::size_t k = 0; k < rows_.size(); ++k)
+    std::copy(y12 + rows_[k] * N_, y12 + (rows_[k] + 1) * N_, y6 + k * N_);
 }
 
 void PlanarRHS::operator()(const double* y6, double* f6) const {
   // The zero rows of y_ are never written, so only the kept rows are copied.
-  for (std::size_t k = 0; k < kPlanarRows.size(); ++k)
-    std::copy(y6 + k * N_, y6 + (k + 1) * N_, y_.data() + kPlanarRows[k] * N_);
+  for (std::size_t k = 0; k < rows_.size(); ++k)
+    std::copy(y6 + k * N_, y6 + (k + 1) * N_, y_.data() + rows_[k] * N_);
   full_(y_.data(), f_.data());
   reduce(f_.data(), f6);
 }

@@ -1,6 +1,7 @@
 #include "rodcore/simulation.hpp"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -12,7 +13,9 @@
 #include "rodcore/integrators.hpp"
 #include "rodcore/operators.hpp"
 #include "rodcore/reconstruction.hpp"
+#include "rodcore/reduced_planar.hpp"
 #include "rodcore/rhs.hpp"
+#include "rodcore/stability.hpp"
 
 namespace rodcore {
 namespace {
@@ -23,6 +26,8 @@ std::string num(double x) {
   o << x;
   return o.str();
 }
+
+const char* planar_name(Planar p) { return p == Planar::omega2 ? "omega2" : "omega1"; }
 
 const char* kComponentNames[12] = {"gamma1", "gamma2", "gamma3", "omega1", "omega2", "omega3",
                                    "Gamma1", "Gamma2", "Gamma3", "Omega1", "Omega2", "Omega3"};
@@ -42,6 +47,10 @@ struct Simulation::Impl {
   std::vector<double> s;
   CheckpointHooks hooks;
   std::optional<Checkpoint> resume;
+  // Reduced planar system (solver.reduce = "auto", reduced_planar.hpp):
+  // the polarisation the initial state lies in, exactly, and why (not).
+  std::optional<Planar> planar;
+  std::string reduce_note;
 
   double wave_speed() const {
     const Material& m = scene.material;
@@ -96,6 +105,16 @@ Simulation::Simulation(const Scene& scene) : impl_(std::make_unique<Impl>()) {
     d.y0.insert(d.y0.end(), q0.begin(), q0.end());
     d.y0.insert(d.y0.end(), r0.begin(), r0.end());
   }
+  if (sc.solver.reduce == "off") {
+    d.reduce_note = "full system (solver.reduce = \"off\")";
+  } else if (!planar_reduction_allowed(sc.rod)) {
+    d.reduce_note = "full system: the intrinsic shape is not uniform Gamma0 = (0, 0, G03), Omega0 = 0";
+  } else if ((d.planar = planar_polarisation(d.state.data(), d.N))) {
+    d.reduce_note = std::string("reduced planar system (") + planar_name(*d.planar) +
+                    " polarisation, 6 of 12 rows; paper Sec 4.1)";
+  } else {
+    d.reduce_note = "full system: the initial state is not exactly planar";
+  }
   // Make sure the integrator kind is known now (InputError), not in run().
   bool known = false;
   for (const auto& k : time_integrator_kinds()) known = known || k == sc.solver.time;
@@ -115,9 +134,14 @@ void Simulation::resume_from(const Checkpoint& c) {
   if (c.method != d.scene.solver.time)
     throw InputError(d.scene.source + ": the checkpoint was made with solver.time = \"" + c.method +
                      "\", the scene asks for \"" + d.scene.solver.time + "\"");
-  if (c.integrator.y.size() != d.y0.size())
+  if (!c.reduced.empty() && !planar_reduction_allowed(d.scene.rod))
+    throw InputError(d.scene.source + ": the checkpoint holds the reduced planar system (" + c.reduced +
+                     "), which this scene's intrinsic shape does not allow");
+  const std::size_t need = d.y0.size() - (c.reduced.empty() ? 0 : 6 * d.N);
+  if (c.integrator.y.size() != need)
     throw InputError(d.scene.source + ": the checkpoint holds " + std::to_string(c.integrator.y.size()) +
-                     " state values, this scene needs " + std::to_string(d.y0.size()));
+                     " state values, this scene needs " + std::to_string(need) +
+                     (c.reduced.empty() ? "" : " (reduced planar system)"));
   if (c.next_frame < 1 || c.next_frame > d.scene.output.frames)
     throw InputError(d.scene.source + ": the checkpoint's next frame " + std::to_string(c.next_frame) +
                      " is outside 1.." + std::to_string(d.scene.output.frames));
@@ -137,31 +161,76 @@ RunSummary Simulation::run(const FrameHandler& on_frame, const ProgressHandler& 
   RunSummary summary;
   summary.method = d.op->name() + "+" + sc.solver.time;
 
-  // Explicit fixed step: the CFL estimate must hold (RK4 is stable on the
-  // imaginary axis up to |lambda dt| = 2 sqrt 2 ~ 2.83).
+  // Explicit fixed step: RK4 is stable on the imaginary axis up to
+  // |lambda dt| = 2 sqrt 2 ~ 2.83; we allow 2.8 (1 % margin). For a uniform
+  // intrinsic shape lambda is exact: the spectral radius of the system
+  // linearised about the rest state over every wavenumber the operator
+  // resolves (stability.hpp). For an s-varying shape only the wave-speed
+  // estimate c_max k_max is available (it leaves out the lower-order terms,
+  // which raised the true radius by up to 1.6x on the DNA rod).
   if (sc.solver.time == "rk4") {
-    const double lambda = d.wave_speed() * d.op->max_wavenumber();
+    const bool uniform = sc.rod.Gamma0_s.empty() && sc.rod.Omega0_s.empty();
+    const double lambda = uniform ? linear_spectral_radius(*d.rhs) : d.wave_speed() * d.op->max_wavenumber();
     const double dt_cfl = 2.8 / lambda;
     if (sc.solver.dt > dt_cfl)
-      throw NumericalError(sc.source + ": solver.dt = " + num(sc.solver.dt) +
-                           " exceeds the RK4 stability limit ~" + num(dt_cfl) +
-                           " (max wave speed " + num(d.wave_speed()) + " x max wavenumber " +
-                           num(d.op->max_wavenumber()) + " of " + d.op->name() +
-                           "); use solver.dt <= " + num(dt_cfl) +
-                           ", fewer rod.points, or an adaptive solver.time");
+      throw NumericalError(
+          sc.source + ": solver.dt = " + num(sc.solver.dt) + " exceeds the RK4 stability limit " + num(dt_cfl) +
+          (uniform ? " (2.8 / spectral radius " + num(lambda) + " of the equations linearised about the rest state, "
+                   : " (estimate: 2.8 / (max wave speed " + num(d.wave_speed()) + " x max wavenumber " +
+                         num(d.op->max_wavenumber()) + "), ") +
+          d.op->name() + "); use solver.dt <= " + num(dt_cfl * (1.0 - 5e-6)) + ", fewer rod.points, or an adaptive solver.time");
   }
 
-  OdeSystem sys;
-  sys.n = d.y0.size();
+  // The integrated system: the full 12 rows, or only the 6 rows of a planar
+  // polarisation (PlanarRHS evaluates the same RodRHS). `rows` maps the
+  // integrated rows to state rows; the 7 anchor values follow in both cases.
+  std::optional<Planar> planar = d.planar;
+  if (d.resume) planar = d.resume->reduced.empty() ? std::nullopt
+                         : std::optional<Planar>(d.resume->reduced == "omega2" ? Planar::omega2 : Planar::omega1);
+  summary.reduce_note = d.reduce_note;
+  if (d.resume && planar != d.planar)
+    summary.reduce_note = planar ? "reduced planar system (as in the checkpoint)"
+                                 : "full system (as in the checkpoint: the run had left the reduced system)";
   const bool recon = d.reconstruct;
   RodRHS* rhs = d.rhs.get();
-  sys.f = [rhs, N, recon](double, const double* y, double* f) {
-    (*rhs)(y, f);
-    if (recon) {
-      const Vec3 w0{y[3 * N], y[4 * N], y[5 * N]};
-      const Vec3 g0{y[0], y[N], y[2 * N]};
-      anchor_rate(y + 12 * N, w0, g0, f + 12 * N);
+  std::unique_ptr<PlanarRHS> planar_rhs;
+  std::vector<int> rows;
+  OdeSystem sys;
+  auto make_system = [&]() {
+    planar_rhs.reset();
+    rows.clear();
+    if (planar) {
+      planar_rhs = std::make_unique<PlanarRHS>(*rhs, *planar);
+      rows.assign(planar_rhs->rows().begin(), planar_rhs->rows().end());
+    } else {
+      for (int r = 0; r < 12; ++r) rows.push_back(r);
     }
+    const std::size_t nrows = rows.size();
+    sys.n = nrows * N + (recon ? 7 : 0);
+    // Rows of omega and gamma in the integrated state (-1: identically zero).
+    std::array<int, 6> at{-1, -1, -1, -1, -1, -1};
+    for (std::size_t k = 0; k < nrows; ++k)
+      if (rows[k] < 6) at[rows[k]] = static_cast<int>(k);
+    PlanarRHS* pr = planar_rhs.get();
+    sys.f = [rhs, pr, N, nrows, recon, at](double, const double* y, double* f) {
+      if (pr) (*pr)(y, f);
+      else (*rhs)(y, f);
+      if (recon) {
+        auto v = [&](int r) { return at[r] < 0 ? 0.0 : y[at[r] * N]; };
+        const Vec3 w0{v(3), v(4), v(5)};
+        const Vec3 g0{v(0), v(1), v(2)};
+        anchor_rate(y + nrows * N, w0, g0, f + nrows * N);
+      }
+    };
+  };
+  make_system();
+  // Integrated state -> full state (12 N + anchor) in `full`.
+  std::vector<double> full(d.y0.size(), 0.0);
+  auto expand = [&](const double* y) -> const double* {
+    if (!planar_rhs) return y;
+    planar_rhs->expand(y, full.data());
+    std::copy(y + 6 * N, y + 6 * N + (recon ? 7 : 0), full.data() + 12 * N);
+    return full.data();
   };
   IntegratorOptions io;
   io.rtol = sc.solver.rtol;
@@ -169,21 +238,41 @@ RunSummary Simulation::run(const FrameHandler& on_frame, const ProgressHandler& 
   io.dt = sc.solver.dt;
   io.dt_min = sc.solver.dt_min;
   io.max_steps = sc.solver.max_steps;
+  io.norm_size = d.y0.size();  // the skipped rows count as the zeros they are
   auto integ = make_time_integrator(sc.solver.time, sys, io);
   double wall_before = 0.0;
   if (d.resume) {
     integ->restore_state(d.resume->integrator);
     wall_before = d.resume->wall_seconds;
     summary.energy_drift = d.resume->energy_drift;
+  } else if (planar_rhs) {
+    std::vector<double> y0r(sys.n);
+    planar_rhs->reduce(d.y0.data(), y0r.data());
+    std::copy(d.y0.begin() + 12 * N, d.y0.end(), y0r.begin() + 6 * N);
+    integ->reset(0.0, y0r.data());
   } else {
     integ->reset(0.0, d.y0.data());
   }
+  // Guard of the reduction, at steps that deliver a frame: the full RHS at
+  // the (expanded) state must leave the six skipped rows exactly zero. It
+  // always does in exact and in floating-point arithmetic (every term feeding
+  // them is a product with a zero), so this only catches the impossible; if
+  // it ever fails the run continues on the full system from that step.
+  std::vector<double> f_guard;
+  auto planar_guard_holds = [&](const double* y12) {
+    f_guard.resize(12 * N);
+    (*rhs)(y12, f_guard.data());
+    for (int r : planar_zero_rows(*planar))
+      for (std::size_t i = 0; i < N; ++i)
+        if (f_guard[r * N + i] != 0.0) return false;
+    return true;
+  };
 
   const auto Gamma0 = d.rhs->Gamma0();
   const auto Omega0 = d.rhs->Omega0();
   const double h = sc.rod.length / static_cast<double>(N);
   double E0 = std::numeric_limits<double>::quiet_NaN();
-  std::vector<double> buf(sys.n), centerline, directors;
+  std::vector<double> buf(d.y0.size()), centerline, directors;
   if (sc.output.centerline) centerline.resize(3 * N);
   if (sc.output.directors) directors.resize(9 * N);
 
@@ -248,8 +337,8 @@ RunSummary Simulation::run(const FrameHandler& on_frame, const ProgressHandler& 
     j = d.resume->next_frame;
     d.resume.reset();
   } else {
-    deliver(0, 0.0, integ->y().data());
-    while (j < frames && t_end == 0.0) deliver(j++, 0.0, integ->y().data());
+    deliver(0, 0.0, expand(integ->y().data()));
+    while (j < frames && t_end == 0.0) deliver(j++, 0.0, expand(integ->y().data()));
   }
 
   while (j < frames) {
@@ -258,31 +347,51 @@ RunSummary Simulation::run(const FrameHandler& on_frame, const ProgressHandler& 
     const double* y = integ->y().data();
     if (long bad = first_non_finite(y, sys.n); bad >= 0) {
       std::string where = "the s = 0 frame";
-      if (static_cast<std::size_t>(bad) < 12 * N) {
-        const std::size_t r = static_cast<std::size_t>(bad) / N, i = static_cast<std::size_t>(bad) % N;
-        where = std::string(kComponentNames[r]) + " at s = " + num(d.s[i]);
+      if (static_cast<std::size_t>(bad) < rows.size() * N) {
+        const std::size_t k = static_cast<std::size_t>(bad) / N, i = static_cast<std::size_t>(bad) % N;
+        where = std::string(kComponentNames[rows[k]]) + " at s = " + num(d.s[i]);
       }
       throw NumericalError(sc.source + ": non-finite value (NaN/Inf) in " + where + ", t = " +
                            num(t) + ". The run blew up: reduce solver.dt or tolerances, raise "
                            "rod.points, or check the initial fields.");
     }
     if (sc.checks.stop_on_fold) {
-      const auto [i, G3] = min_Gamma3(y, N);
+      // Gamma3 is integrated in both systems (row k3 of the integrated state).
+      const std::size_t k3 = static_cast<std::size_t>(std::find(rows.begin(), rows.end(), 8) - rows.begin());
+      const double* G3row = y + k3 * N;
+      const std::size_t i = static_cast<std::size_t>(std::min_element(G3row, G3row + N) - G3row);
+      const double G3 = G3row[i];
       if (G3 <= 0.0)
         throw NumericalError(sc.source + ": the rod folded (Gamma3 = " + num(G3) + " <= 0) at s = " +
                              num(d.s[i]) + ", t = " + num(t) +
                              ". The deformation is too large for the model: lower the amplitude, "
                              "or set checks.stop_on_fold = false to continue anyway.");
     }
+    const bool frame_due = j < frames && frame_time(j) <= t;
+    bool fall_back = false;
+    if (frame_due && planar_rhs) fall_back = !planar_guard_holds(expand(y));
     while (j < frames && frame_time(j) <= t) {
       const double tj = frame_time(j);
       if (tj == t) {
-        deliver(j, tj, y);
+        deliver(j, tj, expand(y));
       } else {
         integ->dense(tj, buf.data());
-        deliver(j, tj, buf.data());
+        deliver(j, tj, expand(buf.data()));
       }
       ++j;
+    }
+    if (fall_back) {
+      const std::vector<double> y_full(expand(y), expand(y) + d.y0.size());
+      const long steps = integ->steps(), rejected = integ->rejected(), evals = integ->rhs_evaluations();
+      planar.reset();
+      make_system();
+      integ = make_time_integrator(sc.solver.time, sys, io);
+      integ->reset(t, y_full.data());
+      summary.steps += steps;
+      summary.rejected += rejected;
+      summary.rhs_evaluations += evals;
+      summary.reduce_note = "reduced planar system until t = " + num(t) +
+                            ", then the full system: the RHS of an out-of-plane row was not zero";
     }
     if (progress) progress(t, t_end);
     if (j < frames && d.hooks.due && d.hooks.save && d.hooks.due()) {
@@ -293,17 +402,19 @@ RunSummary Simulation::run(const FrameHandler& on_frame, const ProgressHandler& 
       c.next_frame = j;
       c.E0 = E0;
       c.energy_drift = summary.energy_drift;
+      c.reduced = planar ? planar_name(*planar) : "";
       c.wall_seconds = wall_before + std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
       d.hooks.save(c);
     }
   }
 
   d.t = integ->t();
-  std::copy(integ->y().begin(), integ->y().begin() + 12 * N, d.state.begin());
-  summary.steps = integ->steps();
-  summary.rejected = integ->rejected();
-  summary.rhs_evaluations = integ->rhs_evaluations();
-  summary.reduced = false;
+  const double* y_end = expand(integ->y().data());
+  std::copy(y_end, y_end + 12 * N, d.state.begin());
+  summary.steps += integ->steps();
+  summary.rejected += integ->rejected();
+  summary.rhs_evaluations += integ->rhs_evaluations();
+  summary.reduced = planar.has_value();
   summary.wall_seconds =
       wall_before + std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   return summary;

@@ -8,7 +8,8 @@
 // It is an HDF5 file OUT.h5.ckpt next to the output OUT.h5:
 //   attributes  format, scene (resolved TOML), method, t, dt_next,
 //               next_frame, E0, energy_drift, wall_seconds, steps, rejected,
-//               rhs_evaluations
+//               rhs_evaluations, reduced ("" full system, or the planar
+//               polarisation "omega2" / "omega1" whose 6 rows y holds)
 //   datasets    y, f (state and its time derivative at t), controller
 // written to OUT.h5.ckpt.tmp, synced to disk and renamed over the previous
 // one, so a kill during the write never spoils the last good checkpoint.
@@ -34,6 +35,7 @@ struct Checkpoint {
   double E0 = std::numeric_limits<double>::quiet_NaN();  // energy at t = 0
   double energy_drift = 0.0;   // largest relative drift over the frames so far
   double wall_seconds = 0.0;   // wall time spent on the run so far
+  std::string reduced;         // "" (full 12-row state) or "omega2"/"omega1" (reduced_planar.hpp)
 };
 
 // OUT.h5 -> OUT.h5.ckpt

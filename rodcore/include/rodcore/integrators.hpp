@@ -49,6 +49,10 @@ struct IntegratorOptions {
   double dt_min = 1e-12; // adaptive step below this -> NumericalError
   double dt_max = std::numeric_limits<double>::infinity();
   long max_steps = 100000000;
+  // Number of components the RMS error norm averages over; 0: the system
+  // size n. A reduced system whose left-out components are identically zero
+  // sets the full size, so that it takes exactly the steps of the full one.
+  std::size_t norm_size = 0;
 };
 
 class TimeIntegrator {

@@ -3,13 +3,16 @@
 // diagonal C, D, I, a state whose only non-zero components are
 //   gamma1, gamma3, omega2, Gamma1, Gamma3, Omega2
 // stays in that set (every term of Eqs 11-14 that feeds the other six rows is
-// a product containing one of them). Integrating only those six rows halves
+// a product containing one of them). The other polarisation, bending about
+// d1 instead of d2 (gamma2, gamma3, omega1, Gamma2, Gamma3, Omega1 non-zero),
+// is invariant for the same reason. Integrating only those six rows halves
 // the state; the physics is NOT re-implemented: PlanarRHS evaluates the one
 // RodRHS on the full 12-row state with the other rows held at exactly zero,
 // and RodRHS skips the derivative of rows it is told are zero.
 #pragma once
 #include <array>
 #include <cstddef>
+#include <optional>
 #include <vector>
 
 #include "rodcore/rhs.hpp"
@@ -18,30 +21,46 @@
 
 namespace rodcore {
 
-// State rows kept by the reduced system, in the order of the reduced state.
+// Which of the two planar polarisations: the non-zero bending rate.
+enum class Planar { omega2, omega1 };
+
+// State rows kept by the reduced system, in the order of the reduced state
+// (polarisation omega2; the next two arrays are the omega1 polarisation).
 inline constexpr std::array<int, 6> kPlanarRows = {row(gamma, 0), row(gamma, 2), row(omega, 1),
                                                    row(Gamma, 0), row(Gamma, 2), row(Omega, 1)};
 // The six rows that stay exactly zero.
 inline constexpr std::array<int, 6> kPlanarZeroRows = {row(gamma, 1), row(omega, 0), row(omega, 2),
                                                        row(Gamma, 1), row(Omega, 0), row(Omega, 2)};
+inline constexpr std::array<int, 6> kPlanarRows1 = {row(gamma, 1), row(gamma, 2), row(omega, 0),
+                                                    row(Gamma, 1), row(Gamma, 2), row(Omega, 0)};
+inline constexpr std::array<int, 6> kPlanarZeroRows1 = {row(gamma, 0), row(omega, 1), row(omega, 2),
+                                                        row(Gamma, 0), row(Omega, 1), row(Omega, 2)};
+
+const std::array<int, 6>& planar_rows(Planar p);
+const std::array<int, 6>& planar_zero_rows(Planar p);
 
 // The rod allows the reduction: uniform intrinsic shape Gamma0 = (0, 0, G03),
 // Omega0 = (0, 0, 0).
 bool planar_reduction_allowed(const Rod& rod);
 
 // Every component of the six zero rows of y (12 N values) is exactly 0.
-bool in_planar_subspace(const double* y, std::size_t N);
+bool in_planar_subspace(const double* y, std::size_t N, Planar p = Planar::omega2);
+
+// The polarisation y lies in (omega2 first if both, e.g. at rest), or none.
+// Exact zeros: a tiny out-of-plane component means "not planar".
+std::optional<Planar> planar_polarisation(const double* y, std::size_t N);
 
 class PlanarRHS {
  public:
   // `full` must outlive this object; it is told to skip the zero rows'
   // derivatives while this object exists.
-  explicit PlanarRHS(RodRHS& full);
+  explicit PlanarRHS(RodRHS& full, Planar p = Planar::omega2);
   ~PlanarRHS();
   PlanarRHS(const PlanarRHS&) = delete;
   PlanarRHS& operator=(const PlanarRHS&) = delete;
 
   std::size_t size() const { return 6 * N_; }
+  const std::array<int, 6>& rows() const { return rows_; }
   // f6 = the kept rows of RodRHS(expand(y6)).
   void operator()(const double* y6, double* f6) const;
   // 6 N reduced state <-> 12 N full state (zero rows = 0).
@@ -51,6 +70,7 @@ class PlanarRHS {
  private:
   RodRHS& full_;
   std::size_t N_;
+  std::array<int, 6> rows_;
   mutable std::vector<double> y_, f_;  // 12 N work arrays
 };
 

@@ -43,7 +43,8 @@ struct RunSummary {
   double wall_seconds = 0.0;
   double energy_drift = 0.0;  // max relative |E - E0| / |E0| over output frames
   std::string method;         // e.g. "spectral+dop853"
-  bool reduced = false;       // the reduced planar system was used
+  bool reduced = false;       // the reduced planar system was used (to the end)
+  std::string reduce_note;    // why the run is reduced or not (solver.reduce)
 };
 
 class Simulation {
