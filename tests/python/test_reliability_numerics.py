@@ -108,18 +108,47 @@ def test_step_size_underflow_stops(rodsim, tmp_path):
     assert n >= 1
 
 
+def linearised_rk4_limit(C, D, I, Gamma0, Omega0, wavenumbers):
+    """RK4 step limit 2.8 / max |eigenvalue| of Eqs 11-14 linearised about the
+    uniform rest state (Gamma = Gamma0, Omega = Omega0, gamma = omega = 0),
+    written out by hand here (not read off the solver): on a Fourier mode
+    d/ds -> i k and, to first order in (gamma, omega, dGamma, dOmega),
+      d gamma/dt = C ik dG + Omega0 x C dG
+      d omega/dt = I^-1 [D ik dO + Omega0 x D dO + Gamma0 x C dG]
+      d Gamma/dt = ik gamma + Omega0 x gamma - omega x Gamma0
+      d Omega/dt = ik omega - omega x Omega0."""
+    C, D, I = np.diag(C), np.diag(D), np.diag(I)
+    Iinv = np.linalg.inv(I)
+
+    def cross(a):  # matrix of a x .
+        return np.array([[0, -a[2], a[1]], [a[2], 0, -a[0]], [-a[1], a[0], 0]], dtype=float)
+
+    G0, O0 = cross(Gamma0), cross(Omega0)
+    radius = 0.0
+    for k in wavenumbers:
+        M = np.zeros((12, 12), dtype=complex)
+        M[0:3, 6:9] = 1j * k * C + O0 @ C
+        M[3:6, 9:12] = Iinv @ (1j * k * D + O0 @ D)
+        M[3:6, 6:9] = Iinv @ (G0 @ C)
+        M[6:9, 0:3] = 1j * k * np.eye(3) + O0
+        M[6:9, 3:6] = G0          # - omega x Gamma0 = Gamma0 x omega
+        M[9:12, 3:6] = 1j * k * np.eye(3) + O0
+        radius = max(radius, np.abs(np.linalg.eigvals(M)).max())
+    return 2.8 / radius
+
+
 def test_fixed_step_beyond_cfl_stops_before_the_first_step(rodsim, tmp_path):
     msg, n = stopped_run(rodsim, tmp_path / "o.h5", SCENES / "twisted_wave.toml",
                          "--set", "solver.time=rk4", "--set", "solver.dt=1.0")
-    m = re.search(r"solver.dt = 1 exceeds the RK4 stability limit ~?([0-9.e-]+)", msg)
+    m = re.search(r"solver.dt = 1 exceeds the RK4 stability limit ([0-9.e-]+)", msg)
     assert m, msg
-    # independent estimate of the limit: RK4 meets the imaginary axis at
-    # 2 sqrt 2, the fastest mode is ~ (max wave speed) x k_max; spectral,
-    # N = 32, L = 2 pi: k_max = 15, fastest wave sqrt(D1/I1) = 1.1
-    # (sqrt(C3) = 1.091, sqrt(D3/I3) = 1.005). Lower-order terms of the
-    # twisted rod shift the exact spectral radius a little, hence the band.
-    estimate = 2 * math.sqrt(2) / (1.1 * 15)
-    assert 0.7 * estimate <= float(m.group(1)) <= 1.05 * estimate
+    # The exact limit for the scene's uniform twisted rod: spectral, N = 32,
+    # L = 2 pi: the resolved modes are k = 0..15 (Nyquist zeroed).
+    exact = linearised_rk4_limit([1.0, 1.0, 1.19], [1.21, 1.21, 2.0207], [1.0, 1.0, 2.0],
+                                 [0.0, 0.0, 1.0], [0.0, 0.0, 1.0], range(16))
+    assert float(m.group(1)) == pytest.approx(exact, rel=1e-5)
+    # and it is not the wave-speed estimate 2.8 / (1.1 x 15) it replaced
+    assert abs(float(m.group(1)) - 2.8 / (1.1 * 15)) > 1e-3
     assert "use solver.dt <=" in msg
     assert n == 0
 
