@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -72,7 +73,9 @@ std::string fmt_num(double v) {
     std::ostringstream q;
     q.precision(p);
     q << v;
-    if (std::stod(q.str()) == v) return q.str();
+    // strtod, not stod: stod throws out_of_range on subnormals such as 1e-320
+    // (found by fuzz/scene_reader_fuzz.cpp).
+    if (std::strtod(q.str().c_str(), nullptr) == v) return q.str();
   }
   return s;
 }
