@@ -29,7 +29,7 @@ std::optional<Planar> planar_polarisation(const double* y, std::size_t N) {
 }
 
 PlanarRHS::PlanarRHS(RodRHS& full, Planar p)
-    : full_(full), N_(full.N()), rows_(planar_rows(p)), y_(12 * N_, 0.0), f_(12 * N_, 0.0) {
+    : full_(full), N_(full.N()), rows_(planar_rows(p)) {
   std::vector<int> rows(rows_.begin(), rows_.end());
   full_.set_nonzero_rows(rows);
 }
@@ -48,11 +48,7 @@ void PlanarRHS::reduce(const double* y12, double* y6) const {
 }
 
 void PlanarRHS::operator()(const double* y6, double* f6) const {
-  // The zero rows of y_ are never written, so only the kept rows are copied.
-  for (std::size_t k = 0; k < rows_.size(); ++k)
-    std::copy(y6 + k * N_, y6 + (k + 1) * N_, y_.data() + rows_[k] * N_);
-  full_(y_.data(), f_.data());
-  reduce(f_.data(), f6);
+  full_.reduced(rows_ == kPlanarRows ? 1 : 2, rows_, y6, f6);
 }
 
 }  // namespace rodcore

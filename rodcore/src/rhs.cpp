@@ -57,7 +57,13 @@ RodRHS::RodRHS(const Rod& rod, const Material& material, const DerivativeOperato
   // Uniform shapes have zero derivative exactly; only differentiate varying ones.
   if (!rod.Gamma0_s.empty()) op.apply(Gamma0_.data(), dGamma0_ds_.data(), 3);
   if (!rod.Omega0_s.empty()) op.apply(Omega0_.data(), dOmega0_ds_.data(), 3);
-  dy_ds_.assign(12 * N_, 0.0);
+  // Row stride of the derivative scratch: N, padded by 8 doubles when N is a
+  // multiple of 512, where rows N apart map to the same L1 cache sets and
+  // evict each other (docs/performance.md, "power-of-two N").
+  stride_ = (N_ % 512 == 0) ? N_ + 8 : N_;
+  dy_ds_.assign(12 * stride_, 0.0);
+  dy6_.assign(6 * N_, 0.0);
+  uniform_ = rod.Gamma0_s.empty() && rod.Omega0_s.empty();
 }
 
 void RodRHS::set_nonzero_rows(std::vector<int> rows) {
@@ -67,74 +73,165 @@ void RodRHS::set_nonzero_rows(std::vector<int> rows) {
   std::fill(dy_ds_.begin(), dy_ds_.end(), 0.0);  // the skipped rows' derivative is zero
 }
 
-void RodRHS::operator()(const double* y, double* dydt) const {
-  const std::size_t N = N_;
-  if (nonzero_rows_.empty()) {
-    op_.apply(y, dy_ds_.data(), 12);
-  } else {
-    for (int r : nonzero_rows_) op_.apply(y + r * N, dy_ds_.data() + r * N, 1);
-  }
+namespace {
 
-  const double C1 = material_.C[0], C2 = material_.C[1], C3 = material_.C[2];
-  const double D1 = material_.D[0], D2 = material_.D[1], D3 = material_.D[2];
-  const double I1 = material_.I[0], I2 = material_.I[1], I3 = material_.I[2];
+// Rows of the state that a kernel instance treats as identically zero:
+// kPlanar = 0 none (full system), 1 the omega2 polarisation, 2 the omega1
+// polarisation (reduced_planar.hpp). Known at compile time, so the zero
+// loads fold into the arithmetic and the zero rows' outputs are not formed.
+constexpr bool zero_row(int planar, int r) {
+  if (planar == 1) return r == 1 || r == 3 || r == 5 || r == 7 || r == 9 || r == 11;
+  if (planar == 2) return r == 0 || r == 4 || r == 5 || r == 6 || r == 10 || r == 11;
+  return false;
+}
+
+struct KernelArgs {
+  std::size_t N;
+  const double* y[12];   // state rows (unused for zero rows)
+  const double* dy[12];  // their s-derivatives
+  double* f[12];         // d/dt of the rows (unused for zero rows)
+  const double* Gamma0[3];  // per-point intrinsic shape and its derivative
+  const double* Omega0[3];  // (kUniform: only element [0] of each row is read)
+  const double* dGamma0[3];
+  const double* dOmega0[3];
+  Material mat;
+};
+
+// Eqs 11-14 at every grid point: the ONE place the physics is written.
+// kUniform: the intrinsic shape is the same at every point (read once, zero
+// derivative), which removes 12 of the 48 streamed arrays.
+template <bool kUniform, int kPlanar>
+void rod_kernel(const KernelArgs& a) {
+  const std::size_t N = a.N;
+  const double C1 = a.mat.C[0], C2 = a.mat.C[1], C3 = a.mat.C[2];
+  const double D1 = a.mat.D[0], D2 = a.mat.D[1], D3 = a.mat.D[2];
+  const double I1 = a.mat.I[0], I2 = a.mat.I[1], I3 = a.mat.I[2];
   const double iI1 = 1.0 / I1, iI2 = 1.0 / I2, iI3 = 1.0 / I3;
+  // Local copies of the row pointers (constant indices below: kept in
+  // registers, and the loop sees no pointer loads through `a`).
+  const double* y[12];
+  const double* dy[12];
+  double* f[12];
+  for (int r = 0; r < 12; ++r) {
+    y[r] = a.y[r];
+    dy[r] = a.dy[r];
+    f[r] = a.f[r];
+  }
+  const double *G01 = a.Gamma0[0], *G02 = a.Gamma0[1], *G03 = a.Gamma0[2];
+  const double *O01 = a.Omega0[0], *O02 = a.Omega0[1], *O03 = a.Omega0[2];
+  const double *dG01 = a.dGamma0[0], *dG02 = a.dGamma0[1], *dG03 = a.dGamma0[2];
+  const double *dO01 = a.dOmega0[0], *dO02 = a.dOmega0[1], *dO03 = a.dOmega0[2];
+  const double uG01 = G01[0], uG02 = G02[0], uG03 = G03[0];
+  const double uO01 = O01[0], uO02 = O02[0], uO03 = O03[0];
+#define ROD_Y(r) (zero_row(kPlanar, r) ? 0.0 : y[r][i])
+#define ROD_DY(r) (zero_row(kPlanar, r) ? 0.0 : dy[r][i])
+#define ROD_F(r, value) \
+  if constexpr (!zero_row(kPlanar, r)) f[r][i] = (value)
+#define ROD_SHAPE(u, p) (kUniform ? (u) : (p)[i])
+#define ROD_DSHAPE(p) (kUniform ? 0.0 : (p)[i])
 
-  const double* g1 = y + 0 * N; const double* g2 = y + 1 * N; const double* g3 = y + 2 * N;
-  const double* w1 = y + 3 * N; const double* w2 = y + 4 * N; const double* w3 = y + 5 * N;
-  const double* G1 = y + 6 * N; const double* G2 = y + 7 * N; const double* G3 = y + 8 * N;
-  const double* O1 = y + 9 * N; const double* O2 = y + 10 * N; const double* O3 = y + 11 * N;
-  const double* d = dy_ds_.data();
-  const double *dg1 = d + 0 * N, *dg2 = d + 1 * N, *dg3 = d + 2 * N;
-  const double *dw1 = d + 3 * N, *dw2 = d + 4 * N, *dw3 = d + 5 * N;
-  const double *dG1 = d + 6 * N, *dG2 = d + 7 * N, *dG3 = d + 8 * N;
-  const double *dO1 = d + 9 * N, *dO2 = d + 10 * N, *dO3 = d + 11 * N;
-  const double *G01 = Gamma0_.data(), *G02 = G01 + N, *G03 = G01 + 2 * N;
-  const double *O01 = Omega0_.data(), *O02 = O01 + N, *O03 = O01 + 2 * N;
-  const double *dG01 = dGamma0_ds_.data(), *dG02 = dG01 + N, *dG03 = dG01 + 2 * N;
-  const double *dO01 = dOmega0_ds_.data(), *dO02 = dO01 + N, *dO03 = dO01 + 2 * N;
-  double *fg1 = dydt + 0 * N, *fg2 = dydt + 1 * N, *fg3 = dydt + 2 * N;
-  double *fw1 = dydt + 3 * N, *fw2 = dydt + 4 * N, *fw3 = dydt + 5 * N;
-  double *fG1 = dydt + 6 * N, *fG2 = dydt + 7 * N, *fG3 = dydt + 8 * N;
-  double *fO1 = dydt + 9 * N, *fO2 = dydt + 10 * N, *fO3 = dydt + 11 * N;
-
-  // The 48 row pointers never overlap (y, dy_ds_, the intrinsic shape and
-  // dydt are distinct arrays); saying so lets GCC vectorise the loop
+  // The row pointers never overlap (y, dy_ds_, the intrinsic shape and dydt
+  // are distinct arrays); saying so lets GCC vectorise the loop
   // (measured: bench/, docs/performance.md).
 #pragma GCC ivdep
   for (std::size_t i = 0; i < N; ++i) {
+    const double b1 = ROD_Y(0), b2 = ROD_Y(1), b3 = ROD_Y(2);     // gamma
+    const double a1 = ROD_Y(3), a2 = ROD_Y(4), a3 = ROD_Y(5);     // omega
+    const double Q1 = ROD_Y(6), Q2 = ROD_Y(7), Q3 = ROD_Y(8);     // Gamma
+    const double P1 = ROD_Y(9), P2 = ROD_Y(10), P3 = ROD_Y(11);   // Omega
     // Internal forces n = C (Gamma - Gamma0) and moments m = D (Omega - Omega0).
-    const double n1 = C1 * (G1[i] - G01[i]), n2 = C2 * (G2[i] - G02[i]), n3 = C3 * (G3[i] - G03[i]);
-    const double m1 = D1 * (O1[i] - O01[i]), m2 = D2 * (O2[i] - O02[i]), m3 = D3 * (O3[i] - O03[i]);
-    const double a1 = w1[i], a2 = w2[i], a3 = w3[i];   // omega
-    const double b1 = g1[i], b2 = g2[i], b3 = g3[i];   // gamma
-    const double P1 = O1[i], P2 = O2[i], P3 = O3[i];   // Omega
-    const double Q1 = G1[i], Q2 = G2[i], Q3 = G3[i];   // Gamma
+    const double n1 = C1 * (Q1 - ROD_SHAPE(uG01, G01)), n2 = C2 * (Q2 - ROD_SHAPE(uG02, G02)),
+                 n3 = C3 * (Q3 - ROD_SHAPE(uG03, G03));
+    const double m1 = D1 * (P1 - ROD_SHAPE(uO01, O01)), m2 = D2 * (P2 - ROD_SHAPE(uO02, O02)),
+                 m3 = D3 * (P3 - ROD_SHAPE(uO03, O03));
 
     // Eq 11: balance of force.
-    fg1[i] = C1 * (dG1[i] - dG01[i]) + (P2 * n3 - P3 * n2) - (a2 * b3 - a3 * b2);
-    fg2[i] = C2 * (dG2[i] - dG02[i]) + (P3 * n1 - P1 * n3) - (a3 * b1 - a1 * b3);
-    fg3[i] = C3 * (dG3[i] - dG03[i]) + (P1 * n2 - P2 * n1) - (a1 * b2 - a2 * b1);
+    ROD_F(0, C1 * (ROD_DY(6) - ROD_DSHAPE(dG01)) + (P2 * n3 - P3 * n2) - (a2 * b3 - a3 * b2));
+    ROD_F(1, C2 * (ROD_DY(7) - ROD_DSHAPE(dG02)) + (P3 * n1 - P1 * n3) - (a3 * b1 - a1 * b3));
+    ROD_F(2, C3 * (ROD_DY(8) - ROD_DSHAPE(dG03)) + (P1 * n2 - P2 * n1) - (a1 * b2 - a2 * b1));
 
     // Eq 12: balance of torque, divided by the diagonal I.
     const double Iw1 = I1 * a1, Iw2 = I2 * a2, Iw3 = I3 * a3;
-    fw1[i] = iI1 * (D1 * (dO1[i] - dO01[i]) + (P2 * m3 - P3 * m2) + (Q2 * n3 - Q3 * n2) -
-                    (a2 * Iw3 - a3 * Iw2));
-    fw2[i] = iI2 * (D2 * (dO2[i] - dO02[i]) + (P3 * m1 - P1 * m3) + (Q3 * n1 - Q1 * n3) -
-                    (a3 * Iw1 - a1 * Iw3));
-    fw3[i] = iI3 * (D3 * (dO3[i] - dO03[i]) + (P1 * m2 - P2 * m1) + (Q1 * n2 - Q2 * n1) -
-                    (a1 * Iw2 - a2 * Iw1));
+    ROD_F(3, iI1 * (D1 * (ROD_DY(9) - ROD_DSHAPE(dO01)) + (P2 * m3 - P3 * m2) + (Q2 * n3 - Q3 * n2) -
+                    (a2 * Iw3 - a3 * Iw2)));
+    ROD_F(4, iI2 * (D2 * (ROD_DY(10) - ROD_DSHAPE(dO02)) + (P3 * m1 - P1 * m3) + (Q3 * n1 - Q1 * n3) -
+                    (a3 * Iw1 - a1 * Iw3)));
+    ROD_F(5, iI3 * (D3 * (ROD_DY(11) - ROD_DSHAPE(dO03)) + (P1 * m2 - P2 * m1) + (Q1 * n2 - Q2 * n1) -
+                    (a1 * Iw2 - a2 * Iw1)));
 
     // Eq 13: compatibility of velocity and strain.
-    fG1[i] = dg1[i] + (P2 * b3 - P3 * b2) - (a2 * Q3 - a3 * Q2);
-    fG2[i] = dg2[i] + (P3 * b1 - P1 * b3) - (a3 * Q1 - a1 * Q3);
-    fG3[i] = dg3[i] + (P1 * b2 - P2 * b1) - (a1 * Q2 - a2 * Q1);
+    ROD_F(6, ROD_DY(0) + (P2 * b3 - P3 * b2) - (a2 * Q3 - a3 * Q2));
+    ROD_F(7, ROD_DY(1) + (P3 * b1 - P1 * b3) - (a3 * Q1 - a1 * Q3));
+    ROD_F(8, ROD_DY(2) + (P1 * b2 - P2 * b1) - (a1 * Q2 - a2 * Q1));
 
     // Eq 14: compatibility of angular velocity and curvature.
-    fO1[i] = dw1[i] - (a2 * P3 - a3 * P2);
-    fO2[i] = dw2[i] - (a3 * P1 - a1 * P3);
-    fO3[i] = dw3[i] - (a1 * P2 - a2 * P1);
+    ROD_F(9, ROD_DY(3) - (a2 * P3 - a3 * P2));
+    ROD_F(10, ROD_DY(4) - (a3 * P1 - a1 * P3));
+    ROD_F(11, ROD_DY(5) - (a1 * P2 - a2 * P1));
   }
+#undef ROD_Y
+#undef ROD_DY
+#undef ROD_F
+#undef ROD_SHAPE
+#undef ROD_DSHAPE
+}
+
+}  // namespace
+
+void RodRHS::operator()(const double* y, double* dydt) const {
+  const std::size_t N = N_;
+  const std::size_t S = stride_;
+  if (nonzero_rows_.empty() && S == N) {
+    op_.apply(y, dy_ds_.data(), 12);
+  } else if (nonzero_rows_.empty()) {
+    for (std::size_t r = 0; r < 12; ++r) op_.apply(y + r * N, dy_ds_.data() + r * S, 1);
+  } else {
+    for (int r : nonzero_rows_) op_.apply(y + r * N, dy_ds_.data() + r * S, 1);
+  }
+  KernelArgs a;
+  a.N = N;
+  for (int r = 0; r < 12; ++r) {
+    a.y[r] = y + r * N;
+    a.dy[r] = dy_ds_.data() + r * S;
+    a.f[r] = dydt + r * N;
+  }
+  for (int c = 0; c < 3; ++c) {
+    a.Gamma0[c] = Gamma0_.data() + c * N;
+    a.Omega0[c] = Omega0_.data() + c * N;
+    a.dGamma0[c] = dGamma0_ds_.data() + c * N;
+    a.dOmega0[c] = dOmega0_ds_.data() + c * N;
+  }
+  a.mat = material_;
+  // The zero rows of a planar polarisation are still written (as zeros) so
+  // that dydt is the complete 12-row derivative the caller expects.
+  if (uniform_) rod_kernel<true, 0>(a);
+  else rod_kernel<false, 0>(a);
+}
+
+void RodRHS::reduced(int planar, const std::array<int, 6>& rows, const double* y6, double* f6) const {
+  if (!uniform_ || (planar != 1 && planar != 2))
+    throw Error("RodRHS::reduced: needs a uniform intrinsic shape and polarisation 1 or 2");
+  const std::size_t N = N_;
+  op_.apply(y6, dy6_.data(), 6);  // the six kept rows, one batch
+  KernelArgs a;
+  a.N = N;
+  for (int r = 0; r < 12; ++r) a.y[r] = a.dy[r] = a.f[r] = nullptr;
+  for (std::size_t k = 0; k < 6; ++k) {
+    const int r = rows[k];
+    if (zero_row(planar, r)) throw Error("RodRHS::reduced: row " + std::to_string(r) + " is not kept");
+    a.y[r] = y6 + k * N;
+    a.dy[r] = dy6_.data() + k * N;
+    a.f[r] = f6 + k * N;
+  }
+  for (int c = 0; c < 3; ++c) {
+    a.Gamma0[c] = Gamma0_.data() + c * N;
+    a.Omega0[c] = Omega0_.data() + c * N;
+    a.dGamma0[c] = dGamma0_ds_.data() + c * N;
+    a.dOmega0[c] = dOmega0_ds_.data() + c * N;
+  }
+  a.mat = material_;
+  if (planar == 1) rod_kernel<true, 1>(a);
+  else rod_kernel<true, 2>(a);
 }
 
 }  // namespace rodcore

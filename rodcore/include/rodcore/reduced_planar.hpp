@@ -6,9 +6,11 @@
 // a product containing one of them). The other polarisation, bending about
 // d1 instead of d2 (gamma2, gamma3, omega1, Gamma2, Gamma3, Omega1 non-zero),
 // is invariant for the same reason. Integrating only those six rows halves
-// the state; the physics is NOT re-implemented: PlanarRHS evaluates the one
-// RodRHS on the full 12-row state with the other rows held at exactly zero,
-// and RodRHS skips the derivative of rows it is told are zero.
+// the state; the physics is NOT re-implemented: PlanarRHS calls
+// RodRHS::reduced, the same kernel instantiated with the other six rows
+// fixed at zero at compile time (their terms vanish, their outputs are not
+// formed). While a PlanarRHS exists, RodRHS's full evaluation also skips the
+// derivative of the zero rows (set_nonzero_rows).
 #pragma once
 #include <array>
 #include <cstddef>
@@ -71,7 +73,6 @@ class PlanarRHS {
   RodRHS& full_;
   std::size_t N_;
   std::array<int, 6> rows_;
-  mutable std::vector<double> y_, f_;  // 12 N work arrays
 };
 
 }  // namespace rodcore

@@ -11,6 +11,7 @@
 // This is the ONE implementation of the physics; integrators, tests and any
 // reduced system call it. State layout: state.hpp (12 rows of N).
 #pragma once
+#include <array>
 #include <cstddef>
 #include <vector>
 
@@ -36,6 +37,12 @@ class RodRHS {
   // reduced system, reduced_planar.hpp). Empty list: all 12 rows (default).
   void set_nonzero_rows(std::vector<int> rows);
 
+  // The reduced planar system (reduced_planar.hpp), same kernel with the six
+  // out-of-plane rows fixed at zero at compile time: y6 and f6 hold the six
+  // kept rows `rows` (state rows) in that order; planar = 1 for the omega2,
+  // 2 for the omega1 polarisation. Needs a uniform intrinsic shape.
+  void reduced(int planar, const std::array<int, 6>& rows, const double* y6, double* f6) const;
+
   const Material& material() const { return material_; }
   const DerivativeOperator& op() const { return op_; }
   // Intrinsic shape at every grid point, component-major (3 N each).
@@ -48,8 +55,11 @@ class RodRHS {
   const DerivativeOperator& op_;
   std::vector<double> Gamma0_, Omega0_;          // 3 N each
   std::vector<double> dGamma0_ds_, dOmega0_ds_;  // same operator applied once
-  mutable std::vector<double> dy_ds_;            // 12 N work array
+  std::size_t stride_ = 0;                       // row stride of dy_ds_ (>= N)
+  mutable std::vector<double> dy_ds_;            // 12 rows of stride_
+  mutable std::vector<double> dy6_;              // 6 N work array of reduced()
   std::vector<int> nonzero_rows_;                // empty: differentiate all rows
+  bool uniform_ = true;                          // uniform intrinsic shape: fast kernel
 };
 
 // Intrinsic shape of `rod` expanded to 3 N component-major values (uniform
