@@ -19,6 +19,8 @@ echo "== work-precision (P1, P2, P3)"
 "$PYTHON" "$DNAROD_ROOT/bench/workprecision.py" --build "$DNAROD_BUILD" --out "$OUT" $QUICK
 echo "== stability stress"
 "$PYTHON" "$DNAROD_ROOT/bench/stress/stability.py" --build "$DNAROD_BUILD" --out "$OUT" $QUICK
+echo "== reduced planar system vs full"
+"$PYTHON" "$DNAROD_ROOT/bench/reduced.py" --build "$DNAROD_BUILD" --out "$OUT" $QUICK
 echo "== output cost, rod vs MD, cost per point"
 "$PYTHON" "$DNAROD_ROOT/bench/costs.py" --build "$DNAROD_BUILD" --rhs-json "$OUT/rhs_bench.json" --out "$OUT" $QUICK
 echo "== done: $OUT"

@@ -41,7 +41,9 @@ struct RunSummary {
   long rejected = 0;
   long rhs_evaluations = 0;
   double wall_seconds = 0.0;
-  double energy_drift = 0.0;  // max relative |E - E0| / |E0| over output frames
+  double energy_drift = 0.0;  // max relative |E - E0| / |E0| over the output frames where E is
+                              // computed: all with output.energy(_parts) or a finite
+                              // checks.max_energy_drift, else the first and the last
   std::string method;         // e.g. "spectral+dop853"
   bool reduced = false;       // the reduced planar system was used (to the end)
   std::string reduce_note;    // why the run is reduced or not (solver.reduce)
