@@ -194,22 +194,51 @@ std::vector<InitialKind> build_kinds() {
   {
     InitialKind r;
     r.name = "shear_oscillation";
-    r.doc = "Pure shear oscillation (paper Sec 3.1.1): s-independent state with omega = "
-            "(0, omega2, 0), Gamma = (Gamma1, 0, Gamma3), gamma = 0, Omega = Omega0 (an "
-            "intrinsic twist is allowed). Needs a uniform intrinsic shape.";
-    r.numbers = {{"omega2", 0.0, -kInf, kInf, "1/tau", "angular velocity omega2"},
-                 {"Gamma1", 0.5, -kInf, kInf, "1", "shear Gamma1"},
+    r.doc = "Pure shear oscillation (paper Sec 3.1.1, Fig 4): every cross-section tilts by the same "
+            "angle, the centerline stays straight. Untwisted rod: the s-independent state omega = "
+            "(0, omega2, 0), Gamma = (Gamma1, 0, Gamma3), gamma = 0, Omega = Omega0. Twisted rod "
+            "(Omega0 = (0, 0, O3)): the same motion seen through the twist, th = O3 s: omega = "
+            "omega2 (sin th, cos th, 0), Gamma = (Gamma1 cos th, -Gamma1 sin th, Gamma3) (an "
+            "s-independent omega2 would bend a twisted rod through omega x Omega0); needs Gamma0 = "
+            "(0, 0, G03), C1 = C2, I1 = I2 and O3 L a multiple of 2 pi. Needs a uniform intrinsic shape.";
+    r.numbers = {{"omega2", 0.0, -kInf, kInf, "1/tau", "angular velocity omega2 (of the untwisted frame)"},
+                 {"Gamma1", 0.5, -kInf, kInf, "1", "shear Gamma1 (of the untwisted frame)"},
                  {"Gamma3", 1.0, -kInf, kInf, "1", "extension Gamma3 (> 0)"}};
     r.make = [](const Scene& sc, const std::vector<double>& s, std::vector<double>& y) {
       if (!sc.rod.Gamma0_s.empty() || !sc.rod.Omega0_s.empty())
         throw InputError(sc.source + ": initial.kind = \"shear_oscillation\" needs a uniform "
                          "intrinsic shape (rod.Gamma0, rod.Omega0 vectors)");
+      const double O3 = sc.rod.Omega0[2];
+      if (O3 != 0.0) {
+        // The body frame turns by th = O3 s about d3 relative to the untwisted
+        // frame in which the motion is s-independent (Eqs 28-30); that is a
+        // solution only if the cross-section is isotropic in the d1-d2 plane
+        // and nothing else in the intrinsic shape picks a direction.
+        const Material& m = sc.material;
+        if (sc.rod.Omega0[0] != 0.0 || sc.rod.Omega0[1] != 0.0 || sc.rod.Gamma0[0] != 0.0 ||
+            sc.rod.Gamma0[1] != 0.0)
+          throw InputError(sc.source + ": initial.kind = \"shear_oscillation\" on a twisted rod needs "
+                           "rod.Gamma0 = [0, 0, G03] and rod.Omega0 = [0, 0, O3]");
+        if (m.C[0] != m.C[1] || m.I[0] != m.I[1])
+          throw InputError(sc.source + ": initial.kind = \"shear_oscillation\" on a twisted rod needs "
+                           "material.C[0] = C[1] and material.I[0] = I[1] (an isotropic cross-section)");
+        const double turns = O3 * sc.rod.length / (2.0 * kPi);
+        if (std::abs(turns - std::round(turns)) > 1e-9)
+          throw InputError(sc.source + ": initial.kind = \"shear_oscillation\" on a twisted rod needs "
+                           "rod.Omega0[2] * rod.length = 2 pi x integer (the fields turn with the twist "
+                           "and must be periodic); got " + std::to_string(turns) + " turns");
+      }
       fill_intrinsic(sc, y);
+      const double w2 = initial_number(sc.initial, "omega2");
+      const double G1 = initial_number(sc.initial, "Gamma1");
       const std::size_t N = s.size();
       for (std::size_t i = 0; i < N; ++i) {
-        set(y, N, omega, 1, i, initial_number(sc.initial, "omega2"));
-        set(y, N, Gamma, 0, i, initial_number(sc.initial, "Gamma1"));
-        set(y, N, Gamma, 1, i, 0.0);
+        const double th = O3 * s[i];
+        const double c = std::cos(th), sn = std::sin(th);
+        set(y, N, omega, 0, i, w2 * sn);
+        set(y, N, omega, 1, i, w2 * c);
+        set(y, N, Gamma, 0, i, G1 * c);
+        set(y, N, Gamma, 1, i, -G1 * sn);
         set(y, N, Gamma, 2, i, initial_number(sc.initial, "Gamma3"));
       }
     };

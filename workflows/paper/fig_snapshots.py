@@ -60,27 +60,6 @@ def fig3(outdir: Path, quick: bool = False) -> dict:
     return {"png": png, "json": outdir / "fig3.json", "data": data}
 
 
-def shear_oscillation_fields(s, Omega03: float, Gamma03: float, omega0: float, phi0: float = 0.0):
-    """Initial fields of the pure shear oscillation of a TWISTED rod (Sec 3.1.1, Fig 4).
-
-    Lab picture: the centerline stays straight along e_Z and every cross-section is
-    tilted by the same angle phi(t) about the lab axis e_Y, d_k(s) = R_Y(phi) R_Z(Omega03 s) e_k.
-    In the body frame this gives Omega = (0, 0, Omega03) (no bend), and
-    omega = phi' (sin Omega03 s, cos Omega03 s, 0),
-    Gamma = (-Pi sin phi cos Omega03 s, Pi sin phi sin Omega03 s, Pi cos phi), Pi = Gamma03,
-    i.e. the s-independent oscillation of Eqs (28)-(30) seen through the twist. (An
-    s-independent omega2 on a twisted rod is NOT this motion: omega x Omega0 then bends it.)
-    """
-    th = Omega03 * np.asarray(s, float)
-    z = np.zeros_like(th)
-    Pi = Gamma03
-    return {"gamma": np.column_stack([z, z, z]),
-            "omega": np.column_stack([omega0 * np.sin(th), omega0 * np.cos(th), z]),
-            "Gamma": np.column_stack([-Pi * np.sin(phi0) * np.cos(th), Pi * np.sin(phi0) * np.sin(th),
-                                      Pi * np.cos(phi0) + z]),
-            "Omega": np.column_stack([z, z, Omega03 + z])}
-
-
 def shear_oscillation_ode(t, omega0: float, Gamma1_0: float, Gamma3_0: float, Gamma03: float = 1.0,
                           C3: float = theory.C3_PAPER, I1: float = 1.0):
     """Eqs (28)-(30) (C1 = 1) integrated independently with scipy (DOP853, rtol 1e-12):
@@ -97,18 +76,16 @@ def shear_oscillation_ode(t, omega0: float, Gamma1_0: float, Gamma3_0: float, Ga
 
 
 def fig4(outdir: Path, quick: bool = False) -> dict:
-    import tempfile
-    from workflows.paper.rod import write_initial_h5
     O03, G03, omega0 = 1.0, 1.0, 1.0  # starts unsheared and spinning: spin turns into shear
     L, N = 2 * np.pi, 16 if quick else 48
     t_end = 6.0
-    s = np.arange(N) * L / N
-    with tempfile.TemporaryDirectory(prefix="dnarod-fig4-") as tmp:
-        path = Path(tmp) / "initial.h5"
-        write_initial_h5(path, s, shear_oscillation_fields(s, O03, G03, omega0))
-        sc = scene(straight_rod(L, N, G03, O03), {"kind": "file", "path": str(path)},
-                   t_end=t_end, frames=7 if quick else 61, fields=FIELDS_3D, rtol=1e-11)
-        run = run_scene(sc)
+    # The rodcore kind puts the s-independent motion of Eqs 28-30 on the twisted
+    # rod seen through the twist: omega = omega2 (sin O03 s, cos O03 s, 0),
+    # Gamma = (Gamma1 cos O03 s, -Gamma1 sin O03 s, Gamma3) (docs/numerics.md).
+    sc = scene(straight_rod(L, N, G03, O03),
+               {"kind": "shear_oscillation", "omega2": omega0, "Gamma1": 0.0, "Gamma3": G03},
+               t_end=t_end, frames=7 if quick else 61, fields=FIELDS_3D, rtol=1e-11)
+    run = run_scene(sc)
     G, W, Om = run.fields["Gamma"], run.fields["omega"], run.fields["Omega"]
     shear = np.hypot(G[..., 0], G[..., 1])       # |Gamma_perp|
     spin = np.hypot(W[..., 0], W[..., 1])         # |omega_perp|
