@@ -88,7 +88,7 @@ int run(const std::string& scene_path, const std::string& out_path, const std::v
     const rodcore::Checkpoint c = rodcore::read_checkpoint(ckpt);
     rodcore::check_checkpoint_matches(c, scene, ckpt);
     sim.resume_from(c);
-    out = std::make_unique<rodcore::H5Output>(out_path, scene, sim.grid(), rodcore::H5Output::Resume{c.next_frame});
+    out = std::make_unique<rodcore::H5Output>(out_path, sim.scene(), sim.grid(), rodcore::H5Output::Resume{c.next_frame});
     if (!quiet)
       std::cerr << "rodsim: resuming from " << ckpt << " at t = " << c.integrator.t << " (" << c.next_frame << " of "
                 << scene.output.frames << " frames written)\n";
@@ -96,7 +96,7 @@ int run(const std::string& scene_path, const std::string& out_path, const std::v
     if (resume && !quiet) std::cerr << "rodsim: no checkpoint " << ckpt << ": starting from t = 0\n";
     std::error_code ec;
     fs::remove(ckpt, ec);  // a stale checkpoint of an earlier run must never be paired with this output
-    out = std::make_unique<rodcore::H5Output>(out_path, scene, sim.grid());
+    out = std::make_unique<rodcore::H5Output>(out_path, sim.scene(), sim.grid());  // resolved method
   }
   // The scene as written, and the overrides, next to the resolved `scene`.
   {

@@ -291,8 +291,11 @@ py::dict run(const py::object& scene, const py::object& initial, const std::vect
   summary["method"] = sum.method;
   summary["reduced"] = sum.reduced;
   summary["reduce_note"] = sum.reduce_note;
+  summary["method_note"] = sum.method_note;
   out["summary"] = summary;
-  out["scene"] = scene_to_toml(sc);
+  Scene as_run = sim.scene();  // solver.space/time as resolved from "auto"
+  as_run.initial.path = sc.initial.path;
+  out["scene"] = scene_to_toml(as_run);
   out["scales"] = py::dict(py::arg("tau_ps") = dna_units::tau_ps, py::arg("ell_A") = dna_units::ell_A,
                            py::arg("velocity_A_per_ps") = dna_units::velocity_A_per_ps);
   return out;

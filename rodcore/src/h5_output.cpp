@@ -334,6 +334,7 @@ void H5Output::finish(const RunSummary& sum) {
   attr(file_, "summary.method", sum.method);
   attr_int(file_, "summary.reduced", sum.reduced);
   attr(file_, "summary.reduce_note", sum.reduce_note);
+  attr(file_, "summary.method_note", sum.method_note);
   attr_int(file_, "complete", 1);
   close_and_rename();
 }

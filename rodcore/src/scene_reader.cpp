@@ -317,7 +317,7 @@ void apply_overrides(toml::table& table, const std::vector<std::string>& overrid
   }
 }
 
-int min_points(const std::string& space) { return space == "fd4" ? 5 : 4; }
+int min_points(const std::string& space) { return space == "fd4" ? 5 : 4; }  // auto: spectral below 5
 
 Scene build_scene(toml::table& table, Context& ctx) {
   Scene sc;
@@ -361,16 +361,16 @@ Scene build_scene(toml::table& table, Context& ctx) {
 
   // [solver]
   Section sol = section("solver");
-  sol.choice("space", sc.solver.space, {"fd4", "spectral"});
+  sol.choice("space", sc.solver.space, {"auto", "fd4", "spectral"});
   sol.boolean("dealias", sc.solver.dealias);
-  sol.choice("time", sc.solver.time, {"rk4", "rk4-doubling", "dopri5", "dop853"});
+  sol.choice("time", sc.solver.time, {"auto", "rk4", "rk4-doubling", "dopri5", "dop853"});
   sol.number("rtol", sc.solver.rtol, {0.0, 1.0, true, true});
   sol.number("atol", sc.solver.atol, positive());
   sol.number("dt", sc.solver.dt, positive());
   sol.number("dt_min", sc.solver.dt_min, positive());
   sol.integer("max_steps", sc.solver.max_steps, Range{1, 9e18});
   sol.choice("reduce", sc.solver.reduce, {"auto", "off"});
-  if (sc.solver.dealias && sc.solver.space != "spectral")
+  if (sc.solver.dealias && sc.solver.space != "spectral" && sc.solver.space != "auto")
     sol.fail("dealias", sol.get("dealias"), "applies only to solver.space = \"spectral\" (found \"" +
                                                 sc.solver.space + "\")");
   if (sc.solver.dt_min > sc.solver.dt)
@@ -458,7 +458,8 @@ Scene build_scene(toml::table& table, Context& ctx) {
   int nmin = min_points(sc.solver.space);
   if (sc.rod.points < nmin)
     rod.fail("points", table["rod"]["points"].node(),
-             "found " + std::to_string(sc.rod.points) + "; solver.space = \"" + sc.solver.space + "\" needs at least " +
+             "found " + std::to_string(sc.rod.points) + "; solver.space = \"" +
+                 (sc.solver.space == "fd4" ? "fd4" : "spectral") + "\" needs at least " +
                  std::to_string(nmin) + " points (fd4: 5, its stencil spans 5 points; spectral: 4)");
   const auto N3 = 3 * static_cast<std::size_t>(sc.rod.points);
   for (auto [k, prof] : {std::pair{"Gamma0", &sc.rod.Gamma0_s}, std::pair{"Omega0", &sc.rod.Omega0_s}}) {

@@ -32,6 +32,55 @@ const char* planar_name(Planar p) { return p == Planar::omega2 ? "omega2" : "ome
 const char* kComponentNames[12] = {"gamma1", "gamma2", "gamma3", "omega1", "omega2", "omega3",
                                    "Gamma1", "Gamma2", "Gamma3", "Omega1", "Omega2", "Omega3"};
 
+// Relative high-wavenumber content of the initial fields: |D f - D_2/3 f| /
+// |D f| over all 12 rows, D the spectral derivative and D_2/3 the same with
+// the top third of the modes removed. Round-off (~1e-15) for smooth
+// (analytic) fields; O(N^-1/2) or more for a jump or grid-scale noise.
+double spectral_tail(const Scene& sc, const std::vector<double>& y) {
+  const std::size_t N = static_cast<std::size_t>(sc.rod.points);
+  const auto full = make_derivative_operator("spectral", N, sc.rod.length, false);
+  const auto cut = make_derivative_operator("spectral", N, sc.rod.length, true);
+  std::vector<double> a(12 * N), b(12 * N);
+  full->apply(y.data(), a.data(), 12);
+  cut->apply(y.data(), b.data(), 12);
+  double num2 = 0.0, den2 = 0.0;
+  for (std::size_t i = 0; i < 12 * N; ++i) {
+    num2 += (a[i] - b[i]) * (a[i] - b[i]);
+    den2 += a[i] * a[i];
+  }
+  return den2 > 0.0 ? std::sqrt(num2 / den2) : 0.0;
+}
+
+// Threshold of spectral_tail above which the initial fields count as
+// non-smooth and FD4 is chosen (docs/performance.md: with grid-scale content
+// FD4 takes about half the steps of spectral at the same tolerance).
+constexpr double kSmoothTail = 1e-6;
+
+// solver.space / solver.time = "auto" -> the measured default
+// (docs/performance.md, "Default method rule"); `note` says what and why.
+void resolve_method(Scene& sc, std::string& note) {
+  std::string why_space = "solver.space = \"" + sc.solver.space + "\" as given";
+  if (sc.solver.space == "auto") {
+    if (sc.solver.dealias || sc.rod.points < 5) {
+      sc.solver.space = "spectral";
+      why_space = sc.solver.dealias ? "spectral (auto: solver.dealias asks for it)"
+                                    : "spectral (auto: fd4 needs at least 5 points)";
+    } else {
+      const double tail = spectral_tail(sc, make_initial_state(sc));
+      sc.solver.space = tail > kSmoothTail ? "fd4" : "spectral";
+      why_space = sc.solver.space + " (auto: high-wavenumber content of the initial fields " + num(tail) +
+                  (tail > kSmoothTail ? " > " : " <= ") + num(kSmoothTail) +
+                  (tail > kSmoothTail ? ", non-smooth)" : ", smooth)");
+    }
+  }
+  std::string why_time = "solver.time = \"" + sc.solver.time + "\" as given";
+  if (sc.solver.time == "auto") {
+    sc.solver.time = "dop853";
+    why_time = "dop853 (auto: the fastest at errors <= 1e-6 in the benchmarks)";
+  }
+  note = why_space + "; " + why_time;
+}
+
 }  // namespace
 
 struct Simulation::Impl {
@@ -51,6 +100,8 @@ struct Simulation::Impl {
   // the polarisation the initial state lies in, exactly, and why (not).
   std::optional<Planar> planar;
   std::string reduce_note;
+  Scene given;              // the scene as given ("auto" kept): what checkpoints record
+  std::string method_note;  // how the method was chosen
 
   double wave_speed() const {
     const Material& m = scene.material;
@@ -84,6 +135,8 @@ Simulation::Simulation(const Scene& scene) : impl_(std::make_unique<Impl>()) {
     throw InputError(sc.source + ": solver.reduce = \"" + sc.solver.reduce +
                      "\" is not known; allowed: \"auto\", \"off\"");
   d.N = static_cast<std::size_t>(sc.rod.points);
+  d.given = sc;
+  resolve_method(sc, d.method_note);
   d.op = make_derivative_operator(sc.solver.space, d.N, sc.rod.length, sc.solver.dealias);
   d.rhs = std::make_unique<RodRHS>(sc.rod, sc.material, *d.op);
   d.reconstruct = sc.output.centerline || sc.output.directors;
@@ -188,6 +241,7 @@ RunSummary Simulation::run(const FrameHandler& on_frame, const ProgressHandler& 
   if (d.resume) planar = d.resume->reduced.empty() ? std::nullopt
                          : std::optional<Planar>(d.resume->reduced == "omega2" ? Planar::omega2 : Planar::omega1);
   summary.reduce_note = d.reduce_note;
+  summary.method_note = d.method_note;
   if (d.resume && planar != d.planar)
     summary.reduce_note = planar ? "reduced planar system (as in the checkpoint)"
                                  : "full system (as in the checkpoint: the run had left the reduced system)";
@@ -404,7 +458,7 @@ RunSummary Simulation::run(const FrameHandler& on_frame, const ProgressHandler& 
     if (progress) progress(t, t_end);
     if (j < frames && d.hooks.due && d.hooks.save && d.hooks.due()) {
       Checkpoint c;
-      c.scene = checkpoint_scene_text(sc);
+      c.scene = checkpoint_scene_text(d.given);
       c.method = sc.solver.time;
       c.integrator = integ->save_state();
       c.next_frame = j;

@@ -87,7 +87,8 @@ TEST(IoSceneReader, MinimalSceneGetsTheDocumentedDefaults) {
   EXPECT_EQ(sc.rod.Gamma0, def.rod.Gamma0);
   EXPECT_EQ(sc.material.C, def.material.C);
   EXPECT_EQ(sc.material.D, def.material.D);
-  EXPECT_EQ(sc.solver.space, "spectral");
+  EXPECT_EQ(sc.solver.space, "auto");  // resolved per scene by Simulation
+  EXPECT_EQ(sc.solver.time, "auto");
   EXPECT_EQ(sc.solver.time, def.solver.time);
   EXPECT_EQ(sc.solver.rtol, def.solver.rtol);
   EXPECT_EQ(sc.output.frames, def.output.frames);
@@ -190,7 +191,7 @@ TEST(IoSceneReader, OutOfRangeValues) {
   m = error_of(kMinimal + "[output]\nframes = 1\n");
   EXPECT_NE(m.find("output.frames"), std::string::npos) << m;
   m = error_of(kMinimal + "[solver]\nspace = \"spectrl\"\n");
-  EXPECT_NE(m.find("solver.space: found \"spectrl\"; allowed: one of \"fd4\", \"spectral\" (did you mean "
+  EXPECT_NE(m.find("solver.space: found \"spectrl\"; allowed: one of \"auto\", \"fd4\", \"spectral\" (did you mean "
                    "\"spectral\"?)"),
             std::string::npos)
       << m;

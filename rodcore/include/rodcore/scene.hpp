@@ -40,9 +40,9 @@ struct Initial {
 };
 
 struct SolverOptions {
-  std::string space = "spectral";  // "fd4" | "spectral"
-  bool dealias = false;            // spectral only: 2/3-rule filter on the derivative
-  std::string time = "dop853";     // "rk4" | "rk4-doubling" | "dopri5" | "dop853"
+  std::string space = "auto";  // "auto" | "fd4" | "spectral" (auto: resolved by Simulation)
+  bool dealias = false;        // spectral only: 2/3-rule filter on the derivative
+  std::string time = "auto";   // "auto" | "rk4" | "rk4-doubling" | "dopri5" | "dop853" (auto: dop853)
   double rtol = 1e-10;
   double atol = 1e-10;
   double dt = 1e-2;        // fixed step, or first step of adaptive schemes

@@ -47,6 +47,7 @@ struct RunSummary {
   std::string method;         // e.g. "spectral+dop853"
   bool reduced = false;       // the reduced planar system was used (to the end)
   std::string reduce_note;    // why the run is reduced or not (solver.reduce)
+  std::string method_note;    // how solver.space / solver.time were chosen ("auto" or as given)
 };
 
 class Simulation {
@@ -77,6 +78,7 @@ class Simulation {
   // not belong to this scene.
   void resume_from(const Checkpoint& checkpoint);
 
+  // The scene as run: solver.space and solver.time resolved from "auto".
   const Scene& scene() const;
   std::vector<double> grid() const;  // s_i
   const std::vector<double>& state() const;  // current 12*N state
