@@ -35,3 +35,13 @@ def refdata() -> Path:
 @pytest.fixture(scope="session")
 def bin_dir() -> Path:
     return BUILD / "bin"
+
+
+@pytest.fixture(scope="session")
+def rodsim(bin_dir) -> Path:
+    """The built `rodsim`. The test command builds it first, so a missing
+    binary is a failure (a skip would hide a broken build)."""
+    exe = bin_dir / "rodsim"
+    if not exe.is_file():
+        pytest.fail(f"{exe} not built: run scripts/build.sh (with the same DNAROD_BUILD)")
+    return exe

@@ -13,14 +13,6 @@ from mdbridge.analysis.dispersion import lab_speed_A_per_ps, omega_pm
 from workflows.report import steps
 
 
-@pytest.fixture(scope="module")
-def rodsim(bin_dir):
-    exe = bin_dir / "rodsim"
-    if not exe.is_file():
-        pytest.skip(f"{exe} not built (scripts/build.sh)")
-    return exe
-
-
 def run(rodsim, scene_text, tmp_path, name):
     scene = tmp_path / f"{name}.toml"
     scene.write_text(scene_text)

@@ -3,17 +3,8 @@ scene-reader fuzz target (fuzz/scene_reader_fuzz.cpp), checked through
 rodsim as a user meets them: a scene is either accepted (exit 0) or refused
 with exit 2 and a message naming the file and key -- never exit 1."""
 import subprocess
-from pathlib import Path
 
 import pytest
-
-
-@pytest.fixture(scope="module")
-def rodsim(bin_dir):
-    exe = bin_dir / "rodsim"
-    if not exe.is_file():
-        pytest.fail(f"{exe} not built: run scripts/build.sh (with the same DNAROD_BUILD)")
-    return exe
 
 
 @pytest.mark.parametrize("key,value", [("solver.dt", "1e-320"), ("solver.rtol", "4.9e-324"),

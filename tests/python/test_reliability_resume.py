@@ -27,14 +27,6 @@ CASES = {
 }
 
 
-@pytest.fixture(scope="module")
-def rodsim(bin_dir):
-    exe = bin_dir / "rodsim"
-    if not exe.is_file():
-        pytest.fail(f"{exe} not built: run scripts/build.sh (with the same DNAROD_BUILD)")
-    return exe
-
-
 def run(rodsim, *args):
     return subprocess.run([str(rodsim), *map(str, args)], capture_output=True, text=True, timeout=300)
 

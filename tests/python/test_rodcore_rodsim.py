@@ -18,14 +18,6 @@ ROOT = Path(__file__).resolve().parents[2]
 SCENES = ROOT / "workflows" / "scenes"
 
 
-@pytest.fixture(scope="module")
-def rodsim(bin_dir):
-    exe = bin_dir / "rodsim"
-    if not exe.exists():
-        pytest.skip(f"{exe} not built (run scripts/build.sh)")
-    return exe
-
-
 def run(rodsim, *args, **kw):
     return subprocess.run([str(rodsim), *map(str, args)], capture_output=True, text=True, timeout=120, **kw)
 

@@ -21,14 +21,6 @@ SCENES = ROOT / "bench" / "scenes"
 FIELDS = ("gamma", "omega", "Gamma", "Omega")
 
 
-@pytest.fixture(scope="module")
-def rodsim(bin_dir):
-    exe = bin_dir / "rodsim"
-    if not exe.is_file():
-        pytest.fail(f"{exe} not built: run scripts/build.sh (with the same DNAROD_BUILD)")
-    return exe
-
-
 def rodsim_run(rodsim, scene, out, sets):
     cmd = [str(rodsim), "run", str(scene), "-o", str(out), "--quiet"]
     for k, v in sets.items():

@@ -17,14 +17,6 @@ sys.path.insert(0, str(ROOT / "bench" / "stress"))
 import stability  # noqa: E402
 
 
-@pytest.fixture(scope="module")
-def rodsim(bin_dir):
-    exe = bin_dir / "rodsim"
-    if not exe.is_file():
-        pytest.fail(f"{exe} not built: run scripts/build.sh (with the same DNAROD_BUILD)")
-    return exe
-
-
 @pytest.mark.parametrize("space", ["fd4", "spectral"])
 def test_rk4_stability_boundary_is_the_exact_spectral_radius(rodsim, tmp_path, space):
     N, L = 32, 2 * math.pi
