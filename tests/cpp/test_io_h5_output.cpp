@@ -15,23 +15,12 @@
 #include "rodcore/error.hpp"
 #include "rodcore/h5_output.hpp"
 #include "rodcore/state.hpp"
+#include "temp_dir.hpp"
 
 namespace fs = std::filesystem;
 using namespace rodcore;
 
 namespace {
-
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    path = fs::temp_directory_path() /
-           ("rodcore_h5out_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) + "_" +
-            std::to_string(::getpid()));
-    fs::remove_all(path);
-    fs::create_directories(path);
-  }
-  ~TempDir() { fs::remove_all(path); }
-};
 
 Scene small_scene(bool everything) {
   Scene sc;

@@ -19,28 +19,12 @@
 #include "rodcore/initial_conditions.hpp"
 #include "rodcore/scene_reader.hpp"
 #include "rodcore/state.hpp"
+#include "temp_dir.hpp"
 
 namespace fs = std::filesystem;
 using namespace rodcore;
 
 namespace {
-
-// A fresh folder per test, removed afterwards.
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    path = fs::temp_directory_path() /
-           ("rodcore_io_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) + "_" +
-            std::to_string(::getpid()));
-    fs::remove_all(path);
-    fs::create_directories(path);
-  }
-  ~TempDir() { fs::remove_all(path); }
-  std::string write(const std::string& name, const std::string& text) const {
-    std::ofstream(path / name) << text;
-    return (path / name).string();
-  }
-};
 
 const std::string kMinimal = "[rod]\nlength = 6.0\npoints = 16\n";
 

@@ -18,23 +18,12 @@
 #include "rodcore/checkpoint.hpp"
 #include "rodcore/error.hpp"
 #include "rodcore/simulation.hpp"
+#include "temp_dir.hpp"
 
 namespace fs = std::filesystem;
 using namespace rodcore;
 
 namespace {
-
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    path = fs::temp_directory_path() /
-           ("rodcore_ckpt_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) + "_" +
-            std::to_string(::getpid()));
-    fs::remove_all(path);
-    fs::create_directories(path);
-  }
-  ~TempDir() { fs::remove_all(path); }
-};
 
 struct Stop {};  // thrown by the test's save hook to end the first half
 
