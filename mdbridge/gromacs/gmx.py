@@ -9,6 +9,7 @@ from __future__ import annotations
 import os
 import re
 import shutil
+import signal
 import subprocess
 import sys
 from pathlib import Path
@@ -51,6 +52,17 @@ def gmx_top_dir(gmx: str) -> Path:
         raise ExternalToolError(f"cannot find the data directory of {gmx} (`gmx --version` "
                                 "prints no 'Data prefix'); set GMXDATA")
     return Path(m.group(1)) / "share" / "gromacs" / "top"
+
+
+def exit_text(rc: int) -> str:
+    """How a process ended, for a message: "exit 1", or the signal that killed it
+    (subprocess gives -N for signal N; a bare "exit -11" hides a segmentation fault)."""
+    if rc >= 0:
+        return f"exit {rc}"
+    try:
+        return f"killed by signal {-rc}, {signal.Signals(-rc).name}: {signal.strsignal(-rc)}"
+    except ValueError:
+        return f"killed by signal {-rc}"
 
 
 def error_block(text: str, max_lines: int = 40) -> str:
@@ -98,7 +110,7 @@ def run_gmx(gmx: str, args: list[str], cwd: Path, *, stdin: str | None = None,
     log.write_text(f"$ {' '.join(cmd)}\n--- stdout\n{proc.stdout}\n--- stderr\n{proc.stderr}")
     if proc.returncode != 0:
         raise ExternalToolError(
-            f"`gmx {args[0]}` failed (exit {proc.returncode}) in {cwd}; full output in {log}:\n"
+            f"`gmx {args[0]}` failed ({exit_text(proc.returncode)}) in {cwd}; full output in {log}:\n"
             + error_block(proc.stderr + "\n" + proc.stdout))
     return proc
 
@@ -140,5 +152,5 @@ def run_gmx_with_progress(gmx: str, args: list[str], cwd: Path, *, total_steps: 
     text = "".join(chunks)
     log.write_text(f"$ {' '.join(cmd)}\n{text}")
     if rc != 0:
-        raise ExternalToolError(f"`gmx {args[0]}` failed (exit {rc}) in {cwd}; full output in "
+        raise ExternalToolError(f"`gmx {args[0]}` failed ({exit_text(rc)}) in {cwd}; full output in "
                                 f"{log}:\n" + error_block(text))

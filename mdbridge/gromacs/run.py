@@ -14,7 +14,7 @@ import sys
 import time
 from pathlib import Path
 
-from dna_models.errors import InputError
+from dna_models.errors import ExternalToolError, InputError
 
 from .gmx import find_gmx, gmx_version, run_gmx, run_gmx_with_progress
 from .mdp import read_mdp_value
@@ -35,6 +35,36 @@ def _set_keys(mdp_text: str, values: dict) -> str:
             out.append(ln)
     out += [f"{k:<23s} = {v}" for k, v in values.items() if k not in done]
     return "\n".join(out) + "\n"
+
+
+def mdrun_diagnosis(output: str, log: str) -> str:
+    """Why mdrun stopped, in GROMACS's own lines, for the error message.
+
+    A blown-up system often ends in a segmentation fault with no GROMACS error
+    block, so quote what shows the blow-up: the first LINCS warning (constraints
+    that could not be satisfied) and the last energies mdrun logged."""
+    out: list[str] = []
+    lincs = [i for i, ln in enumerate(output.splitlines()) if "LINCS WARNING" in ln]
+    if lincs:
+        lines = output.splitlines()
+        first = lines[lincs[0]:lincs[0] + 3]      # "Step n ... LINCS WARNING", deviation, rms/max
+        out.append(f"mdrun printed {len(lincs)} LINCS warning(s): the bond constraints could "
+                   "not be satisfied; the first:")
+        out += ["  " + ln for ln in first]
+    log_lines = log.splitlines()
+    starts = [i for i, ln in enumerate(log_lines) if re.match(r"\s+Step\s+Time\s*$", ln)]
+    if starts:
+        i = starts[-1]
+        j = i
+        while j < len(log_lines) and (j < i + 3 or log_lines[j].strip()):
+            j += 1
+        block = [ln for ln in log_lines[i:j] if ln.strip()]
+        out.append("last energies in md.part.log:")
+        out += ["  " + ln for ln in block]
+    out.append("The system blew up. Usual causes: atoms too close in the starting structure "
+               "(build-md warns about close contacts: rebuild with --minimize), or a time step "
+               "too large (--dt; with --constraints h-bonds at most 0.002 ps).")
+    return "\n".join(out)
 
 
 def run_md(directory: Path, *, ps: float | None = None, steps: int | None = None,
@@ -84,8 +114,14 @@ def run_md(directory: Path, *, ps: float | None = None, steps: int | None = None
     if threads:
         args += ["-nt", str(int(threads))]
     t0 = time.time()
-    run_gmx_with_progress(gmx_path, args, d, total_steps=steps, log_name="gmx_mdrun_md.log",
-                          stream=stream)
+    try:
+        run_gmx_with_progress(gmx_path, args, d, total_steps=steps, log_name="gmx_mdrun_md.log",
+                              stream=stream)
+    except ExternalToolError as e:
+        output = (d / "gmx_mdrun_md.log").read_text(errors="replace")
+        log = (d / "md.part.log").read_text(errors="replace") if (d / "md.part.log").exists() else ""
+        raise ExternalToolError(f"{e}\n{mdrun_diagnosis(output, log)}\nNo MD result was kept "
+                                f"(no md.done; partial files md.part.* in {d}).") from None
     wall = time.time() - t0
     for src, dst in PARTS.items():
         if (d / src).exists():
