@@ -1,0 +1,100 @@
+"""MD that fails must say so clearly and must never look finished (issue 8).
+
+The real chain through the command line: `dnarod build-md` of a sheared 21-bp
+duplex without --minimize, then `dnarod run-md`. The paper's dna_planar scene
+with a shear amplitude A_A = 8 A puts neighbouring base pairs ~2.4 A apart
+sideways; the rigid templates and pdb2gmx's hydrogens then overlap (an O3' of
+one nucleotide 0.24 A from the H5' of the next), which build-md reports, and
+mdrun blows up at step 0 (LJ energy ~1e12 kJ/mol). That the system is
+unphysical is independent of dnarod: GROMACS's own energies and LINCS say so.
+(A_A of 15 A or more is refused earlier by the builder's broken-chain check.)
+"""
+import json
+import re
+import subprocess
+from pathlib import Path
+
+import pytest
+
+from test_gromacs_build import gmx  # noqa: F401  (the shared "GROMACS installed" fixture)
+
+ROOT = Path(__file__).resolve().parents[2]
+FINISHED_LOOKING = ("md.xtc", "md.edr", "md.log", "confout.gro", "md.done", "checks.json")
+
+
+def dnarod(bin_dir, *args, cwd):
+    exe = bin_dir / "dnarod"
+    if not exe.is_file():
+        pytest.fail(f"{exe} not built: run scripts/build.sh (with the same DNAROD_BUILD)")
+    return subprocess.run([str(exe), *map(str, args)], cwd=cwd, capture_output=True, text=True,
+                          timeout=300)
+
+
+def sheared_build(bin_dir, tmp, *extra):
+    """dna21.toml with A_A = 8 A, built at 0 K without the restrained minimisation."""
+    scene = (ROOT / "workflows" / "scenes" / "dna21.toml").read_text()
+    assert "A_A = 0.0" in scene
+    (tmp / "sheared.toml").write_text(scene.replace("A_A = 0.0", "A_A = 8.0"))
+    b = dnarod(bin_dir, "build-md", "sheared.toml", "-o", "md", "--ps", "0.2", "--temperature",
+               "0", "--seed", "3", *extra, cwd=tmp)
+    assert b.returncode == 0, b.stderr
+    # the build itself warns: the clash is real, and not of dnarod's run-md making
+    assert "closer than 1.5 A" in b.stderr and "--minimize" in b.stderr
+    contact = json.loads((tmp / "md" / "build.json").read_text())["closest_nonbonded_contact"]
+    assert contact["min_distance_A"] < 1.0
+    return tmp / "md"
+
+
+def run_md_fails(bin_dir, d):
+    (d / "md.done").write_text("{}")                # a stale marker from an earlier run
+    r = dnarod(bin_dir, "run-md", "md", "--steps", "100", "--threads", "2", "--output-ps",
+               "0.05", cwd=d.parent)
+    assert r.returncode == 2, (r.returncode, r.stdout, r.stderr)
+    assert r.stderr.startswith("dnarod run-md: error: `gmx mdrun` failed"), r.stderr
+    assert "Traceback" not in r.stderr
+    # nothing that looks like a finished MD, and the stale marker is gone
+    for f in FINISHED_LOOKING:
+        assert not (d / f).exists(), f
+    assert "run-md: done" not in r.stdout
+    # the full GROMACS output is kept where the message says
+    assert "full output in md/gmx_mdrun_md.log" in r.stderr
+    assert (d / "gmx_mdrun_md.log").is_file()
+    assert "rebuild with --minimize" in r.stderr
+    return r.stderr
+
+
+def quoted_energy(err, name):
+    """A value from the energy table quoted in the message (names row, then values row)."""
+    lines = err.splitlines()
+    for i, ln in enumerate(lines):
+        cols = [ln[k:k + 15].strip() for k in range(2, len(ln), 15)]   # GROMACS: %15s columns
+        if name in cols:
+            vals = [lines[i + 1][k:k + 15] for k in range(2, len(lines[i + 1]), 15)]
+            return float(vals[cols.index(name)])
+    raise AssertionError(f"{name} not quoted in:\n{err}")
+
+
+def test_mdrun_blow_up_is_a_clear_error_and_never_looks_finished(gmx, bin_dir, tmp_path):
+    d = sheared_build(bin_dir, tmp_path)
+    err = run_md_fails(bin_dir, d)
+    # GROMACS's own lines: the step it stopped at and the energies it logged there
+    assert "last energies in md.part.log:" in err and "Energies (kJ/mol)" in err
+    step = re.search(r"Step\s+Time\n\s+(\d+)\s", err)
+    assert step and int(step.group(1)) < 100
+    # a duplex at 0 K has |LJ| of order 1e3-1e4 kJ/mol; 1e6 means overlapping atoms
+    assert quoted_energy(err, "LJ (SR)") > 1e6
+    # a signal death is named, not shown as a bare negative exit code
+    assert "exit -" not in err
+
+
+def test_lincs_warnings_are_named_in_the_error(gmx, bin_dir, tmp_path):
+    d = sheared_build(bin_dir, tmp_path, "--constraints", "h-bonds")
+    assert "constraints             = h-bonds" in (d / "md.mdp").read_text()
+    err = run_md_fails(bin_dir, d)
+    m = re.search(r"mdrun printed (\d+) LINCS warning\(s\)", err)
+    assert m and int(m.group(1)) >= 1, err
+    # the first LINCS WARNING quoted as GROMACS printed it, with its deviation: a relative
+    # constraint deviation above 1 means an H-bond more than twice its length
+    assert re.search(r"Step \d+, time \S+ \(ps\)\s+LINCS WARNING", err)
+    dev = re.search(r"relative constraint deviation after LINCS:\n\s*rms \S+, max (\S+)", err)
+    assert dev and float(dev.group(1)) > 1.0, err
