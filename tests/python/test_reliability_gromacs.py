@@ -98,3 +98,23 @@ def test_lincs_warnings_are_named_in_the_error(gmx, bin_dir, tmp_path):
     assert re.search(r"Step \d+, time \S+ \(ps\)\s+LINCS WARNING", err)
     dev = re.search(r"relative constraint deviation after LINCS:\n\s*rms \S+, max (\S+)", err)
     assert dev and float(dev.group(1)) > 1.0, err
+
+
+def test_absurd_time_step_is_refused_before_any_md(gmx, bin_dir, tmp_path):
+    """A 10 fs step never reaches mdrun: without constraints build-md refuses it (X-H
+    bonds), with h-bond constraints grompp does (heavy-atom bonds: period ~19 fs < 5 dt,
+    GROMACS's own rule), and the directory is then not a build run-md accepts."""
+    scene = ROOT / "workflows" / "scenes" / "dna21.toml"
+    r = dnarod(bin_dir, "build-md", scene, "-o", "plain", "--ps", "1", "--dt", "0.01",
+               cwd=tmp_path)
+    assert r.returncode == 2 and "--dt 0.01" in r.stderr and "dt <= 0.001 ps" in r.stderr
+    r = dnarod(bin_dir, "build-md", scene, "-o", "md", "--ps", "1", "--dt", "0.01",
+               "--constraints", "h-bonds", "--temperature", "0", "--seed", "3", cwd=tmp_path)
+    assert r.returncode == 2, r.stderr
+    assert "`gmx grompp` failed" in r.stderr and "oscillational period" in r.stderr
+    assert "time step of 1.0e-02 ps" in r.stderr and "Traceback" not in r.stderr
+    assert not (tmp_path / "md" / "build.json").exists()
+    r = dnarod(bin_dir, "run-md", "md", cwd=tmp_path)
+    assert r.returncode == 2 and "build.json missing" in r.stderr
+    for f in FINISHED_LOOKING:
+        assert not (tmp_path / "md" / f).exists(), f
