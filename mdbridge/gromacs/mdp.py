@@ -55,7 +55,10 @@ def render_md(s: MdSettings) -> str:
         f"nsteps                  = {s.nsteps}",
         "; velocities come from conf.gro (thermal + rod rigid-body field); never regenerate",
         "gen-vel                 = no",
-        "continuation            = yes",
+        # With constraints, let mdrun constrain the start: the built X-H lengths and the
+        # velocities along X-H bonds are removed (the thermal part keeps ~T on the
+        # remaining degrees of freedom); without it the first steps dump that energy.
+        f"continuation            = {'yes' if s.constraints == 'none' else 'no'}",
         f"constraints             = {s.constraints}",
         "constraint-algorithm    = lincs",
         "; centre-of-mass translation removed (GROMACS warns that rounding otherwise builds",
