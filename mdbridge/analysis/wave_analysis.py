@@ -41,7 +41,10 @@ def initial_plane_direction(u_perp: np.ndarray, times: np.ndarray, n_early: int 
     coef = np.linalg.lstsq(X, u_perp[:K].reshape(K, -1), rcond=None)[0]
     u0, v = coef[0].reshape(-1, 3), coef[1].reshape(-1, 3) * (tt[-1] if K > 1 else 0.0)
     field = u0 if np.linalg.norm(u0) >= np.linalg.norm(v) else v
-    return np.linalg.svd(field, full_matrices=False)[2][0]
+    e_in = np.linalg.svd(field, full_matrices=False)[2][0]
+    # The SVD's sign is arbitrary; fix it (largest lab component positive) so that rod
+    # and MD of the same scene get the same e_in and their u_in can be compared by sign.
+    return e_in if e_in[np.argmax(np.abs(e_in))] > 0 else -e_in
 
 
 class WaveAnalysis:
