@@ -1,0 +1,16 @@
+#!/usr/bin/env bash
+# The main job (README Quickstart, first command): install, build, then the
+# scripted rod-vs-MD comparison of the paper's 158-bp DNA scene.
+#   bash scripts/run.sh                      # default config, report in out/compare
+#   bash scripts/run.sh --config workflows/config/paper.yaml --out out/paper
+# Extra arguments go to `dnarod compare`.
+set -euo pipefail
+source "$(dirname "$0")/env.sh"
+bash "$DNAROD_ROOT/scripts/setup.sh"
+bash "$DNAROD_ROOT/scripts/build.sh"
+cd "$DNAROD_ROOT"
+args=("$@")
+case " ${args[*]-} " in *" --out "*) ;; *) args+=(--out out/compare) ;; esac
+case " ${args[*]-} " in *" --cores "*) ;; *) args+=(--cores "$(nproc)") ;; esac
+"$DNAROD_BUILD/bin/dnarod" compare "${args[@]}"
+echo "Report: $DNAROD_ROOT/out/compare/report/index.html (or the --out you gave)"
