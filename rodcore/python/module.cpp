@@ -414,7 +414,7 @@ The GIL is released while integrating.)");
              return w;
            }),
            py::arg("A") = 0.5, py::arg("k") = 2.0, py::arg("Gamma03") = 1.0, py::arg("Omega03") = 1.0,
-           py::arg("D1") = 1.21, py::arg("kappa_branch") = "p", py::arg("omega_branch") = 1)
+           py::arg("D1") = dna_units::D_star[0], py::arg("kappa_branch") = "p", py::arg("omega_branch") = 1)
       .def_readwrite("A", &analytic::TwistedWave::A)
       .def_readwrite("k", &analytic::TwistedWave::k)
       .def_readwrite("Gamma03", &analytic::TwistedWave::Gamma03)
@@ -436,8 +436,8 @@ The GIL is released while integrating.)");
              w.eps = eps, w.k = k, w.Gamma03 = Gamma03, w.D1 = D1, w.C3 = C3, w.omega_branch = omega_branch;
              return w;
            }),
-           py::arg("eps") = 0.1, py::arg("k") = 2.0, py::arg("Gamma03") = 1.0, py::arg("D1") = 1.21,
-           py::arg("C3") = 1.19, py::arg("omega_branch") = 1)
+           py::arg("eps") = 0.1, py::arg("k") = 2.0, py::arg("Gamma03") = 1.0, py::arg("D1") = dna_units::D_star[0],
+           py::arg("C3") = dna_units::C_star[2], py::arg("omega_branch") = 1)
       .def_readwrite("eps", &analytic::UntwistedWave::eps)
       .def_readwrite("k", &analytic::UntwistedWave::k)
       .def_readwrite("Gamma03", &analytic::UntwistedWave::Gamma03)

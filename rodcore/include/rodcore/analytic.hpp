@@ -7,6 +7,8 @@
 #include <array>
 #include <string>
 
+#include "rodcore/dna_units.hpp"  // default material (D1, C3) from dna_models
+
 namespace rodcore::analytic {
 
 using Fields = std::array<double, 12>;
@@ -36,7 +38,7 @@ struct TwistedWave {
   double k = 2.0;        // wavenumber
   double Gamma03 = 1.0;
   double Omega03 = 1.0;
-  double D1 = 1.21;
+  double D1 = dna_units::D_star[0];
   std::string kappa_branch = "p";  // "p": kappa = k + Omega03, "m": k - Omega03
   int omega_branch = +1;           // +1: w_+, -1: w_-
 
@@ -63,8 +65,8 @@ struct UntwistedWave {
   double eps = 0.1;
   double k = 2.0;
   double Gamma03 = 1.0;
-  double D1 = 1.21;
-  double C3 = 1.19;
+  double D1 = dna_units::D_star[0];
+  double C3 = dna_units::C_star[2];
   int omega_branch = +1;
 
   double w() const;  // Eq 39

@@ -7,14 +7,15 @@
 #include <string>
 #include <vector>
 
+#include "rodcore/dna_units.hpp"  // generated from dna_models (the one source of the defaults)
 #include "rodcore/state.hpp"
 
 namespace rodcore {
 
 struct Material {  // dimensionless diagonals (Eqs 7-9, 15); default: the paper's DNA
-  Vec3 C{1.0, 1.0, 1.19};
-  Vec3 D{1.21, 1.21, 1.21 * 1.67};
-  Vec3 I{1.0, 1.0, 2.0};
+  Vec3 C{dna_units::C_star[0], dna_units::C_star[1], dna_units::C_star[2]};
+  Vec3 D{dna_units::D_star[0], dna_units::D_star[1], dna_units::D_star[2]};
+  Vec3 I{dna_units::I_star[0], dna_units::I_star[1], dna_units::I_star[2]};
 };
 
 struct Rod {
