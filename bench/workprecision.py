@@ -98,7 +98,12 @@ def run_baseline(initial_h5, space, rtol, t_end, out, repeat=1):
 
 # ----------------------------------------------------------------- truths
 def twisted_wave_exact(s, t, L, mode, A, Gamma03, Omega03, D1):
-    """Eq 24 in the checked form of notes-numerics.md (kappa_p branch, w_+); rows gamma1..Omega3."""
+    """Eq 24 in the checked form of docs/numerics.md (kappa_p branch, w_+); rows gamma1..Omega3.
+
+    Deliberately a second, independent implementation of Eq 24 and of its frequency
+    (Eq 26): rodsim's twisted_wave initial state is rodcore.analytic's, so checking
+    rodsim and bench/baseline_numpy.py against that same code would prove nothing
+    (tests/python/test_stress_baseline_crosscheck.py)."""
     k = 2 * math.pi * mode / L
     kappa, sigma = k + Omega03, -1.0
     w = 0.5 * (math.sqrt(kappa**2 * (math.sqrt(D1) + 1) ** 2 + Gamma03**2)

@@ -13,3 +13,8 @@ class InputError(DnarodError):
 
 class ExternalToolError(DnarodError):
     """An external program (gmx) failed; the message quotes its relevant lines."""
+
+
+class NumericalError(DnarodError, FloatingPointError):
+    """The rod solver stopped on bad numbers (NaN, energy drift, a folded rod, step-size
+    underflow). Also a FloatingPointError, like rodcore.NumericalError it comes from."""

@@ -25,11 +25,9 @@ import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 
-from .units import Units
+from .units import ANGSTROM, BOLTZMANN, Units
 
 DATA = Path(__file__).resolve().parent / "data"
-BOLTZMANN = 1.380649e-23      # J/K (exact, SI 2019)
-ANGSTROM = 1e-10
 
 
 @dataclass(frozen=True)

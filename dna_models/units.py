@@ -18,6 +18,15 @@ DATA = Path(__file__).resolve().parent / "data" / "dna_elastic_constants.toml"
 
 ANGSTROM = 1e-10  # m
 PICOSECOND = 1e-12  # s
+ANGSTROM_PER_NM = 10.0  # GROMACS lengths are nm, dnarod's Angstrom
+BOLTZMANN = 1.380649e-23  # J/K (exact, SI 2019)
+AVOGADRO = 6.02214076e23  # 1/mol (exact, SI 2019)
+BOLTZMANN_KJ_PER_MOL_K = BOLTZMANN * AVOGADRO / 1000.0  # GROMACS's k_B (R), kJ/(mol K)
+
+
+def persistence_length_nm(D_J_m: float, temperature_K: float) -> float:
+    """Bend persistence length D / (k_B T) [nm] of a bend stiffness D [J m]."""
+    return D_J_m / (BOLTZMANN * temperature_K) * 1e9
 
 
 @dataclass(frozen=True)

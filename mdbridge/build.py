@@ -7,8 +7,9 @@
 """
 from mdbridge.builder.chemistry import ChemistryReport, check_chemistry
 from mdbridge.builder.duplex import base_frames, build_duplex
-from mdbridge.builder.frames import frames_from_steps, ideal_frames
+from mdbridge.builder.frames import ideal_frames
 from mdbridge.builder.structure import Structure
+from mdbridge.geometry.steps import frames_from_steps
 from mdbridge.pdbio import read_pdb, write_pdb
 
 __all__ = ["ChemistryReport", "Structure", "base_frames", "build_duplex", "check_chemistry",

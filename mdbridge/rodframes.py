@@ -1,4 +1,4 @@
-"""Rod <-> base-pair frames (design.md, "Discrete <-> continuous").
+"""Rod <-> base-pair frames (docs/contracts.md, "Discrete <-> continuous").
 
 Rod -> base pairs: base pair i (i = 0 .. n_bp - 1) sits at the fiducial
 arclength s_i = i L / n_bp; its frame is the rod's directors there
@@ -56,24 +56,6 @@ def bp_frames_from_rod(centerline, directors, n_bp, ell_A=None):
     ell = Units.paper().ell_A if ell_A is None else float(ell_A)
     stride = N // n_bp
     return D[..., ::stride, :, :], r[..., ::stride, :] * ell
-
-
-def read_rod_frames(path, n_bp):
-    """(R (T, n_bp, 3, 3), origins (T, n_bp, 3) [A], time (T)) from a rodsim HDF5
-    file written with centerline and directors (attribute ell_A for the length scale)."""
-    import h5py
-    try:
-        with h5py.File(path, "r") as f:
-            for key in ("centerline", "directors"):
-                if key not in f:
-                    raise InputError(f"{path}: dataset '{key}' missing (run rodsim with output fields "
-                                     "'centerline' and 'directors')")
-            ell = float(f.attrs["ell_A"]) if "ell_A" in f.attrs else None
-            R, o = bp_frames_from_rod(f["centerline"][()], f["directors"][()], n_bp, ell)
-            t = f["time"][()] if "time" in f else np.arange(R.shape[0], dtype=float)
-    except OSError as e:
-        raise InputError(f"{path}: cannot read HDF5 ({e})") from None
-    return R, o, t
 
 
 def rod_step_parameters(centerline, directors, n_bp, ell_A=None):

@@ -36,9 +36,11 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent))
 import baseline_numpy  # noqa: E402  (the independent RHS)
+from dna_models.units import Units  # noqa: E402
 
 FIELDS = ("gamma", "omega", "Gamma", "Omega")
-PAPER_MATERIAL = dict(C=(1.0, 1.0, 1.19), D=(1.21, 1.21, 1.21 * 1.67), I=(1.0, 1.0, 2.0))
+_U = Units.paper()   # the paper's dimensionless material, from its one source (dna_models)
+PAPER_MATERIAL = dict(C=_U.C_star, D=_U.D_star, I=_U.I_star)
 
 
 def rest_state(N, Gamma0, Omega0):

@@ -17,38 +17,25 @@ branch, omega_+ the shear branch. Here kappa is per unit FIDUCIAL arclength; the
 laboratory length of the rod is Gamma03 L, so a speed along the laboratory axis is
 Gamma03 omega / kappa (in l / tau).
 
-The formula's home is rodcore/src/analytic.cpp (`analytic::dispersion`). When the compiled
-module exposes it (`rodcore.analytic.dispersion(kappa, D1, Gamma03, +1|-1)`) it is used;
-otherwise this is the project's only Python copy (workflows/paper/theory.py uses it too).
+The formula's one home is rodcore/src/analytic.cpp (`analytic::dispersion`); Python calls
+it through the compiled module (`rodcore.analytic.dispersion(kappa, D1, Gamma03, +1|-1)`).
 """
 from __future__ import annotations
 
 import numpy as np
 
-from dna_models.units import Units
+from dna_models.units import Units, persistence_length_nm
 
 
 def omega_pm(kappa, D1: float, Gamma03: float, branch: str = "minus"):
-    """Eq (39)/(26): frequency of the bend-shear branch `branch` ('plus' or 'minus')."""
+    """Eq (39)/(26): frequency of the bend-shear branch `branch` ('plus' or 'minus'),
+    element-wise over kappa, by the C++ closed form rodcore.analytic.dispersion."""
     if branch not in ("plus", "minus"):
         raise ValueError(f"branch must be 'plus' or 'minus', got {branch!r}")
-    try:  # prefer the C++ implementation when it is there
-        import rodcore  # type: ignore
-        f = getattr(getattr(rodcore, "analytic", None), "dispersion", None)
-        if f is not None:
-            sign = 1 if branch == "plus" else -1
-            return np.vectorize(lambda q: f(float(q), float(D1), float(Gamma03), sign))(kappa) * 1.0
-    except ImportError:
-        pass
-    kappa = np.asarray(kappa, float)
-    sD = np.sqrt(D1)
-    a = np.sqrt(kappa ** 2 * (sD + 1) ** 2 + Gamma03 ** 2)
-    b = np.sqrt(kappa ** 2 * (sD - 1) ** 2 + Gamma03 ** 2)
-    if branch == "plus":
-        return 0.5 * (a + b)
-    if branch == "minus":
-        return 0.5 * (a - b)
-    raise ValueError(f"branch must be 'plus' or 'minus', got {branch!r}")
+    from mdbridge.rodrun import analytic
+    f = analytic().dispersion
+    sign = 1 if branch == "plus" else -1
+    return np.vectorize(lambda q: f(float(q), float(D1), float(Gamma03), sign), otypes=[float])(kappa) * 1.0
 
 
 def lab_speed_A_per_ps(length_fiducial: float, D1: float, Gamma03: float, branch="minus",
@@ -75,6 +62,5 @@ def bend_modulus_for_speed(speed_A_per_ps: float, length_fiducial: float, Gamma0
         return {"D1_star": float("nan"), "reason": "speed outside the bend branch's range"}
     D1 = brentq(f, lo, hi, xtol=1e-12)
     D = D1 * u.I * u.C / u.rho
-    kT = 1.380649e-23 * 300.0
     return {"D1_star": D1, "D_J_m": D, "D_over_paper": D1 / u.D_star[0],
-            "persistence_length_nm_300K": D / kT * 1e9}
+            "persistence_length_nm_300K": persistence_length_nm(D, 300.0)}

@@ -5,7 +5,7 @@ speed of Eq (39) (0.34 A/ps for 158 bp): a closed, periodic rod cannot lengthen 
 period, so a transverse displacement stretches it, and that tension adds a string-like
 restoring force (speed^2 ~ c_bend^2 + C3 (k a)^2 / 4 in the paper's units). So the
 modulus is fitted with the full nonlinear rod at the same amplitude, not with Eq (39):
-the scene is run through `rodcore.run` with D1 = D2 = f D1*, D3 = f D3* and the same
+the scene is run through mdbridge.rodrun.run_scene with D1 = D2 = f D1*, D3 = f D3* and the same
 analysis (WaveAnalysis) measures the speed; f is found by Brent's method on log f.
 `dispersion.bend_modulus_for_speed` gives the small-amplitude (Eq 39) answer for
 comparison.
@@ -35,12 +35,11 @@ def _material(which: str, scale: float, u: Units) -> str:
 
 def rod_speed(scene, n_bp: int, scale: float, which: str = "bend", units: Units | None = None) -> float:
     """Wave speed [A/ps] of the scene's rod with one modulus scaled by `scale`."""
-    import rodcore  # type: ignore
+    from mdbridge.rodrun import run_scene
     u = units or Units.paper()
-    out = rodcore.run(scene, set=[_material(which, scale, u),
-                                  'output.fields=["internal", "centerline", "directors"]'])
-    traj = BasePairTrajectory.from_rod_arrays(out["time"], out["s"], out["centerline"], out["directors"],
-                                              out["fields"]["Gamma"], n_bp, u)
+    run = run_scene(scene, source=str(scene),
+                    set=[_material(which, scale, u), 'output.fields=["internal", "centerline", "directors"]'])
+    traj = BasePairTrajectory.from_rod(run, n_bp, u)
     return float(WaveAnalysis(traj, n_boot=0).run().results.wave["speed_A_per_ps"])
 
 
@@ -76,8 +75,8 @@ def fit_modulus(scene, n_bp: int, target_speed_A_per_ps: float, which: str = "be
            "evaluations": [(float(a), float(b)) for a, b in evals],
            "method": "nonlinear rod (rodcore.run) at the scene's amplitude, Brent on log(scale)"}
     if which == "bend":
-        kT = 1.380649e-23 * 300.0
-        out.update(D_J_m=f * u.D, paper_D_J_m=u.D, persistence_length_nm_300K=f * u.D / kT * 1e9)
+        out.update(D_J_m=f * u.D, paper_D_J_m=u.D,
+                   persistence_length_nm_300K=u.persistence_length_nm(f * u.D, 300.0))
     else:
         out.update(stretch_modulus_pN=f * u.C_star[2] * u.C * 1e12,
                    paper_stretch_modulus_pN=u.C_star[2] * u.C * 1e12)

@@ -1,21 +1,19 @@
-"""Optimal superposition (Kabsch) of one curve onto another and the RMSD after it."""
+"""Optimal superposition (Kabsch) of one curve onto another and the RMSD after it.
+
+The fit itself is mdbridge.geometry.basefit.fit_frames (the project's one
+least-squares rigid fit, also used for the base frames); this adds the curve
+vocabulary (rmsd, R, t)."""
 from __future__ import annotations
 
 import numpy as np
+
+from mdbridge.geometry.basefit import fit_frames
 
 
 def kabsch_rmsd(P: np.ndarray, Q: np.ndarray):
     """RMSD [same units] of points P (n, 3) optimally rotated and translated onto Q (n, 3).
 
-    Returns (rmsd, R, t) with Q ~ P @ R.T + t. The determinant correction keeps R a proper
-    rotation (no reflection).
+    Returns (rmsd, R, t) with Q ~ P @ R.T + t. R is a proper rotation (no reflection).
     """
-    P, Q = np.asarray(P, float), np.asarray(Q, float)
-    pc, qc = P.mean(axis=0), Q.mean(axis=0)
-    H = (P - pc).T @ (Q - qc)
-    U, _, Vt = np.linalg.svd(H)
-    d = np.sign(np.linalg.det(Vt.T @ U.T))
-    R = Vt.T @ np.diag([1.0, 1.0, d]) @ U.T
-    t = qc - pc @ R.T
-    diff = P @ R.T + t - Q
-    return float(np.sqrt(np.mean(np.sum(diff ** 2, axis=1)))), R, t
+    R, t, rmsd = fit_frames(np.asarray(P, float), np.asarray(Q, float), method="svd")
+    return float(rmsd), R, t

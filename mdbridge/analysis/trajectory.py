@@ -81,38 +81,30 @@ class BasePairTrajectory:
                    source, meta or {})
 
     @classmethod
-    def from_rod_arrays(cls, time, s, centerline, directors, Gamma, n_bp, units: Units | None = None,
-                        source="rod"):
-        """Rod output in solver units -> base pairs at s_i = i L / n_bp, in A and ps.
+    def from_rod(cls, run, n_bp: int, units: Units | None = None):
+        """A rod run (mdbridge.rodrun.RodRun, solver units) -> base pairs at s_i = i L / n_bp,
+        in A and ps.
 
         The period vector is P = int_0^L T(s) Gamma(s) ds (Eq 1: dr/ds = T Gamma), by the
         periodic trapezoid rule, which is spectrally accurate for a smooth periodic rod.
         """
-        u = units or Units.paper()
-        time, s = np.asarray(time, float), np.asarray(s, float)
-        centerline, directors, Gamma = (np.asarray(a, float) for a in (centerline, directors, Gamma))
         from mdbridge.rodframes import bp_frames_from_rod  # base pair i at s_i = i L / n_bp
-        N = len(s)
-        R, origins = bp_frames_from_rod(centerline, directors, n_bp, u.ell_A)
+        u = units or Units.paper()
+        run.require("time", "s", "centerline", "directors", "fields/Gamma")
+        R, origins = bp_frames_from_rod(run.centerline, run.directors, n_bp, u.ell_A)
+        s = np.asarray(run.s, float)
         ds = s[1] - s[0]
-        P = np.einsum("tixk,tik->tx", directors, Gamma) * ds
-        return cls(u.time_to_ps(time), origins, R, u.length_to_A(P), source,
-                   {"kind": "rod", "L": ds * N, "N": N, "n_bp": n_bp})
+        P = np.einsum("tixk,tik->tx", np.asarray(run.directors, float),
+                      np.asarray(run.fields["Gamma"], float)) * ds
+        return cls(u.time_to_ps(np.asarray(run.time, float)), origins, R, u.length_to_A(P),
+                   run.source, {"kind": "rod", "L": ds * len(s), "N": len(s), "n_bp": n_bp})
 
     @classmethod
     def from_rod_h5(cls, path, n_bp: int, units: Units | None = None):
-        """A rodsim output file (design.md: time, s, fields/Gamma, centerline, directors)."""
-        import h5py
-        try:
-            with h5py.File(path, "r") as f:
-                missing = [k for k in ("time", "s", "centerline", "directors", "fields/Gamma") if k not in f]
-                if missing:
-                    raise InputError(f"{path}: missing dataset(s) {missing}; the scene must ask for "
-                                     "output.centerline, output.directors and output.internal")
-                return cls.from_rod_arrays(f["time"][:], f["s"][:], f["centerline"][:], f["directors"][:],
-                                           f["fields/Gamma"][:], n_bp, units, source=str(path))
-        except OSError as e:
-            raise InputError(f"{path}: cannot read as HDF5 ({e})") from None
+        """A rodsim output file (docs/contracts.md: time, s, fields/Gamma, centerline,
+        directors), read by mdbridge.rodrun.RodRun.read."""
+        from mdbridge.rodrun import RodRun
+        return cls.from_rod(RodRun.read(path), n_bp, units)
 
     @classmethod
     def from_universe(cls, universe, pairs=None, start=None, stop=None, step=None):

@@ -10,7 +10,7 @@ heavy-atom duplex holding every base in an interior position, run
 frame. The terminal H5T/H3T (linear strands only) are not templated: they
 depend on the termini pdb2gmx is asked for.
 
-Regenerate with:  /usr/bin/python3 -m mdbridge.builder.hydrogens [--gmx gmx]
+Regenerate with:  /usr/bin/python3 -m mdbridge.builder.hydrogens [--gmx PATH]
 (tests/python/test_builder_hydrogens.py checks the stored file against a
 fresh pdb2gmx run on a different structure).
 """
@@ -19,8 +19,6 @@ from __future__ import annotations
 import argparse
 import json
 import re
-import shutil
-import subprocess
 import tempfile
 from pathlib import Path
 
@@ -32,24 +30,20 @@ from dna_models.errors import ExternalToolError
 PROBE_SEQUENCE = "GACGTCAG"
 
 
-def run_pdb2gmx_ignh(pdb: Path, workdir: Path, gmx: str = "gmx") -> Path:
+def run_pdb2gmx_ignh(pdb: Path, workdir: Path, gmx: str | None = None) -> Path:
     """Run pdb2gmx -ignh on a heavy-atom linear duplex (5'/3' DNA termini) and
-    return the PDB it writes (hydrogens added, A, 3 decimals)."""
-    exe = shutil.which(gmx)
-    if exe is None:
-        raise ExternalToolError(f"{gmx}: not found; install the Debian package gromacs "
-                                "or give the path of your gmx")
+    return the PDB it writes (hydrogens added, A, 3 decimals). gmx: as
+    mdbridge.gromacs.gmx.find_gmx (the given path, else $DNAROD_GMX, else PATH)."""
+    from mdbridge.gromacs.gmx import find_gmx, run_gmx
     out = workdir / "with_h.pdb"
     # charmm27 lists the protein termini first: start 2 = 5', end 4 = 3'
-    r = subprocess.run([exe, "pdb2gmx", "-f", str(pdb), "-o", str(out), "-p",
-                        str(workdir / "topol.top"), "-ff", "charmm27", "-water", "none",
-                        "-ter", "-ignh"], input="2\n4\n2\n4\n", cwd=workdir,
-                       capture_output=True, text=True, timeout=300)
+    r = run_gmx(find_gmx(gmx), ["pdb2gmx", "-f", str(pdb), "-o", str(out), "-p",
+                                str(workdir / "topol.top"), "-ff", "charmm27", "-water", "none",
+                                "-ter", "-ignh"], workdir, stdin="2\n4\n2\n4\n", timeout_s=300)
     log = r.stdout + r.stderr
-    if r.returncode != 0 or len(re.findall(r"Start terminus D[ACGT]-\d+: 5'", log)) != 2 \
+    if len(re.findall(r"Start terminus D[ACGT]-\d+: 5'", log)) != 2 \
             or len(re.findall(r"End terminus D[ACGT]-\d+: 3'", log)) != 2:
-        raise ExternalToolError("gmx pdb2gmx failed (or chose other termini than 5'/3'):\n"
-                                + log[-2000:])
+        raise ExternalToolError("gmx pdb2gmx chose other termini than 5'/3':\n" + log[-2000:])
     return out
 
 
@@ -72,9 +66,9 @@ def hydrogens_in_base_frames(structure, with_h: dict) -> dict:
     return out
 
 
-def generate(gmx: str = "gmx") -> dict:
+def generate(gmx: str | None = None) -> dict:
     from mdbridge.build import build_duplex, ideal_frames, read_pdb, write_pdb
-    o, R = ideal_frames(len(PROBE_SEQUENCE))
+    R, o = ideal_frames(len(PROBE_SEQUENCE))
     s = build_duplex(PROBE_SEQUENCE, o, R)
     with tempfile.TemporaryDirectory() as tmp:
         tmp = Path(tmp)
@@ -93,7 +87,7 @@ def main(argv=None):
     from mdbridge.builder.templates import H_DATA
     p = argparse.ArgumentParser(description=__doc__,
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("--gmx", default="gmx")
+    p.add_argument("--gmx", default=None, help="gmx executable (else $DNAROD_GMX, else PATH)")
     p.add_argument("-o", "--output", default=str(H_DATA))
     args = p.parse_args(argv)
     Path(args.output).write_text(json.dumps(generate(args.gmx), indent=1) + "\n")

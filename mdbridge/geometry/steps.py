@@ -36,6 +36,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from dna_models.errors import InputError
+
 from .rotations import axis_angle_matrix, rot_y, rot_z, transpose
 
 STEP_NAMES = ("shift", "slide", "rise", "tilt", "roll", "twist")
@@ -162,6 +164,11 @@ def frames_from_steps(params, R0=None, o0=None):
     steps only, which are sequential by nature.
     """
     p = np.asarray(params, dtype=float)
+    if p.ndim < 2 or p.shape[-1] != 6:
+        raise InputError(f"step parameters: need (..., n_steps, 6) (shift, slide, rise, tilt, roll, "
+                         f"twist), got shape {p.shape}")
+    if not np.all(np.isfinite(p)):
+        raise InputError("step parameters contain NaN/Inf")
     lead = p.shape[:-2]
     n = p.shape[-2]
     R_rel, o_rel, _ = step_transform(p)

@@ -20,7 +20,8 @@ from pathlib import Path
 import numpy as np
 
 from dna_models.errors import DnarodError, InputError
-from dna_models.units import Units
+from dna_models.units import ANGSTROM_PER_NM, Units
+from mdbridge.jsonio import write_json
 
 from . import charges, posres
 from .box import BoxPlan
@@ -33,7 +34,7 @@ from .topology import parse_itp, run_pdb2gmx, write_pdb2gmx_input
 from .velocities import (base_pair_of_residue, kinetic_temperature, rigid_body_velocities,
                          thermal_velocities)
 
-NM = 10.0  # Angstrom per nm
+NM = ANGSTROM_PER_NM  # Angstrom per nm (dna_models.units)
 
 
 @dataclass
@@ -50,24 +51,24 @@ class RodInitial:
         return len(self.origins_A)
 
 
-def rod_initial_from_arrays(time, s, centerline, directors, gamma, omega, Gamma, n_bp: int,
-                            units: Units | None = None):
-    """RodInitial (t = 0) and the centerline over the whole run in A (T, N, 3), from rod
-    output in solver units (time (T), s (N), centerline (T,N,3), directors (T,N,3,3) with
-    last index k of d_k, fields (T,N,3) internal frame). Base pair i sits on grid point
-    i N / n_bp (as mdbridge.analysis does), so no interpolation is involved."""
+def rod_initial_from_run(run, n_bp: int, units: Units | None = None):
+    """RodInitial (t = 0) and the centerline over the whole run in A (T, N, 3), from a
+    rod run (mdbridge.rodrun.RodRun, solver units, fields in the internal frame,
+    directors[t, i, :, k] = d_k). Base pair i sits on grid point i N / n_bp (as
+    mdbridge.analysis does), so no interpolation is involved."""
     from mdbridge.analysis.trajectory import BasePairTrajectory
     u = units or Units.paper()
-    traj = BasePairTrajectory.from_rod_arrays(time, s, centerline, directors, Gamma, n_bp, u)
-    every = len(s) // n_bp
-    D0 = np.asarray(directors, float)[0, ::every]            # (n, 3, 3), columns d_k
-    g = np.einsum("nik,nk->ni", D0, np.asarray(gamma, float)[0, ::every])
-    w = np.einsum("nik,nk->ni", D0, np.asarray(omega, float)[0, ::every])
+    run.require("fields/gamma", "fields/omega")
+    traj = BasePairTrajectory.from_rod(run, n_bp, u)
+    every = len(run.s) // n_bp
+    D0 = np.asarray(run.directors, float)[0, ::every]            # (n, 3, 3), columns d_k
+    g = np.einsum("nik,nk->ni", D0, np.asarray(run.fields["gamma"], float)[0, ::every])
+    w = np.einsum("nik,nk->ni", D0, np.asarray(run.fields["omega"], float)[0, ::every])
     rod = RodInitial(origins_A=traj.origins[0], R=traj.R[0],
                      gamma_lab_A_ps=u.velocity_to_A_per_ps(g),
                      omega_lab_rad_ps=u.angular_velocity_to_rad_per_ps(w),
                      closure_length_A=float(np.linalg.norm(traj.period[0])))
-    return rod, u.length_to_A(np.asarray(centerline, float))
+    return rod, u.length_to_A(np.asarray(run.centerline, float))
 
 
 def structure_chains(structure, shift_A) -> list[dict]:
@@ -278,7 +279,7 @@ def build_inputs(outdir: Path, structure, rod: RodInitial, box: BoxPlan, *, sequ
                  + ["md.mdp", "em.mdp", "build.json"],
     }
     info.update(meta or {})
-    (outdir / "build.json").write_text(json.dumps(info, indent=1, default=_json_default))
+    write_json(outdir / "build.json", info)
     return info
 
 
@@ -298,11 +299,3 @@ def _em_summary(log: Path) -> dict:
     if m:
         out["final_potential_kJ_mol"] = float(m.group(1))
     return out
-
-
-def _json_default(o):
-    if isinstance(o, np.ndarray):
-        return o.tolist()
-    if isinstance(o, (np.floating, np.integer)):
-        return o.item()
-    raise TypeError(f"not JSON serialisable: {type(o)}")

@@ -1,51 +1,25 @@
-"""The rod side of an MD build: run the scene through rodcore for the MD's length.
+"""The rod side of an MD build: the rod run that sizes the box and gives t = 0.
 
 The same run gives (a) the rod's state at t = 0 (base-pair frames and the
 rigid-body velocities of the cross-sections) and (b) the rod's own prediction
 of how far the centerline will wander across the helix axis during the MD,
-which sizes the box (box.py)."""
+which sizes the box (box.py). `dnarod build-md` takes that run either from a
+rod output file the workflow already made (`--rod ROD.h5`: `rod_for_md`) or runs
+the scene for the MD's length (`md_scene`, through mdbridge.rodrun.run_scene)."""
 from __future__ import annotations
 
 import copy
 import math
-import tomllib
-from pathlib import Path
 
-from dna_models.errors import DnarodError, InputError
+from dna_models.errors import InputError
 from dna_models.units import Units
+from mdbridge.rodrun import RodRun, scene_bp_turns
 
 ROD_FRAMES = 101   # output frames of the sizing run: enough to catch the largest excursion
 
 
-def load_scene(path: Path) -> dict:
-    path = Path(path)
-    try:
-        with open(path, "rb") as f:
-            return tomllib.load(f)
-    except FileNotFoundError:
-        raise InputError(f"{path}: scene file not found") from None
-    except tomllib.TOMLDecodeError as e:
-        raise InputError(f"{path}: not valid TOML ({e})") from None
-
-
-def scene_bp_turns(scene: dict, path) -> tuple[int, int]:
-    """Base pairs and helical turns of a DNA scene ([initial] kind = "dna_planar")."""
-    ini = scene.get("initial", {})
-    if ini.get("kind") != "dna_planar":
-        raise InputError(f"{path}: [initial] kind = {ini.get('kind')!r}; build-md needs a DNA "
-                         "scene (kind = \"dna_planar\" with bp and turns), e.g. "
-                         "workflows/scenes/dna158.toml")
-    bp, turns = ini.get("bp", 158), ini.get("turns", 15)
-    if not (isinstance(bp, (int, float)) and bp == int(bp) and bp >= 4):
-        raise InputError(f"{path}: [initial] bp = {bp!r}: need an integer >= 4")
-    if not (isinstance(turns, (int, float)) and turns == int(turns) and turns >= 1):
-        raise InputError(f"{path}: [initial] turns = {turns!r}: need an integer >= 1 (the "
-                         "ligated helix must close on itself: twist = 360 turns / bp)")
-    return int(bp), int(turns)
-
-
 def md_scene(scene: dict, *, md_ps: float, bp: int | None = None, turns: int | None = None,
-             units: Units | None = None) -> dict:
+             units: Units | None = None, source="scene") -> dict:
     """A copy of SCENE that runs for the MD length and writes what the build needs."""
     u = units or Units.paper()
     s = copy.deepcopy(scene)
@@ -54,7 +28,7 @@ def md_scene(scene: dict, *, md_ps: float, bp: int | None = None, turns: int | N
         ini["bp"] = int(bp)
     if turns is not None:
         ini["turns"] = int(turns)
-    n_bp = int(ini.get("bp", 158))
+    n_bp, _ = scene_bp_turns(s, source)
     rod = s.setdefault("rod", {})
     # base pair i must be grid point i N / n_bp (dna_planar's default N is n_bp)
     if "points" in rod and int(rod["points"]) % n_bp:
@@ -66,15 +40,25 @@ def md_scene(scene: dict, *, md_ps: float, bp: int | None = None, turns: int | N
     return s
 
 
-def run_rod(scene: dict, source: str) -> dict:
-    """rodcore.run(scene) -> dict with time, s, fields/..., centerline, directors."""
-    try:
-        import rodcore  # the pybind11 module in build/python
-    except ImportError as e:
-        raise DnarodError(f"the rodcore Python module is not importable ({e}); build it with "
-                          "`bash scripts/build.sh` and run through build/bin/dnarod (or put "
-                          "build/python on PYTHONPATH)") from None
-    try:
-        return rodcore.run(scene)
-    except (ValueError, RuntimeError) as e:
-        raise DnarodError(f"{source}: rod run for the MD build failed: {e}") from None
+def rod_for_md(run: RodRun, *, md_ps: float, n_bp: int, turns: int,
+               units: Units | None = None) -> RodRun:
+    """The frames of an existing rod run that cover the MD (0 <= t <= md_ps), checked
+    to be a run of the same DNA (initial.bp, initial.turns recorded in the file) that
+    started at t = 0 and lasted at least as long as the MD."""
+    u = units or Units.paper()
+    run.require("fields/gamma", "fields/omega", "fields/Gamma", "centerline", "directors")
+    for key, want in (("initial.bp", n_bp), ("initial.turns", turns)):
+        got = run.attrs.get(key)
+        if got is not None and float(got) != float(want):
+            raise InputError(f"{run.source}: attribute {key} = {got:g}, but the scene has {want}: "
+                             "the rod run is not of this scene")
+    if float(run.time[0]) != 0.0:
+        raise InputError(f"{run.source}: the first frame is at t = {u.time_to_ps(run.time[0]):g} ps; "
+                         "build-md needs the rod's state at t = 0")
+    covered_ps = float(u.time_to_ps(run.time[-1]))
+    if covered_ps < md_ps * (1 - 1e-9):
+        why = "" if run.complete else " (the run stopped early: see its rodsim.log)"
+        raise InputError(f"{run.source}: the rod run covers {covered_ps:g} ps, the MD {md_ps:g} ps"
+                         f"{why}; the box is sized from the rod over the whole MD: run the rod at "
+                         "least as long (workflow: rod.run_ps >= md.run_ps), or give a smaller --ps")
+    return run.until(u.time_to_rod(md_ps))

@@ -17,9 +17,11 @@ from __future__ import annotations
 
 import numpy as np
 
-# Boltzmann constant in GROMACS units: kJ mol^-1 K^-1 (CODATA 2018, as GROMACS 2022 uses)
-KB_KJ_MOL_K = 0.0083144626181532
-A_PER_PS_TO_NM_PER_PS = 0.1
+from dna_models.units import ANGSTROM_PER_NM, BOLTZMANN_KJ_PER_MOL_K
+
+# Boltzmann constant in GROMACS units: kJ mol^-1 K^-1 (the exact SI 2019 k_B N_A, as GROMACS 2022 uses)
+KB_KJ_MOL_K = BOLTZMANN_KJ_PER_MOL_K
+A_PER_PS_TO_NM_PER_PS = 1.0 / ANGSTROM_PER_NM
 
 
 def thermal_velocities(masses_amu, temperature_K: float, seed: int) -> np.ndarray:

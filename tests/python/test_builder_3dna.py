@@ -23,7 +23,7 @@ CASES = [
 def test_rebuild_matches_3dna(refdata, par, pdb, use_bp):
     d = refdata / "rebuild_3dna_bdna"
     p = read_3dna_par(d / par)
-    o, R = frames_from_steps(p.steps)
+    R, o = frames_from_steps(p.steps)
     s = build_duplex(p.sequence, o, R, base_pair_params=p.base_pair_params if use_bp else None)
     ref = read_pdb(d / pdb)  # OP1/OP2/C7 -> O1P/O2P/C5M
     # same atoms in the same order: names, residues, numbering, strands
@@ -43,7 +43,7 @@ def test_bp_params_matter(refdata):
     parameters moves atoms by far more than the tolerance above."""
     d = refdata / "rebuild_3dna_bdna"
     p = read_3dna_par(d / "355d_with_bp_params/in_step.par")
-    o, R = frames_from_steps(p.steps)
+    R, o = frames_from_steps(p.steps)
     s = build_duplex(p.sequence, o, R)
     ref = read_pdb(d / "355d_with_bp_params/355d_rebuilt_bdna.pdb")
     assert np.linalg.norm(s.coords - ref["coords"], axis=1).max() > 0.5
@@ -58,7 +58,7 @@ def test_3dna_reanalysis_of_its_rebuild_agrees_with_ours(refdata):
     from dna_models.nucleotides import ring_atom_names, standard_ring_coordinates
     d = refdata / "rebuild_3dna_bdna" / "355d_with_bp_params"
     p = read_3dna_par(d / "in_step.par")
-    o, R = frames_from_steps(p.steps)
+    R, o = frames_from_steps(p.steps)
     s = build_duplex(p.sequence, o, R, base_pair_params=p.base_pair_params)
     n = len(p.sequence)
     frames = {}

@@ -20,7 +20,7 @@ def rz(deg):
 
 
 def test_ideal_frames_are_the_analytic_helix():
-    o, R = ideal_frames(7, 3.38, 36.0)
+    R, o = ideal_frames(7, 3.38, 36.0)
     for i in range(7):
         np.testing.assert_allclose(o[i], [0, 0, 3.38 * i], atol=1e-12)
         np.testing.assert_allclose(R[i], rz(36.0 * i), atol=1e-12)
@@ -31,7 +31,7 @@ def test_ideal_frames_are_the_analytic_helix():
 def test_ideal_bdna_chemistry(n, twist, periodic):
     rng = np.random.default_rng(1)
     seq = "".join(rng.choice(list("ACGT"), n))
-    o, R = ideal_frames(n, 3.38, twist)
+    R, o = ideal_frames(n, 3.38, twist)
     s = build_duplex(seq, o, R, periodic_box=n * 3.38 if periodic else None)
     rep = check_chemistry(s)
     for links in rep.links:
@@ -47,7 +47,7 @@ def test_ideal_bdna_chemistry(n, twist, periodic):
 
 def test_links_measured_independently():
     """The report's worst link is the O3'-P distance computed here by atom names."""
-    o, R = ideal_frames(6)
+    R, o = ideal_frames(6)
     s = build_duplex("ACGTTG", o, R)
     rep = check_chemistry(s)
     d = [np.linalg.norm(s.coords[s.index(r + 1, "P")] - s.coords[s.index(r, "O3'")])
@@ -58,7 +58,7 @@ def test_links_measured_independently():
 
 
 def test_strand_II_is_antiparallel_and_watson_crick_paired():
-    o, R = ideal_frames(len(SEQ12))
+    R, o = ideal_frames(len(SEQ12))
     s = build_duplex(SEQ12, o, R)
     n = len(SEQ12)
     comp = {"A": "T", "C": "G", "G": "C", "T": "A"}
@@ -87,7 +87,7 @@ def test_periodic_junction_equals_interior_link_by_screw_symmetry():
     shifted by the box: the junction link must equal the link 1 -> 2 in the
     same sequence context (ACGT... repeats with period 4 and 20 = 5 x 4)."""
     seq = "ACGT" * 5
-    o, R = ideal_frames(20, 3.38, 36.0)
+    R, o = ideal_frames(20, 3.38, 36.0)
     s = build_duplex(seq, o, R, periodic_box=20 * 3.38)
     rep = check_chemistry(s)
     # O3'(T20)-P(A1) through the box vs O3'(T4)-P(A5) inside
@@ -104,7 +104,7 @@ def test_bent_input_is_reported_bad():
     """Roll 25 degrees at every step (strongly kinked) stretches the backbone
     and brings atoms into contact; the report must say so."""
     steps = np.tile([0, 0, 3.38, 0, 25.0, 36.0], (9, 1))
-    o, R = frames_from_steps(steps)
+    R, o = frames_from_steps(steps)
     rep = check_chemistry(build_duplex("ACGTACGTAC", o, R))
     assert rep.worst_link_deviation() > 0.3
     assert not rep.ok()
@@ -121,7 +121,7 @@ def test_round_trip_through_pdb_and_mdanalysis(tmp_path):
     steps = np.array([0, 0, 3.38, 0, 0, 34.0]) + rng.normal(0, 1, (n - 1, 6)) * [0.3, 0.3, 0.1, 2, 3, 3]
     bp = rng.normal(0, 1, (n, 6)) * [0.2, 0.1, 0.2, 5, 8, 3]
     seq = "".join(rng.choice(list("ACGT"), n))
-    o, R = frames_from_steps(steps)
+    R, o = frames_from_steps(steps)
     s = build_duplex(seq, o, R, base_pair_params=bp)
     write_pdb(tmp_path / "x.pdb", s)
     u = mda.Universe(str(tmp_path / "x.pdb"))
@@ -136,7 +136,7 @@ def test_round_trip_through_pdb_and_mdanalysis(tmp_path):
 
 
 def test_pdb_written_is_read_back_exactly(tmp_path):
-    o, R = ideal_frames(4)
+    R, o = ideal_frames(4)
     s = build_duplex("GATC", o, R, periodic_box=4 * 3.38)
     write_pdb(tmp_path / "y.pdb", s)
     back = read_pdb(tmp_path / "y.pdb")
@@ -160,7 +160,7 @@ def test_excluded_pairs_on_a_chain():
     (dict(base_pair_params=np.zeros((3, 6))), "base_pair_params"),
 ])
 def test_errors_name_what_is_wrong(kwargs, match):
-    o, R = ideal_frames(4)
+    R, o = ideal_frames(4)
     args = dict(sequence="ACGT", origins=o, R=R)
     args.update(kwargs)
     with pytest.raises(InputError, match=match):

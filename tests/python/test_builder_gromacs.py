@@ -37,7 +37,7 @@ def _pdb2gmx(tmp_path, pdb, answers, extra=()):
 
 def test_pdb2gmx_accepts_a_linear_duplex(tmp_path):
     seq = "ACGTAC"
-    o, R = ideal_frames(len(seq))
+    R, o = ideal_frames(len(seq))
     write_pdb(tmp_path / "lin.pdb", build_duplex(seq, o, R))
     # charmm27 lists the protein termini before the DNA ones: start 2 = 5', end 4 = 3'
     log, natoms, charge = _pdb2gmx(tmp_path, tmp_path / "lin.pdb", "2\n4\n2\n4\n")
@@ -50,7 +50,7 @@ def test_pdb2gmx_accepts_a_linear_duplex(tmp_path):
 
 def test_pdb2gmx_closes_a_periodic_duplex_into_two_rings(tmp_path):
     seq = "ACGTTGCAAC"   # 10 bp, one full turn at twist 36
-    o, R = ideal_frames(len(seq), 3.38, 36.0)
+    R, o = ideal_frames(len(seq), 3.38, 36.0)
     s = build_duplex(seq, o, R, periodic_box=len(seq) * 3.38)
     write_pdb(tmp_path / "ring.pdb", s)
     # -lb (nm) longer than the box: pdb2gmx links last O3' to first P, no termini

@@ -16,7 +16,7 @@ SIZES = {"DA": 32, "DT": 32, "DG": 33, "DC": 30}
 
 
 def test_hydrogen_count_and_bonds():
-    o, R = ideal_frames(4)
+    R, o = ideal_frames(4)
     s = build_duplex("ACGT", o, R, hydrogens=True)
     for r in range(1, 9):
         sel = s.resids == r
@@ -38,7 +38,7 @@ def test_hydrogens_match_pdb2gmx_on_355d(refdata):
     if shutil.which("gmx") is None:
         pytest.skip("gmx not found (install the Debian package gromacs)")
     p = read_3dna_par(refdata / "rebuild_3dna_bdna/355d_with_bp_params/in_step.par")
-    o, R = frames_from_steps(p.steps)
+    R, o = frames_from_steps(p.steps)
     seq = p.sequence
     heavy = build_duplex(seq, o, R, base_pair_params=p.base_pair_params)
     ours = build_duplex(seq, o, R, base_pair_params=p.base_pair_params, hydrogens=True)

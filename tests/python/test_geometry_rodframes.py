@@ -12,6 +12,7 @@ from dna_models.units import Units
 from mdbridge import rodframes
 from mdbridge.geometry import steps
 from mdbridge.geometry.rotations import axis_angle_matrix
+from mdbridge.rodrun import RodRun
 
 U = Units.paper()
 
@@ -147,13 +148,14 @@ def test_read_rod_frames_hdf5(tmp_path):
         h["s"] = s
         h["time"] = [0.0, 1.0]
         h.attrs["ell_A"] = U.ell_A
-    R, o, t = rodframes.read_rod_frames(f, n_bp)
+    run = RodRun.read(f)
+    (R, o), t = run.bp_frames(n_bp), run.time
     assert R.shape == (2, n_bp, 3, 3) and list(t) == [0.0, 1.0]
     assert np.abs(steps.step_parameters_along(R, o)[..., 5] - 36.0).max() < 1e-12
     with h5py.File(tmp_path / "bad.h5", "w") as h:
         h["s"] = s
     with pytest.raises(InputError, match="dataset 'centerline' missing"):
-        rodframes.read_rod_frames(tmp_path / "bad.h5", n_bp)
+        RodRun.read(tmp_path / "bad.h5").bp_frames(n_bp)
 
 
 def test_midpoint_components_equal_in_both_frames():

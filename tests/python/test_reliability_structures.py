@@ -19,7 +19,7 @@ SEQ = "GATTCAGC"
 
 @pytest.fixture(scope="module")
 def duplex_pdb(tmp_path_factory):
-    o, R = ideal_frames(len(SEQ))
+    R, o = ideal_frames(len(SEQ))
     path = tmp_path_factory.mktemp("dup") / "dup.pdb"
     write_pdb(path, build_duplex(SEQ, o, R))
     return path

@@ -76,7 +76,7 @@ def _sequence(args, n_needed=None, default=None):
 
 
 def _from_params(args):
-    from mdbridge.builder.frames import frames_from_steps
+    from mdbridge.geometry.steps import frames_from_steps
     from mdbridge.builder.params import read_3dna_par, read_steps_csv
     path = Path(args.params)
     bp_params = None
@@ -95,7 +95,7 @@ def _from_params(args):
         if len(steps) != n - 1:
             raise InputError(f"{path}: {len(steps)} steps for a {n}-bp sequence; need {n - 1}"
                              + (f" (or {n} with --box)" if args.box is None else ""))
-    o, R = frames_from_steps(steps)
+    R, o = frames_from_steps(steps)
     box = args.box
     if args.periodic:
         raise InputError("--periodic needs --ideal or --scene; with --params give --box L")
@@ -105,7 +105,7 @@ def _from_params(args):
 def _from_ideal(args):
     from mdbridge.builder.frames import ideal_frames
     seq = _sequence(args)
-    o, R = ideal_frames(len(seq), args.rise, args.twist)
+    R, o = ideal_frames(len(seq), args.rise, args.twist)
     box = len(seq) * args.rise if args.periodic else args.box
     return seq, o, R, box, None
 

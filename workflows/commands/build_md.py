@@ -17,7 +17,9 @@ atom of base pair i the rigid-body velocity of the rod's cross-section at
 s_i = i L / n_bp. Vacuum, cut-off electrostatics and vdW at 1.0 nm, NVE.
 
 Steps: the rod runs through rodcore for the MD length (--ps) to predict how
-far the duplex moves across its axis (this sizes the box); the builder places
+far the duplex moves across its axis (this sizes the box), or, with --rod, the
+frames of a rod run already made are used (the workflow passes its own rod.h5,
+so the rod of a comparison runs once); the builder places
 the nucleotides on the rod's base-pair frames; pdb2gmx closes both strands
 into rings and dnarod checks, term by term, that each junction carries
 exactly the bonded terms of an interior step; velocities are assigned; grompp
@@ -49,6 +51,10 @@ def add_arguments(p):
     p.add_argument("--bp", type=int, default=None, help="override the scene's number of base pairs")
     p.add_argument("--turns", type=int, default=None,
                    help="override the scene's helical turns (twist = 360 turns / bp)")
+    p.add_argument("--rod", metavar="ROD.h5", default=None,
+                   help="use this rod output of the same scene (rodsim run SCENE.toml -o ROD.h5, "
+                        "with internal, centerline and directors, at least --ps long) instead of "
+                        "running the rod again")
     p.add_argument("--ps", type=float, default=600.0,
                    help="MD length the box is sized for (rod run of the same length), ps (600)")
     p.add_argument("--forcefield", choices=FORCEFIELDS, default="charmm27")
@@ -78,17 +84,21 @@ def run(args):
     import numpy as np
 
     from dna_models.sequence import random_sequence, validate
-    from dna_models.units import Units
+    from dna_models.units import ANGSTROM_PER_NM, Units
     from mdbridge.build import build_duplex
-    from mdbridge.gromacs import rod as rodrun
     from mdbridge.gromacs.box import plan_box
     from mdbridge.gromacs.gmx import find_gmx
-    from mdbridge.gromacs.inputs import build_inputs, rod_initial_from_arrays
+    from mdbridge.gromacs.inputs import build_inputs, rod_initial_from_run
     from mdbridge.gromacs.mdp import MdSettings
+    from mdbridge.gromacs.rod import md_scene, rod_for_md
+    from mdbridge.rodrun import RodRun, load_scene, run_scene, scene_bp_turns
 
     gmx = find_gmx(args.gmx)
     if args.ps < 0:
         raise InputError(f"--ps {args.ps}: must be >= 0")
+    if args.rod and (args.bp is not None or args.turns is not None):
+        raise InputError("--rod: the rod run fixes the base pairs and turns; drop --bp/--turns "
+                         "(or run the rod again without --rod)")
     dt = args.dt if args.dt is not None else (0.002 if args.constraints == "h-bonds" else 0.001)
     if args.constraints == "none" and dt > 0.001 + 1e-12:
         raise InputError(f"--dt {dt}: without constraints the X-H bonds (period ~10 fs) need "
@@ -96,9 +106,9 @@ def run(args):
     settings = MdSettings(dt_ps=dt, constraints=args.constraints, thermostat=args.thermostat,
                           temperature_K=args.temperature, nsteps=int(round(args.ps / dt)))
     u = Units.paper()
-    scene = rodrun.load_scene(args.scene)
-    bp, turns = rodrun.scene_bp_turns(rodrun.md_scene(scene, md_ps=0, bp=args.bp, turns=args.turns),
-                                      args.scene)
+    scene = load_scene(args.scene)
+    bp, turns = scene_bp_turns(md_scene(scene, md_ps=0, bp=args.bp, turns=args.turns,
+                                        source=args.scene), args.scene)
     seed = args.seed if args.seed is not None else secrets.randbelow(2**31)
     if args.sequence:
         seq = validate(args.sequence, "--sequence")
@@ -108,15 +118,16 @@ def run(args):
         seq = random_sequence(bp, seed=seed)
     print(f"build-md: {bp} bp, {turns} turns (twist {360.0 * turns / bp:.4f} deg), seed {seed}",
           file=sys.stderr)
-    print("build-md: running the rod for the MD length (box sizing) ...", file=sys.stderr)
-    out = rodrun.run_rod(rodrun.md_scene(scene, md_ps=args.ps, bp=args.bp, turns=args.turns, units=u),
-                         args.scene)
-    f = out["fields"]
-    rod, centerline = rod_initial_from_arrays(out["time"], out["s"], out["centerline"],
-                                              out["directors"], f["gamma"], f["omega"],
-                                              f["Gamma"], bp, u)
+    if args.rod:
+        print(f"build-md: the rod run {args.rod} (box sizing) ...", file=sys.stderr)
+        run = rod_for_md(RodRun.read(args.rod), md_ps=args.ps, n_bp=bp, turns=turns, units=u)
+    else:
+        print("build-md: running the rod for the MD length (box sizing) ...", file=sys.stderr)
+        run = run_scene(md_scene(scene, md_ps=args.ps, bp=args.bp, turns=args.turns, units=u,
+                                 source=args.scene), source=args.scene)
+    rod, centerline = rod_initial_from_run(run, bp, u)
     box = plan_box(centerline, rod.origins_A, rod.closure_length_A, rod_run_ps=args.ps,
-                   cutoff_A=settings.cutoff_nm * 10.0, margin_A=args.margin)
+                   cutoff_A=settings.cutoff_nm * ANGSTROM_PER_NM, margin_A=args.margin)
     periodic = np.zeros(3)
     periodic[box.axis] = rod.closure_length_A
     structure = build_duplex(seq, rod.origins_A, rod.R, periodic_box=periodic)
@@ -127,6 +138,7 @@ def run(args):
                         temperature_K=args.temperature, seed=seed, settings=settings,
                         minimize=args.minimize, gmx=gmx, threads=args.threads,
                         meta={"scene": str(Path(args.scene).resolve()), "turns": turns,
+                              "rod_run": str(Path(args.rod).resolve()) if args.rod else "run by build-md",
                               "twist_deg": 360.0 * turns / bp, "md_length_ps": args.ps,
                               "sequence_source": "given" if args.sequence else f"random, seed {seed}"})
     links = ", ".join(f"{s}: {v['junction']:.3f} A" for s, v in info["junction_O3P_t0_A"].items())

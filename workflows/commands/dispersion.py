@@ -68,8 +68,10 @@ def add_arguments(p):
     g.add_argument("--k", nargs="+", metavar="K",
                    help="wavenumbers k of a twisted rod (use with --Omega03)")
     p.add_argument("--Gamma03", type=float, default=1.0, help="intrinsic extension Gamma03 (default 1)")
-    p.add_argument("--D1", type=float, default=1.21,
-                   help="dimensionless bend stiffness D1 = D rho / (I C) (default 1.21, paper Sec 2.2)")
+    from workflows.paper.theory import D1_PAPER
+    p.add_argument("--D1", type=float, default=D1_PAPER,
+                   help=f"dimensionless bend stiffness D1 = D rho / (I C) (default {D1_PAPER:g}, "
+                        "paper Sec 2.2)")
     p.add_argument("--Omega03", type=float, default=None,
                    help="intrinsic twist Omega03 (with --k; default 0)")
     p.add_argument("--ratios", action="store_true",

@@ -2,8 +2,8 @@
 quantitative checks of docs/reproduction.md.
 
 One module per figure or check; all of them run real simulations through
-`workflows.paper.rod.run_scene` (the `rodcore` Python module, or `rodsim` when the
-module is not built) or evaluate the closed-form results of `workflows.paper.theory`
-(which prefers the C++ `rodcore.analytic` functions). `dnarod paper-figures` drives
+`mdbridge.rodrun.run_scene` (the compiled `rodcore` module) or evaluate the
+closed-form results of `workflows.paper.theory` (which calls the C++
+`rodcore.analytic` functions). `dnarod paper-figures` drives
 them (`workflows.paper.registry`).
 """

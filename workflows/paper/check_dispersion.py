@@ -12,14 +12,14 @@ wavenumbers (Eq 24).
 """
 from __future__ import annotations
 
-import tempfile
 from pathlib import Path
 
 import numpy as np
 
 from workflows.paper import theory
 from workflows.paper.common import find_frequencies, mode_amplitude, plt, save, write_json
-from workflows.paper.rod import run_scene, scene, straight_rod, write_initial_h5
+from mdbridge.rodrun import run_scene
+from workflows.paper.rod import scene, straight_rod
 
 EPS = 1e-4
 TRANSVERSE = [(f, c) for f in ("gamma", "omega", "Gamma", "Omega") for c in (0, 1)]
@@ -45,11 +45,8 @@ def measure(k: float, Omega03: float, N: int = 16, periods: float = 6.0) -> dict
     fields = {"gamma": np.column_stack([z, z, z]), "omega": np.column_stack([z, z, z]),
               "Gamma": np.column_stack([EPS * np.cos(k * s), z, 1.0 + z]),
               "Omega": np.column_stack([z, EPS * np.sin(k * s), Omega03 + z])}
-    with tempfile.TemporaryDirectory(prefix="dnarod-disp-") as tmp:
-        path = Path(tmp) / "initial.h5"
-        write_initial_h5(path, s, fields)
-        run = run_scene(scene(straight_rod(L, N, 1.0, Omega03), {"kind": "file", "path": str(path)},
-                              t_end=t_end, frames=frames, fields=("internal",), rtol=1e-12))
+    run = run_scene(scene(straight_rod(L, N, 1.0, Omega03), None, t_end=t_end, frames=frames,
+                          fields=("internal",), rtol=1e-12), initial=fields)
     sig = []
     for f, c in TRANSVERSE:
         a = mode_amplitude(run.fields[f][..., c], 1)

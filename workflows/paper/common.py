@@ -1,11 +1,11 @@
 """Shared bits of the figure and check modules: output files and small numerics."""
 from __future__ import annotations
 
-import json
-import math
 from pathlib import Path
 
 import numpy as np
+
+from mdbridge.jsonio import write_json as _write_json
 
 
 def plt():
@@ -15,27 +15,8 @@ def plt():
     return pyplot
 
 
-def _jsonable(x):
-    if isinstance(x, dict):
-        return {str(k): _jsonable(v) for k, v in x.items()}
-    if isinstance(x, (list, tuple)):
-        return [_jsonable(v) for v in x]
-    if isinstance(x, np.ndarray):
-        return _jsonable(x.tolist())
-    if isinstance(x, (np.floating, float)):
-        x = float(x)
-        return x if math.isfinite(x) else str(x)  # JSON has no inf/nan
-    if isinstance(x, (np.integer,)):
-        return int(x)
-    if isinstance(x, np.bool_):
-        return bool(x)
-    return x
-
-
 def write_json(path: Path, data: dict) -> Path:
-    path = Path(path)
-    path.write_text(json.dumps(_jsonable(data), indent=2) + "\n")
-    return path
+    return _write_json(path, data, indent=2)
 
 
 def save(fig, path: Path, dpi: int = 90) -> Path:

@@ -18,7 +18,7 @@ from pathlib import Path
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from workflows.paper.rod import run_scene
+from mdbridge.rodrun import resolve_scene, run_scene
 
 SCENES = Path(__file__).resolve().parents[1] / "scenes"
 
@@ -29,8 +29,9 @@ def load(name: str) -> dict:
 
 
 def _material(sc):
-    m = sc.get("material", {})
-    return (m.get("C", [1.0, 1.0, 1.19]), m.get("D", [1.21, 1.21, 1.21 * 1.67]), m.get("I", [1.0, 1.0, 2.0]))
+    """(C, D, I) of the scene, rodcore's defaults filled in."""
+    m = resolve_scene(sc, "ring scene")["material"]
+    return m["C"], m["D"], m["I"]
 
 
 def rotating_ring(quick: bool = False) -> dict:

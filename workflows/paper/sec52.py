@@ -17,7 +17,6 @@ second_harmonic: the extension wave of Eqs (44)-(45). Started from the FIRST-ORD
 """
 from __future__ import annotations
 
-import tempfile
 from pathlib import Path
 
 import numpy as np
@@ -25,7 +24,8 @@ from scipy.optimize import brentq, least_squares
 
 from workflows.paper import theory
 from workflows.paper.common import mode_amplitude, plt, save, write_json
-from workflows.paper.rod import run_scene, scene, straight_rod, write_initial_h5
+from mdbridge.rodrun import run_scene
+from workflows.paper.rod import scene, straight_rod
 
 PARTS = ("kinetic_translational", "kinetic_rotational", "shear", "extension", "bend", "twist")
 
@@ -209,11 +209,8 @@ def second_harmonic(outdir: Path | None = None, quick: bool = False, k=2.0, bran
     for eps in eps_list:
         s, L, f = _first_order_fields(k, eps, branch, N, mode)
         a = float(np.abs(mode_amplitude(f["omega"][:, 1], 1)))  # first-order amplitude eps (1 + eps)
-        with tempfile.TemporaryDirectory(prefix="dnarod-sec52-") as tmp:
-            path = Path(tmp) / "initial.h5"
-            write_initial_h5(path, s, f)
-            run = run_scene(scene(straight_rod(L, N, 1.0, 0.0), {"kind": "file", "path": str(path)},
-                                  t_end=t_end, frames=frames, fields=("internal",), rtol=1e-11))
+        run = run_scene(scene(straight_rod(L, N, 1.0, 0.0), None, t_end=t_end, frames=frames,
+                              fields=("internal",), rtol=1e-11), initial=f)
         c = mode_amplitude(run.fields["Gamma"][..., 2] - 1.0, 2 * mode)   # mode 2 k
         c1 = mode_amplitude(run.fields["omega"][..., 1], mode)
         w = abs(_fit_complex_exponentials(run.time, c1, [np.sign(np.angle(c1[1] / c1[0])) * w0])[0][0])

@@ -1,11 +1,9 @@
 """Closed-form results of the paper used by the figures and checks.
 
-The formulas live in the C++ header rodcore/include/rodcore/analytic.hpp (ONE
-place). When the compiled module exposes them (`rodcore.analytic.dispersion`,
-`rodcore.analytic.energy_ratio`) they are used. Without the module, Eq (26)/(39)
-comes from `mdbridge.analysis.dispersion.omega_pm` (the project's only Python
-copy of it) and Eq (27) from the one line below -- so this file adds no second copy
-of the dispersion relation.
+The dispersion relation (Eqs 26/39) and the energy ratio (Eq 27) live in the C++
+header rodcore/include/rodcore/analytic.hpp (ONE place) and are called here through
+the compiled module (`rodcore.analytic`). The other closed forms below (Eqs 25, 37-38,
+40-45 and the paper's limits) have no C++ counterpart and are written once here.
 
 Conventions (paper Sec 3-4, dimensionless units, C1 = I1 = 1):
   kappa_p = k + Omega03, kappa_m = k - Omega03 (Eq 24; Omega03 = 0 gives Eq 39);
@@ -15,17 +13,12 @@ from __future__ import annotations
 
 import numpy as np
 
-D1_PAPER = 1.21       # D rho / (I C), Sec 2.2
-C3_PAPER = 1.19       # Eq (8)
+from dna_models.units import Units
+from mdbridge.rodrun import analytic
+
+D1_PAPER = Units.paper().D_star[0]   # D rho / (I C) = 1.21, Sec 2.2 (dna_models)
+C3_PAPER = Units.paper().C_star[2]   # 1.19, Eq (8) (dna_models)
 BRANCHES = ("plus", "minus")
-
-
-def _cpp(name):
-    try:
-        import rodcore  # type: ignore
-    except ImportError:
-        return None
-    return getattr(getattr(rodcore, "analytic", None), name, None)
 
 
 def _check_branch(branch: str) -> int:
@@ -37,27 +30,8 @@ def _check_branch(branch: str) -> int:
 def omega(kappa, branch: str, D1: float = D1_PAPER, Gamma03: float = 1.0):
     """Eq (26) (Eq 39 for kappa = k): omega_+ or omega_- at (modified) wavenumber kappa."""
     sign = _check_branch(branch)
-    kappa = np.asarray(kappa, float)
-    f = _cpp("dispersion")
-    if f is not None:
-        return np.vectorize(lambda q: f(float(q), D1, Gamma03, sign))(kappa) * 1.0
-    return np.asarray(_python_dispersion().omega_pm(kappa, D1, Gamma03, branch), float) * 1.0
-
-
-def _python_dispersion():
-    """mdbridge/analysis/dispersion.py loaded on its own: importing the mdbridge.analysis
-    package would pull in MDAnalysis (seconds) for one formula."""
-    import importlib.util
-    import sys
-    name = "mdbridge.analysis.dispersion"
-    if name in sys.modules:
-        return sys.modules[name]
-    from pathlib import Path
-    path = Path(__file__).resolve().parents[2] / "mdbridge" / "analysis" / "dispersion.py"
-    spec = importlib.util.spec_from_file_location("_dnarod_dispersion", path)
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
+    f = analytic().dispersion
+    return np.vectorize(lambda q: f(float(q), D1, Gamma03, sign), otypes=[float])(np.asarray(kappa, float)) * 1.0
 
 
 def modified_wavenumbers(k, Omega03: float):
@@ -68,11 +42,9 @@ def modified_wavenumbers(k, Omega03: float):
 
 def energy_ratio(w, kappa, D1: float = D1_PAPER, Gamma03: float = 1.0):
     """Eq (27): shear / bend elastic energy Gamma_perp^2 / (D1 Omega_perp^2) of the exact wave."""
-    f = _cpp("energy_ratio")
+    f = analytic().energy_ratio
     w, kappa = np.broadcast_arrays(np.asarray(w, float), np.asarray(kappa, float))
-    if f is not None:
-        return np.vectorize(lambda a, b: f(float(a), float(b), D1, Gamma03))(w, kappa) * 1.0
-    return (w ** 2 - kappa ** 2 * D1) ** 2 / (D1 * kappa ** 2 * Gamma03 ** 2)
+    return np.vectorize(lambda a, b: f(float(a), float(b), D1, Gamma03), otypes=[float])(w, kappa) * 1.0
 
 
 def shear_bend_amplitude_ratio(w, k, D1: float = D1_PAPER, Gamma03: float = 1.0):

@@ -17,7 +17,8 @@ import numpy as np
 
 from workflows.paper import theory
 from workflows.paper.common import write_json
-from workflows.paper.rod import run_scene, scene, straight_rod
+from mdbridge.rodrun import run_scene
+from workflows.paper.rod import scene, straight_rod
 
 K, A, O3, G3 = 2.0, 0.5, 1.0, 1.0
 

@@ -22,7 +22,7 @@ import numpy as np
 from dna_models.units import Units
 from workflows.paper import theory
 from workflows.paper.common import write_json
-from workflows.paper.rod import run_scene
+from mdbridge.rodrun import run_scene, scene_bp_turns
 
 SCENE = Path(__file__).resolve().parents[1] / "scenes" / "dna158.toml"
 
@@ -78,12 +78,11 @@ def check(outdir: Path | None = None, quick: bool = False) -> dict:
     if quick:
         sc["output"]["frames"] = 61
     run = run_scene(sc)
-    bp = int(sc["initial"].get("bp", 158))
-    traj = BasePairTrajectory.from_rod_arrays(run.time, run.s, run.centerline, run.directors,
-                                              run.fields["Gamma"], n_bp=bp)
+    bp, turns = scene_bp_turns(sc, SCENE)
+    traj = BasePairTrajectory.from_rod(run, n_bp=bp)
     a = WaveAnalysis(traj, in_plane=[0.0, 0.0, 1.0], n_boot=20 if quick else 200).run()
     summ = a.summary()
-    pred = predictions(bp=bp, turns=float(sc["initial"].get("turns", 15)))
+    pred = predictions(bp=bp, turns=float(turns))
     data = {"check": "Sec 6 rod wave speed", "scene": str(SCENE.name), "paper_A_per_ps": 1.4,
             "measured_A_per_ps": summ["wave_speed_A_per_ps"], "measured_err_A_per_ps": summ["wave_speed_err_A_per_ps"],
             "measured_check_A_per_ps": summ["wave_speed_check_A_per_ps"], "planarity": summ["planarity"],

@@ -18,6 +18,8 @@ from pathlib import Path
 
 import numpy as np
 
+from mdbridge.jsonio import write_json
+
 PAPER = {"rod_wave_speed_A_per_ps": 1.4, "md_wave_speed_A_per_ps": 2.2, "md_run_ps": 600.0,
          "A_v_A_per_ps": [0.0, 1.0, 5.0], "source": "paper Sec 6.2"}
 
@@ -303,8 +305,7 @@ def main(argv=None) -> int:
     out = Path(argv[1])
     data = collect(cfg, out)
     res = results_json(cfg, data)
-    from workflows.report.steps import _jsonable
-    (out / "results.json").write_text(json.dumps(_jsonable(res), indent=1))
+    write_json(out / "results.json", res)
     write_html(cfg, res, figures(cfg, data, res), out / "report" / "index.html")
     return 0
 

@@ -14,33 +14,14 @@ import argparse
 import json
 import math
 import sys
-import tomllib
 from pathlib import Path
 
 import numpy as np
 
 from dna_models.errors import DnarodError, InputError
 from dna_models.units import Units
-
-
-def load_scene(path) -> dict:
-    try:
-        with open(path, "rb") as f:
-            return tomllib.load(f)
-    except (OSError, tomllib.TOMLDecodeError) as e:
-        raise InputError(f"{path}: cannot read the scene ({e})") from None
-
-
-def scene_n_bp(scene: dict, path="scene") -> int:
-    ini = scene.get("initial", {})
-    if "bp" in ini:
-        return int(ini["bp"])
-    if ini.get("kind") == "dna_planar":
-        return 158  # dna_planar's documented default (docs/scenes.md)
-    pts = scene.get("rod", {}).get("points")
-    if pts:
-        return int(pts)
-    raise InputError(f"{path}: cannot tell the number of base pairs (initial.bp or rod.points)")
+from mdbridge.jsonio import write_json
+from mdbridge.rodrun import RodRun, load_scene, scene_n_bp
 
 
 def make_scene(base_path, out_path, A_v: float, run_ps: float, every_ps: float) -> dict:
@@ -68,20 +49,6 @@ def make_scene(base_path, out_path, A_v: float, run_ps: float, every_ps: float) 
     return sc
 
 
-def _jsonable(o):
-    if isinstance(o, dict):
-        return {str(k): _jsonable(v) for k, v in o.items()}
-    if isinstance(o, (list, tuple)):
-        return [_jsonable(v) for v in o]
-    if isinstance(o, np.ndarray):
-        return _jsonable(o.tolist())
-    if isinstance(o, (np.floating, float)):
-        return None if not math.isfinite(float(o)) else float(o)
-    if isinstance(o, (np.integer,)):
-        return int(o)
-    return o
-
-
 def _write(prefix, analysis, summary: dict, extra_arrays: dict):
     r = analysis.results
     p = r.planarity
@@ -89,7 +56,7 @@ def _write(prefix, analysis, summary: dict, extra_arrays: dict):
                         axis=r.axis, in_rms_A=p["in_rms_A"], out_rms_A=p["out_rms_A"],
                         ratio=p["ratio"], angle_deg=p["angle_deg"], e_in=r.e_in, e_out=r.e_out,
                         e_axis=r.e_axis, **extra_arrays)
-    Path(f"{prefix}.json").write_text(json.dumps(_jsonable(summary), indent=1))
+    write_json(f"{prefix}.json", summary)
 
 
 def rod_dispersion(scene: dict) -> dict:
@@ -97,7 +64,7 @@ def rod_dispersion(scene: dict) -> dict:
     from mdbridge.analysis.dispersion import lab_speed_A_per_ps
     u = Units.paper()
     ini = scene.get("initial", {})
-    n_bp = scene_n_bp(scene)
+    n_bp = scene_n_bp(scene, "the comparison's scene")
     L = n_bp * float(ini.get("rise_A", u.rise_A)) / u.ell_A
     D1 = float(scene.get("material", {}).get("D", u.D_star)[0])
     return {"fiducial_length": L, "D1": D1, "Gamma03": 1.0,
@@ -105,21 +72,16 @@ def rod_dispersion(scene: dict) -> dict:
             "shear_branch_speed_A_per_ps": lab_speed_A_per_ps(L, D1, 1.0, "plus", 1, u)}
 
 
-def _rod_complete(h5_path) -> bool:
-    import h5py
-    with h5py.File(h5_path, "r") as f:
-        return bool(f.attrs.get("complete", 1))
-
-
 def analyse_rod(scene_path, h5_path, prefix, n_boot=200):
     from mdbridge.analysis import BasePairTrajectory, WaveAnalysis
     scene = load_scene(scene_path)
-    traj = BasePairTrajectory.from_rod_h5(h5_path, scene_n_bp(scene, scene_path))
+    run = RodRun.read(h5_path)
+    traj = BasePairTrajectory.from_rod(run, scene_n_bp(scene, scene_path))
     a = WaveAnalysis(traj, n_boot=n_boot).run()
     s = a.summary()
     s.update(kind="rod", A_v_A_per_ps=scene["initial"].get("A_v_A_per_ps"),
              A_A=scene["initial"].get("A_A", 0.0), dispersion=rod_dispersion(scene),
-             complete=_rod_complete(h5_path))
+             complete=run.complete)
     if not s["complete"]:
         log = Path(h5_path).with_name("rodsim.log")
         s["stopped"] = log.read_text().strip().splitlines()[0] if log.is_file() else "run incomplete"
@@ -179,7 +141,7 @@ def fit_moduli(scene_path, md_jsons, out_json, which=("bend", "stretch")):
             res["fits"][w] = fit_modulus(str(Path(scene_path).resolve()), scene_n_bp(scene, scene_path),
                                          float(np.mean(speeds)), which=w)
     Path(out_json).parent.mkdir(parents=True, exist_ok=True)
-    Path(out_json).write_text(json.dumps(_jsonable(res), indent=1))
+    write_json(out_json, res)
     return res
 
 
