@@ -17,7 +17,7 @@ import math
 import numpy as np
 from scipy.optimize import brentq
 
-from dna_models.units import Units
+from dna_models.units import Units, persistence_length_nm
 from mdbridge.analysis.trajectory import BasePairTrajectory
 from mdbridge.analysis.wave_analysis import WaveAnalysis
 
@@ -76,7 +76,7 @@ def fit_modulus(scene, n_bp: int, target_speed_A_per_ps: float, which: str = "be
            "method": "nonlinear rod (rodcore.run) at the scene's amplitude, Brent on log(scale)"}
     if which == "bend":
         out.update(D_J_m=f * u.D, paper_D_J_m=u.D,
-                   persistence_length_nm_300K=u.persistence_length_nm(f * u.D, 300.0))
+                   persistence_length_nm_300K=persistence_length_nm(f * u.D, 300.0))
     else:
         out.update(stretch_modulus_pN=f * u.C_star[2] * u.C * 1e12,
                    paper_stretch_modulus_pN=u.C_star[2] * u.C * 1e12)

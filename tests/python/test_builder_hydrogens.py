@@ -83,3 +83,15 @@ def test_stored_templates_are_what_pdb2gmx_gives_now():
         assert stored[res].keys() == fresh[res].keys()
         for name in stored[res]:
             np.testing.assert_allclose(stored[res][name], fresh[res][name], atol=2e-4)
+
+
+def test_template_generator_finds_gmx_like_every_gromacs_step(tmp_path, monkeypatch):
+    """The hydrogen generator runs gmx through mdbridge.gromacs.gmx (so DNAROD_GMX and
+    --gmx are honoured, and failures name them) instead of its own PATH lookup."""
+    from dna_models.errors import ExternalToolError
+    from mdbridge.builder.hydrogens import run_pdb2gmx_ignh
+    monkeypatch.setenv("DNAROD_GMX", str(tmp_path / "no-such-gmx"))
+    with pytest.raises(ExternalToolError, match=r"gmx given by DNAROD_GMX .*no-such-gmx"):
+        run_pdb2gmx_ignh(tmp_path / "x.pdb", tmp_path)
+    with pytest.raises(ExternalToolError, match=r"gmx given by --gmx .*also-missing"):
+        run_pdb2gmx_ignh(tmp_path / "x.pdb", tmp_path, str(tmp_path / "also-missing"))
