@@ -7,7 +7,7 @@
    then every field incl. energy, centerline and directors);
 3. whole-system speed: the 158-bp DNA rod for 600 ps (the paper's MD length)
    vs all-atom MD of the same physical time at the measured GROMACS speed
-   (notes-md.md: 57-62 ns/day for 10,037 atoms on these 2 cores).
+   (57-62 ns/day for 10,037 atoms on these 2 cores, docs/md.md "Speed measured here").
 
     costs.py --build BUILD --rhs-json bench/results/rhs_bench.json --out bench/results
 """
@@ -22,7 +22,7 @@ from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
 DNA = HERE.parent / "workflows" / "scenes" / "dna158.toml"
-MD_NS_PER_DAY = (57.0, 62.0)  # notes-md.md, GROMACS 2022.5, 2 fs + h-bond constraints, -nt 2
+MD_NS_PER_DAY = (57.0, 62.0)  # docs/md.md, GROMACS 2022.5, 2 fs + h-bond constraints, -nt 2
 
 
 def children_cpu():

@@ -34,8 +34,9 @@ import tempfile
 import time
 from pathlib import Path
 
-import h5py
 import numpy as np
+
+from mdbridge.rodrun import RodRun
 
 HERE = Path(__file__).resolve().parent
 SCENES = HERE / "scenes"
@@ -66,17 +67,14 @@ def run_rodsim(rodsim, scene, sets, out, repeat=1):
         best, best_cpu = min(best, wall), min(best_cpu, cpu)
         if wall > 3.0:  # slow runs are timed once (their noise is relatively small)
             break
-    with h5py.File(out, "r") as f:
-        y = np.concatenate([np.transpose(np.asarray(f["fields"][n]), (0, 2, 1)) for n in FIELDS], axis=1)
-        attrs = {k: (v.item() if hasattr(v, "item") and np.ndim(v) == 0 else v) for k, v in f.attrs.items()}
-        t = np.asarray(f["time"])
-        energy = np.asarray(f["energy"]) if "energy" in f else None
+    r = RodRun.read(out)
+    y = np.concatenate([np.transpose(r.fields[n], (0, 2, 1)) for n in FIELDS], axis=1)
     info = {"cpu_s": best_cpu}
     for k in ("steps", "rejected", "rhs_evaluations", "wall_seconds", "energy_drift", "reduced"):
-        if "summary." + k in attrs:
-            info[k] = float(attrs["summary." + k])
-    info["energy"] = energy
-    return best, info, y, t
+        if k in r.summary:
+            info[k] = float(r.summary[k])
+    info["energy"] = r.energy
+    return best, info, y, r.time
 
 
 def run_baseline(initial_h5, space, rtol, t_end, out, repeat=1):
@@ -219,12 +217,11 @@ def bench_problem(name, rodsim, tmp, quick, repeat, log):
     if P["exact"]:
         if run_rodsim(rodsim, scene, dict(base), tmp / "probe.h5")[0] is None:
             raise SystemExit(f"{name}: probe run of {scene} failed")
-        with h5py.File(tmp / "probe.h5") as f:
-            a = f.attrs
-            L = float(a["rod.length"])
-            params = dict(mode=float(a["initial.mode"]), A=float(a["initial.A"]),
-                          Gamma03=float(a["rod.Gamma0"][2]), Omega03=float(a["rod.Omega0"][2]),
-                          D1=float(a["material.D"][0]))
+        a = RodRun.read(tmp / "probe.h5").attrs
+        L = float(a["rod.length"])
+        params = dict(mode=float(a["initial.mode"]), A=float(a["initial.A"]),
+                      Gamma03=float(a["rod.Gamma0"][2]), Omega03=float(a["rod.Omega0"][2]),
+                      D1=float(a["material.D"][0]))
         G0, O0 = P["Gamma0"], P["Omega0"]
 
         def truth(N):
@@ -242,10 +239,8 @@ def bench_problem(name, rodsim, tmp, quick, repeat, log):
                 raise SystemExit(f"{name}: reference run failed: {info['error']}")
             refs.append(y[-1])
             log(f"{name}: reference N={Nref} rtol=1e-13: {w:.2f} s")
-        with h5py.File(tmp / f"ref{Nr}.h5") as f:
-            G0 = tuple(f.attrs["rod.Gamma0"])
-            O0 = tuple(f.attrs["rod.Omega0"])
-            L = float(f.attrs["rod.length"])
+        a = RodRun.read(tmp / f"ref{Nr}.h5").attrs
+        G0, O0, L = tuple(a["rod.Gamma0"]), tuple(a["rod.Omega0"]), float(a["rod.length"])
         yref = refs[1]
         Nfine = yref.shape[-1]
         self_conv = rel_error(fourier_resample(refs[0], Nfine), yref, rest_state((G0, O0), Nfine))

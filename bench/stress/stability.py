@@ -37,6 +37,7 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent))
 import baseline_numpy  # noqa: E402  (the independent RHS)
 from dna_models.units import Units  # noqa: E402
+from mdbridge.rodrun import RodRun  # noqa: E402
 
 FIELDS = ("gamma", "omega", "Gamma", "Omega")
 _U = Units.paper()   # the paper's dimensionless material, from its one source (dna_models)
@@ -128,15 +129,15 @@ def run(rodsim, scene, out, sets=()):
     wall = time.perf_counter() - t0
     res = dict(returncode=p.returncode, stderr=p.stderr.strip(), wall_s=wall)
     if Path(out).exists():
-        with h5py.File(out, "r") as f:
-            if "fields" in f and f["fields/gamma"].shape[0] > 0:
-                res["y_last"] = np.concatenate([np.asarray(f["fields"][n][-1]).T for n in FIELDS])
-            if "energy" in f:
-                res["energy"] = np.asarray(f["energy"])
-                res["time"] = np.asarray(f["time"])
-            for k in ("summary.steps", "summary.energy_drift", "summary.rhs_evaluations"):
-                if k in f.attrs:
-                    res[k.split(".")[1]] = float(f.attrs[k])
+        r = RodRun.read(out)
+        if "gamma" in r.fields and r.fields["gamma"].shape[0] > 0:
+            res["y_last"] = np.concatenate([np.asarray(r.fields[n][-1]).T for n in FIELDS])
+        if r.energy is not None:
+            res["energy"] = np.asarray(r.energy)
+            res["time"] = np.asarray(r.time)
+        for k in ("steps", "energy_drift", "rhs_evaluations"):
+            if k in r.summary:
+                res[k] = float(r.summary[k])
     return res
 
 

@@ -3,7 +3,7 @@
 A pair counts as intact when the distance between the purine N1 and the pyrimidine N3
 (the central hydrogen bond of both A-T and G-C) is below 3.5 A (~2.9 A in B-DNA).
 Distances are minimum images (MDAnalysis `calc_bonds` with the frame's box): a ligated,
-periodic duplex keeps its atoms wrapped (notes-md.md).
+periodic duplex keeps its atoms wrapped (docs/md.md).
 """
 from __future__ import annotations
 

@@ -6,7 +6,7 @@ Rod output and MD both become a `BasePairTrajectory`:
 Origins are made continuous along the strand (each is the nearest image of the
 one before), so the analysis never sees the periodic box again. This matters
 for MD of a ligated duplex: atoms are wrapped and `trjconv -pbc whole` cannot
-make an infinite molecule whole (notes-md.md), so minimum-image steps between
+make an infinite molecule whole (docs/analysis.md), so minimum-image steps between
 consecutive base pairs are the only safe way to follow the strand.
 """
 from __future__ import annotations

@@ -2,11 +2,11 @@
 
 "paper" (default): the force field's full charges, -1 e per nucleotide, 1 nm
   cut-off, vacuum (paper Sec 6.2). In vacuum the unscreened phosphate
-  repulsion opens base pairs within picoseconds (notes-md.md: ~30 % in 4 ps
-  at 300 K) - measure it in checks.json.
+  repulsion opens base pairs within picoseconds (measured, GROMACS 2022.5: ~30 %
+  in 4 ps at 300 K for 158 bp; docs/md.md) - measure it in checks.json.
 "neutral-phosphates": +0.5 e on each non-bridging phosphate oxygen (O1P,
   O2P), so every nucleotide is neutral, as if a counterion sat on each
-  phosphate. notes-md.md found it kept a 158-bp duplex paired (~81 % at 20
+  phosphate. It kept a 158-bp duplex paired (~81 % at 20
   ps); for the 21-bp scene over 20 ps it did not (docs/md.md). Cost to
   fidelity: the backbone-backbone electrostatic repulsion, part of DNA's
   bending/stretching response, is gone; the phosphate's interactions with

@@ -1,6 +1,6 @@
 """The built PDB goes through GROMACS 2022 `pdb2gmx -ff charmm27 -ignh`:
 as a linear duplex (termini chosen with -ter) and as a periodic one whose
-strands pdb2gmx closes into rings (-lb longer than the box; notes-md.md).
+strands pdb2gmx closes into rings (-lb longer than the box; docs/md.md).
 Truths: charmm27's residue sizes (DA 32, DT 32, DG 33, DC 30 atoms with
 hydrogens), its termini (5' removes P, O1P, O2P and adds H5T; 3' adds H3T),
 and the charge of -1 e per phosphate."""

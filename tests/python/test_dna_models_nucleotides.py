@@ -1,6 +1,6 @@
 """Standard bases and B-DNA templates against what defines them: the standard
 reference frame of Olson et al. 2001 (bases planar in z = 0, C1' positions),
-3DNA's files, CHARMM27 atom counts (notes-md: heavy atoms DA 21, DC 19,
+3DNA's files, CHARMM27 atom counts (GROMACS 2022.5 charmm27: heavy atoms DA 21, DC 19,
 DG 22, DT 20 of 32/30/33/32 with hydrogens)."""
 import numpy as np
 import pytest

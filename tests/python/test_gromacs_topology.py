@@ -5,7 +5,7 @@ rebuilt ideal B-DNA (refdata/rebuild_3dna_bdna/rebuilt_ideal_B.pdb; twist 36,
 rise 3.38 A). Ten 36-degree steps are one exact turn, so those ten pairs are
 one period of an infinite duplex with period 33.8 A along z: each strand's
 last O3' sits one bond length from its first P shifted by one period.
-Known facts (notes-md.md, measured with GROMACS 2022.5 charmm27): a closed
+Known facts (docs/md.md, measured with GROMACS 2022.5 charmm27): a closed
 strand's junction carries 1 bond, 4 angles, 7 proper dihedrals and 7 pairs.
 """
 import json

@@ -2,7 +2,7 @@
 out, initial fields from numpy or an HDF5 file, errors as Python exceptions.
 
 The independent truth for the numbers is the exact twisted-rod wave (paper
-Eq 24 in the form checked in shared/notes-numerics.md), written out here in
+Eq 24 in the form checked in docs/numerics.md, "Eq 24 as implemented"), written out here in
 numpy from the formula, not taken from the solver.
 """
 import math
@@ -19,7 +19,7 @@ D1, G03, O03 = 1.21, 1.0, 1.0
 
 
 def exact_wave(s, t, A=0.3, L=2 * math.pi, mode=1, sigma=-1, branch=+1):
-    """Eq 24 (notes-numerics.md form), kappa_p = k + Omega03 (sigma = -1), w from Eq 26."""
+    """Eq 24 (docs/numerics.md form), kappa_p = k + Omega03 (sigma = -1), w from Eq 26."""
     k = 2 * math.pi * mode / L
     kappa = k + O03 if sigma == -1 else k - O03
     w = 0.5 * (math.sqrt(kappa**2 * (math.sqrt(D1) + 1) ** 2 + G03**2)

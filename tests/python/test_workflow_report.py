@@ -1,5 +1,5 @@
 """The report step on synthetic inputs of known speed: a rod output file in the
-design.md HDF5 layout (read through the same path as a rodsim file) and an MD-like
+docs/contracts.md HDF5 layout (read through the same path as a rodsim file) and an MD-like
 wrapped trajectory. results.json must carry the speeds put in, and the HTML must be
 self-contained (figures as base64 PNG)."""
 import base64
