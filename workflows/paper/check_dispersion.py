@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from workflows.paper import theory
-from workflows.paper.common import find_frequencies, mode_amplitude, plt, save, write_json
+from workflows.paper.common import find_frequencies, finish, mode_amplitude, plt, write_json
 from mdbridge.rodrun import run_scene
 from workflows.paper.rod import scene, straight_rod
 
@@ -84,11 +84,6 @@ def check(outdir: Path | None = None, quick: bool = False) -> dict:
                     color="C0" if r["branch"].startswith("plus") else "C1", ms=5)
         ax.plot([], [], "ko", mfc="none", label="run, untwisted (k)")
         ax.plot([], [], "ks", mfc="none", label=r"run, twisted ($|\kappa_{p,m}|$)")
-        ax.set_xlabel(r"$|\kappa|$")
-        ax.set_ylabel(r"$\omega$")
-        ax.set_title(f"measured frequencies vs Eqs (26)/(39): max rel. diff {data['max_rel_diff']:.1e}", fontsize=9)
-        ax.legend(fontsize=7)
-        fig.tight_layout()
-        save(fig, outdir / "dispersion_check.png")
+        finish(fig, ax, outdir / "dispersion_check.png", r"$|\kappa|$", r"$\omega$", f"measured frequencies vs Eqs (26)/(39): max rel. diff {data['max_rel_diff']:.1e}", legend=7)
         write_json(outdir / "dispersion_check.json", data)
     return data

@@ -25,6 +25,16 @@ def save(fig, path: Path, dpi: int = 90) -> Path:
     return Path(path)
 
 
+def finish(fig, ax, path: Path, xlabel: str, ylabel: str, title: str, legend: int = 8) -> Path:
+    """The figures' common ending: axis labels, a small title, legend, layout, save."""
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.set_title(title, fontsize=9)
+    ax.legend(fontsize=legend)
+    fig.tight_layout()
+    return save(fig, path)
+
+
 def mode_amplitude(u: np.ndarray, m: int) -> np.ndarray:
     """Complex amplitude c_m(t) of Fourier mode m of u (T, N) on a uniform periodic grid:
     u = sum_m Re(c_m e^{i 2 pi m s / L}) for m >= 1."""
