@@ -26,7 +26,7 @@ from mdbridge.jsonio import write_json
 from . import charges, posres
 from .box import BoxPlan
 from .clashes import CLASH_A, closest_contact
-from .gmx import gmx_version, run_gmx
+from .gmx import find_gmx, gmx_version, run_gmx
 from .gro import Gro, read_gro, write_gro
 from .junction import junction_report
 from .mdp import MdSettings, render_em, render_md
@@ -140,9 +140,11 @@ def frame_deviation(o1, R1, o2, R2, box_A=None) -> dict:
 def build_inputs(outdir: Path, structure, rod: RodInitial, box: BoxPlan, *, sequence: str,
                  forcefield: str = "charmm27", electrostatics: str = "paper",
                  temperature_K: float = 300.0, seed: int = 0, settings: MdSettings | None = None,
-                 minimize: bool = False, gmx: str = "gmx", threads: int = 1,
+                 minimize: bool = False, gmx: str | None = None, threads: int = 1,
                  meta: dict | None = None) -> dict:
-    """Write every MD input into OUTDIR and return the content of build.json."""
+    """Write every MD input into OUTDIR and return the content of build.json.
+    gmx: as find_gmx (the given path, else $DNAROD_GMX, else PATH)."""
+    gmx = find_gmx(gmx)
     outdir = Path(outdir)
     outdir.mkdir(parents=True, exist_ok=True)
     for stale in ("build.json", "md.done", "checks.json"):
