@@ -140,11 +140,16 @@ class RodRun:
     def from_result(cls, d, source: str = "rod") -> "RodRun":
         """From rodcore.run's result dict (or any mapping with its keys)."""
         arr = (lambda k: None if d.get(k) is None else np.asarray(d[k]))
-        attrs = {}
-        for k, v in dict(d.get("scales") or {}).items():
-            attrs[k] = v
-        if d.get("scene") is not None:
+        attrs = dict(d.get("scales") or {})
+        if d.get("scene") is not None:   # the resolved scene, as rodsim's section.key attributes
             attrs["scene"] = d["scene"]
+            for section, table in tomllib.loads(d["scene"]).items():
+                for k, v in table.items():
+                    if isinstance(v, list):   # numbers only (rodsim records no list of names)
+                        if all(isinstance(x, (int, float)) for x in v):
+                            attrs[f"{section}.{k}"] = np.asarray(v, float)
+                    else:
+                        attrs[f"{section}.{k}"] = int(v) if isinstance(v, bool) else v
         return cls(time=np.asarray(d["time"]), s=np.asarray(d["s"]),
                    fields={k: np.asarray(v) for k, v in dict(d.get("fields") or {}).items()},
                    energy=arr("energy"),

@@ -42,6 +42,14 @@ def test_module_result_equals_rodsim_file_and_round_trips(rodsim, tmp_path):
     assert set(disk.energy_parts) == set(mem.energy_parts) and len(disk.energy_parts) == 6
     assert disk.complete and disk.ell_A == pytest.approx(Units.paper().ell_A, rel=1e-15)
     assert disk.attrs["initial.bp"] == 21 and disk.summary["steps"] >= 1
+    # the module's result carries the same resolved scene values as the file's attributes
+    for key in ("rod.length", "rod.points", "initial.bp", "initial.turns", "material.D", "output.frames"):
+        np.testing.assert_array_equal(mem.attrs[key], disk.attrs[key], err_msg=key)
+    assert mem.attrs["ell_A"] == disk.attrs["ell_A"]
+    mem.write(tmp_path / "mem.h5")      # a module run saved is a rod output file like rodsim's
+    again = RodRun.read(tmp_path / "mem.h5")
+    np.testing.assert_array_equal(again.directors, disk.directors)
+    assert again.attrs["initial.bp"] == 21 and again.complete
     # write -> read keeps every array, attribute and summary entry
     disk.write(tmp_path / "copy.h5")
     back = RodRun.read(tmp_path / "copy.h5")
