@@ -11,6 +11,8 @@ from __future__ import annotations
 import copy
 import math
 
+import numpy as np
+
 from dna_models.errors import InputError
 from dna_models.units import Units
 from mdbridge.rodrun import RodRun, scene_bp_turns
@@ -40,18 +42,26 @@ def md_scene(scene: dict, *, md_ps: float, bp: int | None = None, turns: int | N
     return s
 
 
-def rod_for_md(run: RodRun, *, md_ps: float, n_bp: int, turns: int,
-               units: Units | None = None) -> RodRun:
-    """The frames of an existing rod run that cover the MD (0 <= t <= md_ps), checked
-    to be a run of the same DNA (initial.bp, initial.turns recorded in the file) that
-    started at t = 0 and lasted at least as long as the MD."""
+def rod_for_md(run: RodRun, *, md_ps: float, scene: dict, units: Units | None = None) -> RodRun:
+    """The frames of an existing rod run that cover the MD (0 <= t <= md_ps), checked to
+    be a run of SCENE (resolved, mdbridge.rodrun.resolve_scene: every [rod], [material]
+    and [initial] value the file records must be the scene's) that starts at t = 0 and
+    lasts at least as long as the MD."""
     u = units or Units.paper()
-    run.require("fields/gamma", "fields/omega", "fields/Gamma", "centerline", "directors")
-    for key, want in (("initial.bp", n_bp), ("initial.turns", turns)):
-        got = run.attrs.get(key)
-        if got is not None and float(got) != float(want):
-            raise InputError(f"{run.source}: attribute {key} = {got:g}, but the scene has {want}: "
-                             "the rod run is not of this scene")
+    run.require("time", "s", "fields/gamma", "fields/omega", "fields/Gamma", "centerline", "directors")
+    differ = []
+    for section in ("rod", "material", "initial"):
+        for key, want in scene.get(section, {}).items():
+            got = run.attrs.get(f"{section}.{key}")
+            if got is None or isinstance(want, str) or isinstance(got, str):
+                if got is not None and str(got) != str(want):
+                    differ.append(f"{section}.{key} = {got!r} (scene: {want!r})")
+                continue
+            if np.shape(got) != np.shape(want) or not np.allclose(got, want, rtol=1e-12, atol=0):
+                differ.append(f"{section}.{key} = {np.round(got, 6).tolist()} "
+                              f"(scene: {np.round(want, 6).tolist()})")
+    if differ:
+        raise InputError(f"{run.source}: not a run of this scene: " + "; ".join(differ))
     if float(run.time[0]) != 0.0:
         raise InputError(f"{run.source}: the first frame is at t = {u.time_to_ps(run.time[0]):g} ps; "
                          "build-md needs the rod's state at t = 0")

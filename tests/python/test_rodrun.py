@@ -127,7 +127,8 @@ def test_build_md_takes_the_workflow_rod_run(rodsim, tmp_path):
     # the workflow's run: 8 ps, a frame every 0.2 ps (workflows/config/tiny.yaml's spacing)
     h5 = _rodsim(rodsim, scene, tmp_path / "rod.h5", f"output.t_end={u.time_to_rod(8.0)!r}",
                  "output.frames=41", 'output.fields=["internal","centerline","directors"]')
-    given = rod_for_md(RodRun.read(h5), md_ps=4.0, n_bp=21, turns=2, units=u)
+    resolved = resolve_scene(scene)
+    given = rod_for_md(RodRun.read(h5), md_ps=4.0, scene=resolved, units=u)
     assert u.time_to_ps(given.time[-1]) == pytest.approx(4.0, rel=1e-9) and len(given.time) == 21
     own = run_scene(md_scene(load_scene(scene), md_ps=4.0))
     rod_a, c_a = rod_initial_from_run(given, 21, u)
@@ -141,9 +142,15 @@ def test_build_md_takes_the_workflow_rod_run(rodsim, tmp_path):
     span = lambda c: np.ptp(c.reshape(-1, 3), axis=0)  # noqa: E731
     np.testing.assert_allclose(span(c_a), span(c_b), rtol=0.02, atol=0.05)
     with pytest.raises(InputError, match=r"covers 8 ps, the MD 10 ps"):
-        rod_for_md(RodRun.read(h5), md_ps=10.0, n_bp=21, turns=2, units=u)
-    with pytest.raises(InputError, match=r"initial\.bp = 21, but the scene has 22"):
-        rod_for_md(RodRun.read(h5), md_ps=4.0, n_bp=22, turns=2, units=u)
+        rod_for_md(RodRun.read(h5), md_ps=10.0, scene=resolved, units=u)
+    # a run of another scene (other bp, other kick) is refused, naming what differs
+    other = resolve_scene({"initial": {"kind": "dna_planar", "bp": 22, "turns": 2, "A_v_A_per_ps": 5.0}})
+    with pytest.raises(InputError, match=r"rod\.h5: not a run of this scene: rod\.length = .*"
+                                         r"initial\.bp = 21\.0 \(scene: 22\.0\)"):
+        rod_for_md(RodRun.read(h5), md_ps=4.0, scene=other, units=u)
+    kick = resolve_scene({"initial": {"kind": "dna_planar", "bp": 21, "turns": 2, "A_v_A_per_ps": 1.0}})
+    with pytest.raises(InputError, match=r"initial\.A_v_A_per_ps = 5\.0 \(scene: 1\.0\)"):
+        rod_for_md(RodRun.read(h5), md_ps=4.0, scene=kick, units=u)
 
 
 def test_results_json_is_strict_json(tmp_path):

@@ -91,7 +91,7 @@ def run(args):
     from mdbridge.gromacs.inputs import build_inputs, rod_initial_from_run
     from mdbridge.gromacs.mdp import MdSettings
     from mdbridge.gromacs.rod import md_scene, rod_for_md
-    from mdbridge.rodrun import RodRun, load_scene, run_scene, scene_bp_turns
+    from mdbridge.rodrun import RodRun, load_scene, resolve_scene, run_scene, scene_bp_turns
 
     gmx = find_gmx(args.gmx)
     if args.ps < 0:
@@ -120,7 +120,8 @@ def run(args):
           file=sys.stderr)
     if args.rod:
         print(f"build-md: the rod run {args.rod} (box sizing) ...", file=sys.stderr)
-        run = rod_for_md(RodRun.read(args.rod), md_ps=args.ps, n_bp=bp, turns=turns, units=u)
+        run = rod_for_md(RodRun.read(args.rod), md_ps=args.ps,
+                         scene=resolve_scene(Path(args.scene), args.scene), units=u)
     else:
         print("build-md: running the rod for the MD length (box sizing) ...", file=sys.stderr)
         run = run_scene(md_scene(scene, md_ps=args.ps, bp=args.bp, turns=args.turns, units=u,
