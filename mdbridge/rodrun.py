@@ -45,8 +45,9 @@ def analytic():
 
 
 def resolve_scene(scene, source="scene") -> dict:
-    """SCENE with every key rodcore fills by default (rodcore.resolve), as a dict: the
-    one place Python learns a default of the solver (material, grid, kind parameters)."""
+    """SCENE with every key rodcore fills by default (rodcore.resolve), as a dict. With
+    rodcore.kinds (scene_bp_turns) this is how Python learns a default of the solver
+    (material, grid, kind parameters): from the solver, never from a copy."""
     try:
         text = _rodcore().resolve(str(scene) if isinstance(scene, Path) else scene)
     except ValueError as e:
