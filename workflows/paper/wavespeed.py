@@ -27,7 +27,8 @@ from mdbridge.rodrun import run_scene, scene_bp_turns
 SCENE = Path(__file__).resolve().parents[1] / "scenes" / "dna158.toml"
 
 
-def predictions(units: Units | None = None, bp: int = 158, turns: float = 15.0) -> dict:
+def predictions(bp: int, turns: float, units: Units | None = None) -> dict:
+    """Small-amplitude speeds (Eqs 26/39) of a DNA scene of bp base pairs and `turns` turns."""
     u = units or Units.paper()
     L = bp * u.rise_A / u.ell_A
     K = 2 * np.pi / L
