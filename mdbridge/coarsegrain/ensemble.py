@@ -1,0 +1,54 @@
+"""`StepEnsemble`: what the coarse-graining estimates from -- step parameters of a
+duplex along an equilibrium trajectory, and which steps may be used."""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from dna_models.errors import InputError
+
+
+@dataclass
+class StepEnsemble:
+    """q (T, n_steps, 6): shift, slide, rise [A], tilt, roll, twist [deg] per frame and
+    step (3DNA definitions); step k joins base pairs k and k + 1 (0-based), and for a
+    closed (periodic ligated) duplex n_steps == n_bp and the last step joins the last
+    base pair to the first. excluded (n_steps,) bool: steps not to be used (a base pair
+    opened); times_ps (T,)."""
+
+    q: np.ndarray
+    sequence: str
+    closed: bool = False
+    times_ps: np.ndarray | None = None
+    excluded: np.ndarray | None = None
+    source: str = "arrays"
+    meta: dict = field(default_factory=dict)
+
+    def __post_init__(self):
+        self.q = np.asarray(self.q, dtype=float)
+        if self.q.ndim != 3 or self.q.shape[-1] != 6:
+            raise InputError(f"{self.source}: step parameters must be (frames, steps, 6), got {self.q.shape}")
+        T, n, _ = self.q.shape
+        want = len(self.sequence) if self.closed else len(self.sequence) - 1
+        if n != want:
+            raise InputError(f"{self.source}: {n} steps for a {'closed' if self.closed else 'linear'} "
+                             f"duplex of {len(self.sequence)} bp (expected {want})")
+        if not np.all(np.isfinite(self.q)):
+            raise InputError(f"{self.source}: step parameters contain NaN/Inf")
+        if self.times_ps is None:
+            self.times_ps = np.arange(T, dtype=float)
+        if self.excluded is None:
+            self.excluded = np.zeros(n, dtype=bool)
+
+    @property
+    def n_frames(self) -> int:
+        return self.q.shape[0]
+
+    @property
+    def n_steps(self) -> int:
+        return self.q.shape[1]
+
+    def dimer(self, k: int) -> str:
+        s = self.sequence
+        return s[k] + s[(k + 1) % len(s)]

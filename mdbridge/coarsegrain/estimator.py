@@ -1,0 +1,237 @@
+"""The coarse-graining estimator: equilibrium step-parameter ensemble -> per-step
+mean shape and 6x6 stiffness, m-step stiffness, continuum constants, each with its
+error (docs/coarse-graining.md).
+
+Order of work, each piece in its own module:
+ 1. equilibration stretch discarded (equilibration.py), minimum length checked
+    against the autocorrelation times (autocorrelation.py);
+ 2. m-step composition of the steps (composition.py), windows containing an excluded
+    step dropped;
+ 3. per window: mean, covariance, K = kT cov^-1 with the finite-sample correction
+    (stiffness.py); sequence averages; continuum constants (continuum.py);
+ 4. errors: moving-block bootstrap over frames of the whole of 2-3 (bootstrap.py);
+ 5. checks: first half against second half, estimate against frames used;
+ 6. optional rest-shape correction of a pre-stressed (box-constrained) duplex
+    (prestress.py).
+Stiffness is in units of kT (the caller knows T); continuum constants in SI-like
+units at the given temperature.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from dna_models.errors import InputError
+
+from .autocorrelation import integrated_time
+from .bootstrap import block_length, block_weights, spread, weighted_moments
+from .composition import compose
+from .continuum import TWIST, physical_constants
+from .ensemble import StepEnsemble
+from .equilibration import equilibration_start
+from .stiffness import bias_factor, mahalanobis_time
+
+MIN_EFFECTIVE = 50   # independent frames required: the error of a stiffness element is then
+                     # ~ sqrt(2 / N_eff) = 20 % and the bias correction below 20 %
+P = 6
+
+
+def longest_run(excluded: np.ndarray, closed: bool) -> int:
+    """Longest stretch of consecutive usable steps (wrapping when closed)."""
+    ok = ~np.asarray(excluded, dtype=bool)
+    if ok.all():
+        return len(ok)
+    seq = np.concatenate([ok, ok]) if closed else ok
+    best = run = 0
+    for v in seq:
+        run = run + 1 if v else 0
+        best = max(best, run)
+    return min(best, len(ok))
+
+
+def default_m_values(n_steps: int, closed: bool, m_max: int | None = None, excluded=None) -> list[int]:
+    """1..m_max, m_max = min(20, n_steps // 4) for a closed duplex (the box constraint
+    suppresses long-wavelength fluctuations; keep m well below n_bp) and
+    min(20, n_steps) for a linear one, and at most the longest stretch of usable steps."""
+    cap = max(1, n_steps // 4) if closed else n_steps
+    if excluded is not None:
+        cap = min(cap, max(1, longest_run(excluded, closed)))
+    m_max = min(20, cap) if m_max is None else m_max
+    if m_max > cap:
+        raise InputError(f"maximum coarse-graining length {m_max}: at most {cap} for this "
+                         f"{'closed duplex (n_bp / 4)' if closed else 'duplex'} of {n_steps} steps "
+                         "(and the longest stretch of steps without an opened base pair)")
+    return list(range(1, m_max + 1))
+
+
+def unwrap_twist(qm: np.ndarray, q1_windows_twist_sum: np.ndarray) -> np.ndarray:
+    """Put an m-step's twist on the branch of the sum of its steps' twists (CEHS gives
+    (-180, 180]; ten B-DNA steps twist by ~340 deg). Moving the twist by 360 k turns the
+    mid-step frame by 180 k about z, so for odd k shift, slide, tilt and roll change
+    sign: the parameters are then those of the mid-frame half-way along the true twist."""
+    k = np.round((q1_windows_twist_sum - qm[..., TWIST]) / 360.0)
+    out = qm.copy()
+    out[..., TWIST] += 360.0 * k
+    odd = (np.abs(k) % 2) == 1
+    out[..., [0, 1, 3, 4]] = np.where(odd[..., None], -out[..., [0, 1, 3, 4]], out[..., [0, 1, 3, 4]])
+    return out
+
+
+def composite_series(q: np.ndarray, m_values, closed: bool, excluded: np.ndarray):
+    """{m: (q_m (T, n_w, 6), first steps (n_w,))} of the windows free of excluded steps."""
+    n = q.shape[1]
+    comp = compose(q, m_values, closed)
+    csum = np.concatenate([q[..., TWIST], q[..., TWIST]], axis=1) if closed else q[..., TWIST]
+    cexc = np.concatenate([excluded, excluded]) if closed else excluded
+    out = {}
+    for m, qm in comp.items():
+        starts = np.arange(qm.shape[1])
+        idx = starts[:, None] + np.arange(m)[None, :]
+        tw_sum = csum[:, idx].sum(axis=-1)
+        qm = unwrap_twist(qm, tw_sum)
+        ok = ~cexc[idx].any(axis=1)
+        if not ok.any():
+            raise InputError(f"no window of {m} consecutive steps is free of excluded steps")
+        out[m] = (qm[:, ok], starts[ok])
+    return out
+
+
+def _constants_of(mean, cov, T_K, n_eff):
+    """Continuum constants of the pooled windows: window-averaged mean and covariance."""
+    return physical_constants(mean.mean(axis=-2), cov.mean(axis=-3), T_K, n_eff)
+
+
+class CoarseGrain:
+    """Estimate shape, stiffness and continuum constants of a StepEnsemble.
+
+        cg = CoarseGrain(ensemble, temperature_K=300.0).run()
+        cg.results["steps"]["K"]        # (n_steps, 6, 6) kT/A^2, kT/(A deg), kT/deg^2
+
+    block: bootstrap block length in frames (None: from the autocorrelation; 1 treats
+    frames as independent). discard: frames to drop at the start (None: the rule in
+    equilibration.py). min_effective: independent frames required.
+    """
+
+    def __init__(self, ensemble: StepEnsemble, temperature_K: float, m_values=None,
+                 m_rod: int | None = None, n_boot: int = 200, seed: int = 0, block: int | None = None,
+                 discard: int | None = None, min_effective: float = MIN_EFFECTIVE,
+                 convergence_points: int = 8):
+        self.ens = ensemble
+        self.T_K = float(temperature_K)
+        self.m_values = list(m_values) if m_values is not None else default_m_values(
+            ensemble.n_steps, ensemble.closed, excluded=ensemble.excluded)
+        self.m_rod = int(m_rod) if m_rod is not None else max(self.m_values)
+        if self.m_rod not in self.m_values:
+            self.m_values = sorted(set(self.m_values) | {self.m_rod})
+            default_m_values(ensemble.n_steps, ensemble.closed, max(self.m_values))
+        self.n_boot = int(n_boot)
+        self.rng = np.random.default_rng(seed)
+        self.block = block
+        self.discard = discard
+        self.min_effective = float(min_effective)
+        self.convergence_points = convergence_points
+
+    # ------------------------------------------------------------------
+    def run(self):
+        ens = self.ens
+        use = ~ens.excluded
+        if not use.any():
+            raise InputError(f"{ens.source}: every step is excluded (base pairs opened)")
+        q_all = ens.q
+        # 1. equilibration: sequence-averaged parameters of the usable steps
+        if self.discard is None:
+            t0, _ = equilibration_start(q_all[:, use].mean(axis=1))
+            rule = "Chodera 2016: start maximising N_eff of the sequence-averaged step parameters"
+        else:
+            t0, rule = int(self.discard), "given"
+        q = q_all[t0:]
+        T = q.shape[0]
+        if T < 10:
+            raise InputError(f"{ens.source}: {T} frames after discarding {t0}; need far more "
+                             f"(at least {math.ceil(2 * self.min_effective)})")
+        series = composite_series(q, self.m_values, ens.closed, ens.excluded)
+        m_top = max(self.m_values)
+        tau_steps = integrated_time(q[:, use])                     # (n_use, 6)
+        tau_top = integrated_time(series[m_top][0])
+        tau_max = float(max(tau_steps.max(), tau_top.max()))
+        n_eff = T / (2.0 * tau_max)
+        if n_eff < self.min_effective:
+            need = math.ceil(2.0 * tau_max * self.min_effective) + t0
+            raise InputError(
+                f"{ens.source}: too few frames: {T} frames after discarding {t0} equilibration "
+                f"frames are worth {n_eff:.1f} independent samples (slowest autocorrelation time "
+                f"{tau_max:.1f} frames); at least {self.min_effective:g} are needed, i.e. about "
+                f"{need} frames in total at this frame spacing")
+        b = self.block if self.block is not None else block_length(tau_max, T)
+        W = block_weights(T, b, self.n_boot, self.rng)
+        half = T // 2
+        W_half = np.zeros((2, T))
+        W_half[0, :half] = 1.0
+        W_half[1, half:] = 1.0
+        n_conv = np.unique(np.linspace(max(2 * P + 10, T // self.convergence_points), T,
+                                       self.convergence_points).astype(int))
+        W_conv = (np.arange(T)[None, :] < n_conv[:, None]).astype(float)
+
+        by_m = {}
+        for m in self.m_values:
+            qm, starts = series[m]
+            by_m[m] = self._estimate(m, qm, starts, W, W_half, W_conv, n_conv)
+        res = {"discarded_frames": t0, "equilibration_rule": rule, "frames_used": T,
+               "frames_total": ens.n_frames, "tau_int_max_frames": tau_max,
+               "tau_int_steps": tau_steps, "effective_samples": n_eff, "block_length": b,
+               "n_boot": self.n_boot, "by_m": by_m, "m_rod": self.m_rod,
+               "temperature_K": self.T_K, "used_steps": np.flatnonzero(use),
+               "excluded_steps": np.flatnonzero(ens.excluded), "convergence_frames": n_conv,
+               "dt_ps": float(np.median(np.diff(ens.times_ps))) if ens.n_frames > 1 else 0.0}
+        self.results = res
+        return self
+
+    def _estimate(self, m, qm, starts, W, W_half, W_conv, n_conv):
+        T = qm.shape[0]
+        mean = qm.mean(axis=0)
+        d = qm - mean
+        cov = np.einsum("twi,twj->wij", d, d) / (T - 1)
+        tau2 = mahalanobis_time(qm, mean, cov)                      # (n_w,)
+        n2 = T / (2.0 * tau2)
+        bias_factor(n2, P)                                          # clear error if too few
+        Kinv = np.linalg.inv(cov)
+
+        def K_of(c, n):
+            K = np.linalg.inv(c) * bias_factor(n, P)[..., :, None, None]
+            return 0.5 * (K + np.swapaxes(K, -1, -2))
+
+        K = 0.5 * (Kinv + np.swapaxes(Kinv, -1, -2)) * bias_factor(n2, P)[:, None, None]
+        phys = _constants_of(mean, cov, self.T_K, float(np.median(n2)))
+
+        bm, bc = weighted_moments(qm, W)                            # (B, n_w, 6), (B, n_w, 6, 6)
+        bK = K_of(bc, n2[None, :])
+        bphys = _constants_of(bm, bc, self.T_K, float(np.median(n2)))
+        out = {"m": m, "first_step": starts,
+               "mean": mean, "mean_err": spread(bm),
+               "cov": cov, "K": K, "K_err": spread(bK), "tau2": tau2, "n_eff2": n2,
+               "K_avg": K.mean(axis=0), "K_avg_err": spread(bK.mean(axis=1)),
+               "mean_avg": mean.mean(axis=0), "mean_avg_err": spread(bm.mean(axis=1)),
+               "physical": {k: float(v) for k, v in phys.items()},
+               "physical_err": {k: float(spread(v)) for k, v in bphys.items()},
+               "physical_boot": bphys}
+        # first half vs second half
+        hm, hc = weighted_moments(qm, W_half)
+        n2h = n2[None, :] / 2.0
+        ok = np.all(n2h > P + 2)
+        hK = K_of(hc, n2h) if ok else np.full_like(hc, np.nan)
+        hphys = _constants_of(hm, hc, self.T_K, float(np.median(n2)) / 2.0) if np.median(n2) / 2 > P + 2 else None
+        out["halves"] = {"K_avg": hK.mean(axis=1), "mean_avg": hm.mean(axis=1),
+                         "physical": None if hphys is None else {k: v for k, v in hphys.items()}}
+        # convergence: first n frames
+        cm, cc = weighted_moments(qm, W_conv)
+        n2c = n2[None, :] * (n_conv[:, None] / T)
+        okc = np.all(n2c > P + 2, axis=1)
+        cK = np.full_like(cc, np.nan)
+        if okc.any():
+            cK[okc] = K_of(cc[okc], n2c[okc])
+        n_c = float(np.median(n2)) * n_conv / T
+        cphys = _constants_of(cm, cc, self.T_K, n_c if np.all(n_c > 4) else None)
+        out["convergence"] = {"frames": n_conv, "K_avg": cK.mean(axis=1), "mean_avg": cm.mean(axis=1),
+                              "physical": cphys}
+        return out

@@ -1,0 +1,109 @@
+"""From an MD trajectory (anything MDAnalysis reads) to a StepEnsemble, plus what the
+atoms give besides the step parameters: base-pair integrity, mass and inertia per
+base pair, and the kinetic temperature.
+
+Base-pair frames and step parameters are mdbridge.geometry's (3DNA-exact, minimum
+images across the box); integrity is mdbridge.analysis.integrity's N1-N3 test.
+"""
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+
+from dna_models.errors import InputError
+from mdbridge.geometry.pbc import minimum_image
+from mdbridge.geometry.structure import BasePairFrames, _canonical_atom_name
+
+from .ensemble import StepEnsemble
+from .mass import frame_inertia, pair_atom_indices
+
+MAX_OPEN_FRACTION = 0.0   # a base pair counts as opened if N1-N3 > 3.5 A in more than this
+                          # fraction of the frames used (0: in any frame)
+INERTIA_FRAMES = 50       # frames (evenly spaced) the mass/inertia average is taken over
+
+
+def is_ligated(bpf: BasePairFrames) -> bool:
+    """True when strand I's last O3' and its first P are within 4 A (minimum image; bonded
+    1.6 A, up to ~2.6 A in rebuilt models) in a periodic box: the duplex is closed."""
+    box = bpf.universe.dimensions
+    if box is None or np.any(np.asarray(box[:3]) < 10.0):
+        return False
+    first, last = bpf.pairs[0][0], bpf.pairs[-1][0]
+    o3 = [a for a in last.atoms if _canonical_atom_name(a.name) == "O3'"]
+    p = [a for a in first.atoms if _canonical_atom_name(a.name) == "P"]
+    if not (o3 and p):
+        return False
+    d = np.linalg.norm(minimum_image(p[0].position - o3[0].position, np.asarray(box, float)))
+    return bool(d < 4.0)
+
+
+def open_pairs(universe, pairs, start, stop, step, max_fraction=MAX_OPEN_FRACTION):
+    """(opened (n_bp,) bool, fraction of frames open (n_bp,), N1-N3 distances (T, n_bp))."""
+    from mdbridge.analysis.integrity import INTACT_CUTOFF_A, bp_intact_fraction
+    _, _, dist = bp_intact_fraction(universe, pairs, start, stop, step)
+    frac = np.mean(dist > INTACT_CUTOFF_A, axis=0)
+    return frac > max_fraction, frac, dist
+
+
+def steps_of_pairs(opened: np.ndarray, closed: bool) -> np.ndarray:
+    """Steps (n_steps,) touching an opened base pair."""
+    n = len(opened)
+    k = np.arange(n if closed else n - 1)
+    return opened[k] | opened[(k + 1) % n]
+
+
+def mass_inertia(bpf: BasePairFrames, frame_index: np.ndarray):
+    """Per base pair: mass (amu), full inertia about the bp origin (amu A^2), slice
+    inertia (amu A^2), each averaged over the frames (positions into bpf.results)
+    and the standard error of the inertia over those frames; hydrogens present?"""
+    u = bpf.universe
+    groups = pair_atom_indices(bpf.pairs)
+    masses = u.atoms.masses
+    n = len(groups)
+    full = np.zeros((len(frame_index), n, 3, 3))
+    sl = np.zeros_like(full)
+    mass = np.array([masses[g].sum() for g in groups])
+    r = bpf.results
+    for k, (i_res, fr) in enumerate(zip(frame_index, r["frame"][frame_index])):
+        ts = u.trajectory[int(fr)]
+        box = None if (ts.dimensions is None or r.box is None) else np.asarray(ts.dimensions, float)
+        pos = u.atoms.positions.astype(float)
+        for i, g in enumerate(groups):
+            _, full[k, i], sl[k, i] = frame_inertia(pos[g], masses[g],
+                                                    r.origins[i_res, i], r.R[i_res, i], box)
+    try:
+        el = np.array([str(e).strip().upper() for e in u.atoms.elements])
+    except Exception:  # noqa: BLE001 - no element column
+        el = np.array([str(a).strip()[:1].upper() for a in u.atoms.names])
+    has_h = bool(np.any(el[np.concatenate(groups)] == "H"))
+    k = max(1, len(frame_index))
+    return {"mass": mass, "inertia": full.mean(axis=0), "slice_inertia": sl.mean(axis=0),
+            "slice_inertia_err": sl.std(axis=0, ddof=1) / np.sqrt(k) if k > 1 else np.zeros_like(sl[0]),
+            "hydrogens": has_h, "frames": int(len(frame_index))}
+
+
+def read_ensemble(universe, pairs=None, pair_numbering="resid", closed=None, start=None, stop=None,
+                  step=None, max_open_fraction=MAX_OPEN_FRACTION, source="trajectory"):
+    """StepEnsemble of the duplex in `universe`, with opened base pairs' steps excluded,
+    and a dict of extras (open fractions, mass/inertia, sequence, pairs)."""
+    bpf = BasePairFrames(universe, pairs=pairs, pair_numbering=pair_numbering)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        bpf.run(start, stop, step)
+    if closed is None:
+        closed = is_ligated(bpf)
+    if closed and bpf.results.box is None:
+        raise InputError(f"{source}: a closed (ligated) duplex needs the periodic box in every frame")
+    q = bpf.step_parameters(periodic=closed)
+    opened, frac, _ = open_pairs(universe, bpf.pairs, start, stop, step, max_open_fraction)
+    excluded = steps_of_pairs(opened, closed)
+    T = q.shape[0]
+    fi = np.unique(np.linspace(0, T - 1, min(T, INERTIA_FRAMES)).astype(int))
+    mi = mass_inertia(bpf, fi)
+    ens = StepEnsemble(q=q, sequence=bpf.sequence, closed=bool(closed),
+                       times_ps=np.asarray(bpf.results.time, float), excluded=excluded, source=source)
+    extras = {"open_fraction": frac, "opened_pairs": np.flatnonzero(opened), "mass_inertia": mi,
+              "pairs": [(f"{a.resname}{a.resid}", f"{b.resname}{b.resid}") for a, b in bpf.pairs],
+              "bpf": bpf}
+    return ens, extras

@@ -1,0 +1,90 @@
+"""The temperature kT is taken at: given, or the trajectory's own kinetic temperature.
+
+Kinetic temperature from velocities (TRR, or anything MDAnalysis reads with
+velocities): T = <sum m v^2> / (3 N k_B) over the atoms that are neither water nor
+hydrogen. Water (SETTLE) and bonds to hydrogen are constrained in the usual
+GROMACS setup and a trajectory does not say which, so counting 3 N degrees of
+freedom over all atoms would understate T by up to a third. The atoms kept carry
+3 k_B T each by equipartition except for a heavy atom X bound to a constrained H:
+its share is (3 m_X + 2 m_H) / (m_X + m_H) k_B T, 2.6 % low for C-H; reported as a
+bound, not corrected (the fraction of such atoms is reported too).
+An .edr energy file gives the thermostat's temperature through `gmx energy`.
+"""
+from __future__ import annotations
+
+import subprocess
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+from dna_models.errors import InputError
+
+from .constants import AMU, BOLTZMANN
+
+_WATER = {"SOL", "WAT", "HOH", "TIP3", "TIP3P", "SPC", "TIP4", "TIP4P", "T3P", "SPCE"}
+
+
+def kinetic_temperature(universe, start=None, stop=None, step=None):
+    """(T_K, T_std_K per frame, n_atoms, note) or None when the trajectory has no velocities."""
+    try:
+        universe.trajectory[0].velocities  # noqa: B018
+    except Exception:  # noqa: BLE001 - MDAnalysis raises NoDataError
+        return None
+    atoms = universe.atoms
+    keep = np.array([(r not in _WATER) for r in atoms.resnames])
+    try:
+        el = np.array([str(e).strip().upper() for e in atoms.elements])
+    except Exception:  # noqa: BLE001 - no elements: guess from names
+        el = np.array([str(n).strip()[:1].upper() for n in atoms.names])
+    keep &= el != "H"
+    sel = atoms[keep]
+    if len(sel) == 0:
+        return None
+    m = sel.masses * AMU
+    vals = []
+    for ts in universe.trajectory[start:stop:step]:
+        if not ts.has_velocities:
+            return None
+        v = sel.velocities * 100.0               # A/ps -> m/s
+        vals.append(np.sum(m * np.sum(v * v, axis=1)) / (3 * len(sel) * BOLTZMANN))
+    vals = np.array(vals)
+    return float(vals.mean()), float(vals.std()), int(len(sel)), (
+        "velocities of non-water, non-hydrogen atoms, 3 k_B T per atom (<= 2.6 % low for "
+        "atoms bound to constrained hydrogens)")
+
+
+def edr_temperature(edr_path, gmx: str = "gmx", begin_ps=None):
+    """Mean 'Temperature' of a GROMACS .edr (via `gmx energy`)."""
+    edr = Path(edr_path)
+    if not edr.is_file():
+        raise InputError(f"{edr}: energy file not found")
+    with tempfile.TemporaryDirectory() as tmp:
+        out = Path(tmp) / "T.xvg"
+        args = [gmx, "-quiet", "energy", "-f", str(edr), "-o", str(out)]
+        if begin_ps is not None:
+            args += ["-b", str(begin_ps)]
+        try:
+            p = subprocess.run(args, input="Temperature\n\n", capture_output=True, text=True, timeout=120)
+        except FileNotFoundError:
+            raise InputError(f"{edr}: reading an .edr needs GROMACS ('{gmx}' not found); "
+                             "give --temperature instead") from None
+        if p.returncode != 0 or not out.is_file():
+            raise InputError(f"{edr}: gmx energy failed to extract 'Temperature': {p.stderr.strip()[-400:]}")
+        rows = [ln.split() for ln in out.read_text().splitlines() if ln and ln[0] not in "#@"]
+        T = np.array([float(r[1]) for r in rows if len(r) >= 2])
+    if not len(T):
+        raise InputError(f"{edr}: no 'Temperature' term")
+    return float(T.mean()), float(T.std())
+
+
+def parse_temperature(value) -> float:
+    try:
+        t = float(value)
+    except (TypeError, ValueError):
+        raise InputError(f"--temperature {value!r}: need a number in K") from None
+    if not (t > 0 and np.isfinite(t)):
+        raise InputError(f"--temperature {value!r}: must be a positive temperature in K")
+    return t
+
+

@@ -1,0 +1,160 @@
+"""`dnarod coarse-grain`: an equilibrium all-atom DNA trajectory -> the rod's material
+(mean shape, 6x6 step stiffness, m-step continuum stiffness, physical constants,
+mass and inertia), each number with its error (mdbridge.coarsegrain)."""
+from __future__ import annotations
+
+import math
+import warnings
+from pathlib import Path
+
+from dna_models.errors import InputError
+
+NAME = "coarse-grain"
+HELP = "coarse-grain an all-atom DNA trajectory into the rod's stiffness, shape, rho and I"
+DESCRIPTION = """\
+Coarse-grain an equilibrium MD trajectory of a DNA duplex into the elastic rod:
+
+  * per step (3DNA step parameters q = shift, slide, rise [A], tilt, roll, twist
+    [deg]): mean shape and stiffness K = kT <dq dq^T>^-1 (kT/A^2, kT/(A deg),
+    kT/deg^2), finite-sample bias of the inverse covariance corrected;
+  * m-step segments (m consecutive steps composed into one rigid-body step) for
+    m = 1..M: stiffness against length, and the continuum constants (bend and
+    torsional persistence length, torsional and stretch modulus, twist-stretch
+    coupling); the rod's dimensionless K, Gamma0, Omega0 at m = --length;
+  * mass and inertia per base pair about the base-pair origin, the rod's rho and I
+    next to the paper's.
+
+Errors: moving-block bootstrap with the block length from the autocorrelation
+times. The equilibration stretch is discarded (Chodera's rule), the remaining
+frames must be worth --min-effective independent samples, the two halves are
+compared, and steps whose base pairs open (N1-N3 > 3.5 A) are excluded and
+listed. Writes DIR/params.json and DIR/convergence.png (docs/coarse-graining.md).
+
+T is the trajectory's kinetic temperature (velocities, e.g. a TRR), or the .edr's
+(--edr), or --temperature (which wins); params.json says which.
+
+examples:
+  dnarod coarse-grain md.tpr md.trr -o cg
+  dnarod coarse-grain md.tpr part1.xtc part2.xtc --temperature 300 -m 10 -o cg
+  dnarod coarse-grain sample_md0.pdb --pairs bpfile.dat --temperature 300 --min-effective 8 -o cg
+"""
+
+
+def add_arguments(p):
+    p.add_argument("structure", metavar="STRUCTURE", help="topology/coordinates (TPR, PDB, GRO, ...)")
+    p.add_argument("trajectories", metavar="TRAJECTORY", nargs="*", help="trajectories, concatenated in order")
+    p.add_argument("-o", "--output", metavar="DIR", required=True, help="output directory")
+    p.add_argument("--temperature", metavar="K", help="temperature in K (default: kinetic, from velocities)")
+    p.add_argument("--edr", metavar="FILE", help="GROMACS energy file: take T from it (gmx energy)")
+    p.add_argument("-m", "--length", type=int, metavar="M",
+                   help="coarse-graining length (steps) for the rod's K and the headline constants "
+                        "(default: the largest m)")
+    p.add_argument("--m-max", type=int, metavar="M",
+                   help="largest m (default min(20, n_steps); n_bp / 4 for a closed duplex)")
+    p.add_argument("--pairs", metavar="FILE", help="base pairs: 3DNA bpfile or lines 'resid_I resid_II'")
+    p.add_argument("--closed", choices=("auto", "yes", "no"), default="auto",
+                   help="periodic ligated duplex (closing step included); auto: strand I's ends bonded "
+                        "across the box")
+    p.add_argument("--tension", type=float, metavar="PN",
+                   help="measured mean tension (pN) of the box-held duplex: rest shape corrected")
+    p.add_argument("--torque", type=float, metavar="PN_NM",
+                   help="measured mean torque (pN nm, positive overwinds): rest shape corrected")
+    p.add_argument("--discard", type=int, metavar="N",
+                   help="frames to discard as equilibration (default: Chodera's rule)")
+    p.add_argument("--min-effective", type=float, default=None, metavar="N",
+                   help="independent frames required (default 50)")
+    p.add_argument("--max-open-fraction", type=float, default=0.0, metavar="F",
+                   help="a base pair counts as opened if N1-N3 > 3.5 A in more than this fraction of "
+                        "frames (default 0: any frame)")
+    p.add_argument("--bootstrap", type=int, default=200, metavar="N", help="bootstrap replicates (200)")
+    p.add_argument("--seed", type=int, default=0, help="bootstrap random seed")
+    p.add_argument("--start", type=int, default=None, help="first trajectory frame (0-based)")
+    p.add_argument("--stop", type=int, default=None, help="stop before this frame")
+    p.add_argument("--step", type=int, default=None, help="take every STEP-th frame")
+
+
+def _universe(structure, trajectories):
+    import MDAnalysis
+    files = [structure] + list(trajectories)
+    for f in files:
+        if not Path(f).is_file():
+            raise InputError(f"{f}: file not found")
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            return MDAnalysis.Universe(structure, *trajectories) if trajectories else MDAnalysis.Universe(structure)
+    except Exception as e:  # noqa: BLE001 - MDAnalysis raises many types for bad files
+        raise InputError(f"{' + '.join(files)}: MDAnalysis cannot read it ({type(e).__name__}: {e})") from None
+
+
+def run(args):
+    from mdbridge.coarsegrain.estimator import MIN_EFFECTIVE, CoarseGrain, default_m_values
+    from mdbridge.coarsegrain.figure import convergence_figure
+    from mdbridge.coarsegrain.params import build_params, write_params
+    from mdbridge.coarsegrain.reader import read_ensemble
+    from mdbridge.coarsegrain.temperature import edr_temperature, kinetic_temperature, parse_temperature
+    from mdbridge.geometry.structure import read_pairs_file
+
+    if not (0.0 <= args.max_open_fraction < 1.0):
+        raise InputError(f"--max-open-fraction {args.max_open_fraction}: allowed 0 <= F < 1")
+    out = Path(args.output)
+    u = _universe(args.structure, args.trajectories)
+    source = " + ".join([args.structure] + list(args.trajectories))
+    pairs, numbering = (None, "resid")
+    if args.pairs:
+        pairs, numbering = read_pairs_file(args.pairs)
+    closed = {"auto": None, "yes": True, "no": False}[args.closed]
+    ens, extras = read_ensemble(u, pairs, numbering, closed, args.start, args.stop, args.step,
+                                args.max_open_fraction, source)
+    extras["max_open_fraction"] = args.max_open_fraction
+
+    caveats = []
+    if args.temperature is not None:
+        T_K, T_src = parse_temperature(args.temperature), "given"
+    elif args.edr:
+        T_K, sd = edr_temperature(args.edr)
+        T_src = f"edr ({args.edr}: mean of gmx energy 'Temperature', s.d. {sd:.1f} K)"
+    else:
+        kin = kinetic_temperature(u, args.start, args.stop, args.step)
+        if kin is None:
+            raise InputError(f"{source}: no velocities in the trajectory, so no kinetic temperature: "
+                             "give --temperature K (or --edr FILE)")
+        T_K, sd, n_at, note = kin
+        T_src = "kinetic"
+        caveats.append(f"kinetic temperature {T_K:.1f} K (s.d. {sd:.1f} K over frames) from {n_at} atoms: {note}")
+
+    m_values = default_m_values(ens.n_steps, ens.closed, args.m_max, ens.excluded)
+    m_rod = args.length if args.length is not None else max(m_values)
+    if m_rod < 1 or m_rod > max(m_values):
+        raise InputError(f"--length {m_rod}: allowed 1..{max(m_values)} (raise --m-max; "
+                         f"{'n_bp / 4 for a closed duplex' if ens.closed else 'at most the number of steps'})")
+    min_eff = MIN_EFFECTIVE if args.min_effective is None else args.min_effective
+    if min_eff < MIN_EFFECTIVE:
+        caveats.append(f"--min-effective {min_eff:g} is below the default {MIN_EFFECTIVE}: few independent "
+                       f"frames, stiffness errors ~ sqrt(2 / N_eff) = {100 * math.sqrt(2 / max(min_eff, 1)):.0f} % "
+                       "or more, and the bias correction is large")
+    if extras["opened_pairs"].size:
+        caveats.append("opened base pairs (1-based): " + ", ".join(str(i + 1) for i in extras["opened_pairs"])
+                       + "; their steps are excluded")
+    if ens.closed and args.tension is None and args.torque is None:
+        caveats.append("closed duplex: the means are the box's pre-stressed shape (no --tension/--torque given)")
+    if not extras["mass_inertia"]["hydrogens"]:
+        caveats.append("the topology has no hydrogens: masses and inertia are those of the heavy atoms only")
+    cg = CoarseGrain(ens, T_K, m_values=m_values, m_rod=m_rod, n_boot=args.bootstrap, seed=args.seed,
+                     discard=args.discard, min_effective=min_eff).run()
+    params = build_params(cg, T_src, extras, args.tension, args.torque, min_eff, caveats)
+    out.mkdir(parents=True, exist_ok=True)
+    write_params(out / "params.json", params)
+    params["convergence"]["figure"] = "convergence.png"
+    convergence_figure(out / "convergence.png", params)
+    write_params(out / "params.json", params)
+    ph = params["physical"]
+    print(f"{ens.n_steps} steps ({len(cg.results['excluded_steps'])} excluded), {cg.results['frames_used']} frames "
+          f"used after discarding {cg.results['discarded_frames']}, N_eff = {cg.results['effective_samples']:.0f}, "
+          f"T = {T_K:.1f} K ({T_src.split(' ')[0]})")
+    for k in ("bend_persistence_length", "torsional_modulus", "stretch_modulus", "twist_stretch_coupling"):
+        print(f"  {k.replace('_', ' ')} (m = {m_rod}): {ph[k]['value']:.4g} +- {ph[k]['err']:.2g} {ph[k]['unit']}")
+    for c in caveats:
+        print(f"  caveat: {c}")
+    print(f"wrote {out / 'params.json'} and {out / 'convergence.png'}")
+    return 0
