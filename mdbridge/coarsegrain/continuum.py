@@ -15,6 +15,10 @@ measurement), inverted with the finite-sample bias correction
   bends this is the harmonic mean of A1 / kT and A2 / kT.
   (l_b uses variances directly; the O(1 / N_eff) bias of their inverse is below the
   bootstrap error.)
+* bend_persistence_length_tangent = -L / ln <cos Gamma>, Gamma the segment's bend
+  angle (estimator.py): the worm-like chain's exact tangent correlation, which also
+  counts the static (intrinsic) bends, and has no O(L / l_b) small-angle bias: the
+  variance form above equals l_b (1 + L / (3 l_b)) for a worm-like chain.
 * twist: C = L kT / var twist (pN nm^2), torsional persistence l_t = C / kT (nm).
 * stretch modulus and twist-stretch coupling from the 2 x 2 (rise, twist) block:
   kT [[var rise, c], [c, var twist]]^-1 = [[S, g], [g, C_s]] / L, so S (pN) and
@@ -65,7 +69,7 @@ def physical_constants(mean, cov, temperature_K: float, n_eff=None) -> dict:
             "segment_length": L_nm}
 
 
-UNITS = {"bend_persistence_length": "nm", "torsional_persistence_length": "nm",
+UNITS = {"bend_persistence_length": "nm", "bend_persistence_length_tangent": "nm", "torsional_persistence_length": "nm",
          "torsional_modulus": "pN nm^2", "stretch_modulus": "pN",
          "twist_stretch_coupling": "pN nm", "twist_stiffness_at_fixed_extension": "pN nm^2",
          "segment_length": "nm"}

@@ -154,7 +154,9 @@ class CoarseGrain:
         m_top = max(self.m_values)
         tau_steps = integrated_time(q[:, use])                     # (n_use, 6)
         tau_top = integrated_time(series[m_top][0])
-        tau_max = float(max(tau_steps.max(), tau_top.max()))
+        # slowest parameter, each parameter's tau the median over steps (a max over all
+        # steps would pick up the ~30 % noise of single tau estimates)
+        tau_max = float(max(np.median(tau_steps, axis=0).max(), np.median(tau_top, axis=0).max()))
         n_eff = T / (2.0 * tau_max)
         if n_eff < self.min_effective:
             need = math.ceil(2.0 * tau_max * self.min_effective) + t0
@@ -207,6 +209,12 @@ class CoarseGrain:
         bm, bc = weighted_moments(qm, W)                            # (B, n_w, 6), (B, n_w, 6, 6)
         bK = K_of(bc, n2[None, :])
         bphys = _constants_of(bm, bc, self.T_K, float(np.median(n2)))
+        # tangent correlation <cos Gamma> of the segments (static + dynamic bending)
+        cosG = np.cos(np.radians(np.hypot(qm[..., 3], qm[..., 4]))).mean(axis=1)   # (T,)
+        L_nm = mean[:, 2].mean() / 10.0
+        phys["bend_persistence_length_tangent"] = -L_nm / np.log(cosG.mean())
+        bphys["bend_persistence_length_tangent"] = -(bm[..., 2].mean(axis=1) / 10.0) / np.log(
+            (W @ cosG) / W.sum(axis=1))
         out = {"m": m, "first_step": starts,
                "mean": mean, "mean_err": spread(bm),
                "cov": cov, "K": K, "K_err": spread(bK), "tau2": tau2, "n_eff2": n2,

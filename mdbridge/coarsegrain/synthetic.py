@@ -1,0 +1,68 @@
+"""Synthetic equilibrium ensembles with a known answer, for tests and benchmarks.
+
+`ar1_steps` draws step parameters from a Gaussian with given per-step means and
+6x6 stiffness K (kT units, so the covariance is K^-1) as an AR(1) series in time,
+q_t - mu = phi (q_{t-1} - mu) + sqrt(1 - phi^2) L e_t with L L^T = K^-1: stationary,
+with integrated autocorrelation time (1 + phi) / (2 (1 - phi)) frames in every
+component. `write_trajectory` turns the steps into all-atom frames with the
+toolkit's builder (mdbridge.builder, 3DNA rebuild) and writes them as a PDB
+topology plus a TRR trajectory with Maxwell-Boltzmann velocities at a given
+temperature, which MDAnalysis reads like any MD output.
+"""
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from .constants import AMU, BOLTZMANN
+
+
+def ar1_steps(mean, K, n_frames: int, phi: float, rng: np.random.Generator) -> np.ndarray:
+    """(T, n_steps, 6) step parameters; mean (n_steps, 6), K (n_steps, 6, 6) in kT units."""
+    mean = np.asarray(mean, dtype=float)
+    L = np.linalg.cholesky(np.linalg.inv(np.asarray(K, dtype=float)))     # (n, 6, 6)
+    n = mean.shape[0]
+    x = np.einsum("nij,nj->ni", L, rng.standard_normal((n, 6)))
+    out = np.empty((n_frames, n, 6))
+    a = np.sqrt(1.0 - phi * phi)
+    for t in range(n_frames):
+        x = phi * x + a * np.einsum("nij,nj->ni", L, rng.standard_normal((n, 6)))
+        out[t] = mean + x
+    return out
+
+
+def write_trajectory(directory, sequence: str, q: np.ndarray, temperature_K: float | None,
+                     rng: np.random.Generator, dt_ps: float = 1.0):
+    """Write DIR/duplex.pdb (first frame) and DIR/duplex.trr (all frames; velocities
+    drawn from Maxwell-Boltzmann at temperature_K when given). Returns the two paths."""
+    import MDAnalysis as mda
+    from MDAnalysis.coordinates.memory import MemoryReader
+
+    from mdbridge.builder.duplex import build_duplex
+    from mdbridge.builder.frames import frames_from_steps
+    from mdbridge.pdbio import write_pdb
+
+    d = Path(directory)
+    d.mkdir(parents=True, exist_ok=True)
+    pos = []
+    for qt in q:
+        o, R = frames_from_steps(qt)
+        s = build_duplex(sequence, o, R)
+        pos.append(s.coords)
+    o, R = frames_from_steps(q[0])
+    pdb = d / "duplex.pdb"
+    write_pdb(pdb, build_duplex(sequence, o, R))
+    u = mda.Universe(str(pdb))
+    pos = np.array(pos, dtype=np.float32)
+    vel = None
+    if temperature_K is not None:
+        m = u.atoms.masses * AMU
+        sd = np.sqrt(BOLTZMANN * temperature_K / m) / 100.0          # m/s -> A/ps
+        vel = (rng.standard_normal(pos.shape) * sd[None, :, None]).astype(np.float32)
+    u.load_new(pos, format=MemoryReader, velocities=vel, dt=dt_ps)
+    trr = d / "duplex.trr"
+    with mda.Writer(str(trr), n_atoms=u.atoms.n_atoms) as w:
+        for _ in u.trajectory:
+            w.write(u.atoms)
+    return pdb, trr
