@@ -97,9 +97,11 @@ def composite_series(q: np.ndarray, m_values, closed: bool, excluded: np.ndarray
     return out
 
 
-def _constants_of(mean, cov, T_K, n_eff):
-    """Continuum constants of the pooled windows: window-averaged mean and covariance."""
-    return physical_constants(mean.mean(axis=-2), cov.mean(axis=-3), T_K, n_eff)
+def _constants_of(mean, cov, T_K, n_eff, contour_A):
+    """Continuum constants of the pooled windows: window-averaged mean and covariance,
+    segment length = the mean contour length (sum of the steps' mean rises)."""
+    return physical_constants(mean.mean(axis=-2), cov.mean(axis=-3), T_K, n_eff,
+                              length_A=float(np.mean(contour_A)))
 
 
 class CoarseGrain:
@@ -178,7 +180,7 @@ class CoarseGrain:
         by_m = {}
         for m in self.m_values:
             qm, starts = series[m]
-            by_m[m] = self._estimate(m, qm, starts, W, W_half, W_conv, n_conv)
+            by_m[m] = self._estimate(m, qm, starts, W, W_half, W_conv, n_conv, q[:, :, 2].mean(axis=0))
         res = {"discarded_frames": t0, "equilibration_rule": rule, "frames_used": T,
                "frames_total": ens.n_frames, "tau_int_max_frames": tau_max,
                "tau_int_steps": tau_steps, "effective_samples": n_eff, "block_length": b,
@@ -189,8 +191,10 @@ class CoarseGrain:
         self.results = res
         return self
 
-    def _estimate(self, m, qm, starts, W, W_half, W_conv, n_conv):
+    def _estimate(self, m, qm, starts, W, W_half, W_conv, n_conv, rise):
         T = qm.shape[0]
+        n = len(rise)
+        contour = rise[(starts[:, None] + np.arange(m)[None, :]) % n].sum(axis=1)   # (n_w,) A
         mean = qm.mean(axis=0)
         d = qm - mean
         cov = np.einsum("twi,twj->wij", d, d) / (T - 1)
@@ -204,17 +208,16 @@ class CoarseGrain:
             return 0.5 * (K + np.swapaxes(K, -1, -2))
 
         K = 0.5 * (Kinv + np.swapaxes(Kinv, -1, -2)) * bias_factor(n2, P)[:, None, None]
-        phys = _constants_of(mean, cov, self.T_K, float(np.median(n2)))
+        phys = _constants_of(mean, cov, self.T_K, float(np.median(n2)), contour)
 
         bm, bc = weighted_moments(qm, W)                            # (B, n_w, 6), (B, n_w, 6, 6)
         bK = K_of(bc, n2[None, :])
-        bphys = _constants_of(bm, bc, self.T_K, float(np.median(n2)))
+        bphys = _constants_of(bm, bc, self.T_K, float(np.median(n2)), contour)
         # tangent correlation <cos Gamma> of the segments (static + dynamic bending)
         cosG = np.cos(np.radians(np.hypot(qm[..., 3], qm[..., 4]))).mean(axis=1)   # (T,)
-        L_nm = mean[:, 2].mean() / 10.0
+        L_nm = float(np.mean(contour)) / 10.0
         phys["bend_persistence_length_tangent"] = -L_nm / np.log(cosG.mean())
-        bphys["bend_persistence_length_tangent"] = -(bm[..., 2].mean(axis=1) / 10.0) / np.log(
-            (W @ cosG) / W.sum(axis=1))
+        bphys["bend_persistence_length_tangent"] = -L_nm / np.log((W @ cosG) / W.sum(axis=1))
         out = {"m": m, "first_step": starts,
                "mean": mean, "mean_err": spread(bm),
                "cov": cov, "K": K, "K_err": spread(bK), "tau2": tau2, "n_eff2": n2,
@@ -228,7 +231,7 @@ class CoarseGrain:
         n2h = n2[None, :] / 2.0
         ok = np.all(n2h > P + 2)
         hK = K_of(hc, n2h) if ok else np.full_like(hc, np.nan)
-        hphys = _constants_of(hm, hc, self.T_K, float(np.median(n2)) / 2.0) if np.median(n2) / 2 > P + 2 else None
+        hphys = _constants_of(hm, hc, self.T_K, float(np.median(n2)) / 2.0, contour) if np.median(n2) / 2 > P + 2 else None
         out["halves"] = {"K_avg": hK.mean(axis=1), "mean_avg": hm.mean(axis=1),
                          "physical": None if hphys is None else {k: v for k, v in hphys.items()}}
         # convergence: first n frames
@@ -239,7 +242,7 @@ class CoarseGrain:
         if okc.any():
             cK[okc] = K_of(cc[okc], n2c[okc])
         n_c = float(np.median(n2)) * n_conv / T
-        cphys = _constants_of(cm, cc, self.T_K, n_c if np.all(n_c > 4) else None)
+        cphys = _constants_of(cm, cc, self.T_K, n_c if np.all(n_c > 4) else None, contour)
         out["convergence"] = {"frames": n_conv, "K_avg": cK.mean(axis=1), "mean_avg": cm.mean(axis=1),
                               "physical": cphys}
         return out
