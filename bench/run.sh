@@ -23,4 +23,6 @@ echo "== reduced planar system vs full"
 "$PYTHON" "$DNAROD_ROOT/bench/reduced.py" --build "$DNAROD_BUILD" --out "$OUT" $QUICK
 echo "== output cost, rod vs MD, cost per point"
 "$PYTHON" "$DNAROD_ROOT/bench/costs.py" --build "$DNAROD_BUILD" --rhs-json "$OUT/rhs_bench.json" --out "$OUT" $QUICK
+echo "== coarse-graining a 600-frame 158-bp trajectory (issue 14 budget: 30 s)"
+"$PYTHON" "$DNAROD_ROOT/bench/coarsegrain.py" --out "$OUT"
 echo "== done: $OUT"

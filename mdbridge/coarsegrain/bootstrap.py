@@ -43,19 +43,21 @@ def block_weights(n_frames: int, b: int, n_boot: int, rng: np.random.Generator) 
 
 def weighted_moments(q: np.ndarray, W: np.ndarray):
     """Means (n_w, ..., p) and covariances (n_w, ..., p, p) of q (T, ..., p) under
-    frame weights W (n_w, T) (counts; normalisation sum(w) - 1)."""
+    frame weights W (n_w, T) (counts; normalisation sum(w) - 1). Only the p (p + 1) / 2
+    distinct products enter the matrix product."""
     q = np.asarray(q, dtype=float)
-    T = q.shape[0]
-    ref = q.mean(axis=0)
-    d = (q - ref).reshape(T, -1)
-    p = q.shape[-1]
-    n = W.sum(axis=1)
-    m = (W @ d) / n[:, None]
-    outer = (d.reshape(T, -1, p)[:, :, :, None] * d.reshape(T, -1, p)[:, :, None, :]).reshape(T, -1)
-    s2 = (W @ outer).reshape((len(W), -1, p, p))
-    m = m.reshape((len(W), -1, p))
-    cov = (s2 - n[:, None, None, None] * m[..., :, None] * m[..., None, :]) / (n - 1)[:, None, None, None]
+    T, p = q.shape[0], q.shape[-1]
     shape = q.shape[1:-1]
+    ref = q.mean(axis=0)
+    d = (q - ref).reshape(T, -1, p)
+    iu, ju = np.triu_indices(p)
+    n = W.sum(axis=1)
+    m = (W @ d.reshape(T, -1)).reshape(len(W), -1, p) / n[:, None, None]
+    s2u = (W @ (d[:, :, iu] * d[:, :, ju]).reshape(T, -1)).reshape(len(W), -1, len(iu))
+    covu = (s2u - n[:, None, None] * m[:, :, iu] * m[:, :, ju]) / (n - 1)[:, None, None]
+    cov = np.empty((len(W), d.shape[1], p, p))
+    cov[:, :, iu, ju] = covu
+    cov[:, :, ju, iu] = covu
     return (ref + m.reshape((len(W),) + shape + (p,)),
             cov.reshape((len(W),) + shape + (p, p)))
 
@@ -64,5 +66,5 @@ def spread(samples: np.ndarray, axis: int = 0) -> np.ndarray:
     """Bootstrap standard error as half the central 68.3 % interval of the replicates:
     the standard deviation for a normal distribution, but not blown up by the rare
     replicate whose few distinct frames make a covariance nearly singular."""
-    lo, hi = np.nanpercentile(samples, [15.865, 84.135], axis=axis)
+    lo, hi = np.percentile(samples, [15.865, 84.135], axis=axis)
     return 0.5 * (hi - lo)

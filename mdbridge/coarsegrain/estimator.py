@@ -50,10 +50,14 @@ def longest_run(excluded: np.ndarray, closed: bool) -> int:
     return min(best, len(ok))
 
 
+M_GRID = (1, 2, 3, 4, 5, 6, 7, 8, 10, 12, 15, 20, 25, 30, 40)
+
+
 def default_m_values(n_steps: int, closed: bool, m_max: int | None = None, excluded=None) -> list[int]:
-    """1..m_max, m_max = min(20, n_steps // 4) for a closed duplex (the box constraint
-    suppresses long-wavelength fluctuations; keep m well below n_bp) and
-    min(20, n_steps) for a linear one, and at most the longest stretch of usable steps."""
+    """m on M_GRID up to m_max (and m_max itself), m_max = min(20, n_steps // 4) for a
+    closed duplex (the box constraint suppresses long-wavelength fluctuations; keep m
+    well below n_bp) and min(20, n_steps) for a linear one, and at most the longest
+    stretch of usable steps."""
     cap = max(1, n_steps // 4) if closed else n_steps
     if excluded is not None:
         cap = min(cap, max(1, longest_run(excluded, closed)))
@@ -62,7 +66,7 @@ def default_m_values(n_steps: int, closed: bool, m_max: int | None = None, exclu
         raise InputError(f"maximum coarse-graining length {m_max}: at most {cap} for this "
                          f"{'closed duplex (n_bp / 4)' if closed else 'duplex'} of {n_steps} steps "
                          "(and the longest stretch of steps without an opened base pair)")
-    return list(range(1, m_max + 1))
+    return sorted({m for m in M_GRID if m <= m_max} | {m_max})
 
 
 def unwrap_twist(qm: np.ndarray, q1_windows_twist_sum: np.ndarray) -> np.ndarray:
