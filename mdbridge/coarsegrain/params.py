@@ -13,7 +13,7 @@ from .constants import paper_rho_I
 from .continuum import UNITS
 from .mass import rod_densities
 from .prestress import rest_shape
-from .rod import rod_material
+from .rod import segment_rod_material
 
 FORMAT = "dnarod-cg-params/1"
 UNITS_TEXT = "A, deg; stiffness kT/A^2, kT/(A deg), kT/deg^2"
@@ -67,7 +67,7 @@ def build_params(cg, temperature_source: str, extras: dict | None = None,
     m_rod = r["m_rod"]
     bm = r["by_m"][m_rod]
     mean_rod = bm["mean_avg"] if not stressed else rest_shape(bm["mean_avg"], bm["cov"].mean(axis=0), F, tq, T_K)
-    rod = rod_material(mean_rod, bm["cov"].mean(axis=0), T_K, float(np.median(bm["n_eff2"])))
+    rod = segment_rod_material(mean_rod, bm["cov"].mean(axis=0), T_K, float(np.median(bm["n_eff2"])))
     out = {
         "format": FORMAT,
         "source": ens.source, "sequence": ens.sequence, "closed": ens.closed,
@@ -86,9 +86,10 @@ def build_params(cg, temperature_source: str, extras: dict | None = None,
                     "stiffness": _l(b1["K_avg"]), "stiffness_err": _l(b1["K_avg_err"]),
                     "over": f"{len(b1['first_step'])} steps not excluded"},
         "by_length": by_length,
-        "physical": dict(_phys(bm["physical"], bm["physical_err"]), m=m_rod,
-                         note="continuum constants of m-step segments at m = m_rod "
-                              "(docs/coarse-graining.md); by_length has every m"),
+        "physical": _phys(bm["physical"], bm["physical_err"]),
+        "physical_m": m_rod,
+        "physical_note": "continuum constants of m-step segments at m = physical_m "
+                         "(docs/coarse-graining.md); by_length has every m",
         "rod": {"m": m_rod, "segment_length_A": rod["segment_length_A"],
                 "K_star": _l(rod["K_star"]), "K_SI": _l(rod["K_SI"]),
                 "K_SI_units": "N (Gamma-Gamma), J (Gamma-Omega), J m (Omega-Omega)",
@@ -155,7 +156,11 @@ def _mass_section(mi, rise_A, excluded, rod_rho_I=None):
     _, Ie = rod_densities(mass.mean(), np.sqrt((np.asarray(mi["slice_inertia_err"]) ** 2).mean(axis=0)
                                                / len(mass)), rise_A)
     rho_p, I_p = paper_rho_I()
+    _, I_full = rod_densities(mass.mean(), np.asarray(mi["inertia"]).mean(axis=0), rise_A)
     return {"reference_point": REFERENCE_POINT,
+            "I_full": {"value": _l(I_full), "unit": "kg m",
+                       "convention": "full 3-d tensor of a base pair / mean rise (what the per-step file "
+                                     "stores, divided by the rise); includes the base pair's extent along z"},
             "hydrogens_in_topology": mi["hydrogens"], "frames_averaged": mi["frames"],
             "mass_amu": _l(mass), "inertia_amu_A2": _l(mi["inertia"]),
             "inertia_convention": "full tensor sum m (|r|^2 1 - r r^T) about the reference point",

@@ -21,7 +21,7 @@ from .continuum import to_radians
 from .stiffness import stiffness
 
 
-def rod_material(mean, cov, temperature_K: float, n_eff=None, units: Units | None = None) -> dict:
+def segment_rod_material(mean, cov, temperature_K: float, n_eff=None, units: Units | None = None) -> dict:
     """K (6, 6) SI, K_star (6, 6), Gamma0_star (3,), Omega0_star (3,) of one segment
     ensemble (mean (6,), cov (6, 6) in A and deg)."""
     u = units or Units.paper()

@@ -65,7 +65,7 @@ def test_21_models_reported_with_caveat(tmp_path, capsys):
     # mean rise and twist of this hairpin (3DNA's model 0 alone: 3.45 A, 31.0 deg)
     assert 3.3 < avg[2] < 3.6 and 27 < avg[5] < 34
     assert np.all(np.isfinite(np.array(p["average"]["stiffness_err"])))
-    assert p["physical"]["m"] == 5 and p["physical"]["bend_persistence_length"]["unit"] == "nm"
+    assert p["physical_m"] == 5 and p["physical"]["bend_persistence_length"]["unit"] == "nm"
     assert 0.5 < p["mass_inertia"]["rho"]["ratio"] < 1.2 and p["mass_inertia"]["hydrogens_in_topology"]
     out = capsys.readouterr().out
     assert "caveat" in out and "params.json" in out

@@ -28,7 +28,9 @@ Errors: moving-block bootstrap with the block length from the autocorrelation
 times. The equilibration stretch is discarded (Chodera's rule), the remaining
 frames must be worth --min-effective independent samples, the two halves are
 compared, and steps whose base pairs open (N1-N3 > 3.5 A) are excluded and
-listed. Writes DIR/params.json and DIR/convergence.png (docs/coarse-graining.md).
+listed. Writes DIR/params.json and DIR/convergence.png, and (with the per-step
+file module mdbridge.material) DIR/steps.h5 and, for a closed duplex, the rod's
+DIR/material.h5 (docs/coarse-graining.md).
 
 T is the trajectory's kinetic temperature (velocities, e.g. a TRR), or the .edr's
 (--edr), or --temperature (which wins); params.json says which.
@@ -92,6 +94,7 @@ def run(args):
     from mdbridge.coarsegrain.figure import convergence_figure
     from mdbridge.coarsegrain.params import build_params, write_params
     from mdbridge.coarsegrain.reader import read_ensemble
+    from mdbridge.coarsegrain.stepmaterial import write_material_files
     from mdbridge.coarsegrain.temperature import edr_temperature, kinetic_temperature, parse_temperature
     from mdbridge.geometry.structure import read_pairs_file
 
@@ -147,6 +150,7 @@ def run(args):
     write_params(out / "params.json", params)
     params["convergence"]["figure"] = "convergence.png"
     convergence_figure(out / "convergence.png", params)
+    params["files"] = write_material_files(out, cg, extras, source)
     write_params(out / "params.json", params)
     ph = params["physical"]
     print(f"{ens.n_steps} steps ({len(cg.results['excluded_steps'])} excluded), {cg.results['frames_used']} frames "
@@ -156,5 +160,6 @@ def run(args):
         print(f"  {k.replace('_', ' ')} (m = {m_rod}): {ph[k]['value']:.4g} +- {ph[k]['err']:.2g} {ph[k]['unit']}")
     for c in caveats:
         print(f"  caveat: {c}")
-    print(f"wrote {out / 'params.json'} and {out / 'convergence.png'}")
+    extra = [f for f in (params["files"].get("steps_file"), params["files"].get("material_file")) if f]
+    print(f"wrote {out / 'params.json'}, {out / 'convergence.png'}" + "".join(f", {out / f}" for f in extra))
     return 0
