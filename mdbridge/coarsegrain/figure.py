@@ -1,6 +1,7 @@
-"""Convergence figure: each continuum constant against the number of frames used
-(the first n frames of the equilibrium part), with the full run's bootstrap error
-scaled by sqrt(T / n) as a band."""
+"""Figures of a coarse-graining: convergence (each continuum constant against the
+number of frames used, the first n frames of the equilibrium part, with the full
+run's bootstrap error scaled by sqrt(T / n) as a band) and the constants against the
+segment length m (with their bootstrap errors)."""
 from __future__ import annotations
 
 import numpy as np
@@ -27,6 +28,28 @@ def convergence_figure(path, params: dict):
         ax.set_title(f"{k.replace('_', ' ')} [{phys[k]['unit']}]", fontsize=9)
     axes[0].legend(fontsize=7)
     fig.suptitle(f"convergence, m = {c['m']} ({params['source']})", fontsize=9)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return path
+
+
+def length_figure(path, params: dict):
+    """Continuum constants against the coarse-graining length m (by_length)."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    bl = params["by_length"]
+    m = np.array([b["m"] for b in bl])
+    shown = ("bend_persistence_length", "bend_persistence_length_tangent") + SHOWN[1:]
+    fig, axes = plt.subplots(1, len(shown), figsize=(4 * len(shown), 3.2))
+    for ax, k in zip(axes, shown):
+        v = np.array([b["physical"][k]["value"] for b in bl])
+        e = np.array([b["physical"][k]["err"] for b in bl])
+        ax.errorbar(m, v, yerr=e, fmt="o-", ms=3, capsize=2)
+        ax.set_xlabel("m (steps per segment)")
+        ax.set_title(f"{k.replace('_', ' ')} [{bl[0]['physical'][k]['unit']}]", fontsize=9)
+    fig.suptitle(f"continuum constants against segment length ({params['source']})", fontsize=9)
     fig.tight_layout()
     fig.savefig(path, dpi=120)
     plt.close(fig)

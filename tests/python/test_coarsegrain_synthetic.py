@@ -53,6 +53,7 @@ def test_atoms_trajectory_recovers_means_and_stiffness(tmp_path):
                   np.diagonal(K.mean(axis=0)))
     assert np.all(np.abs(za) < 4)
     assert (tmp_path / "cg" / "convergence.png").stat().st_size > 10000
+    assert (tmp_path / "cg" / "by_length.png").stat().st_size > 10000
 
 
 def _realisation(seed, phi, T, block=None):

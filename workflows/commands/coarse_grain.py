@@ -28,7 +28,7 @@ Errors: moving-block bootstrap with the block length from the autocorrelation
 times. The equilibration stretch is discarded (Chodera's rule), the remaining
 frames must be worth --min-effective independent samples, the two halves are
 compared, and steps whose base pairs open (N1-N3 > 3.5 A) are excluded and
-listed. Writes DIR/params.json and DIR/convergence.png, and (with the per-step
+listed. Writes DIR/params.json, DIR/convergence.png, DIR/by_length.png, and (with the per-step
 file module mdbridge.material) DIR/steps.h5 and, for a closed duplex, the rod's
 DIR/material.h5 (docs/coarse-graining.md).
 
@@ -91,7 +91,7 @@ def _universe(structure, trajectories):
 
 def run(args):
     from mdbridge.coarsegrain.estimator import MIN_EFFECTIVE, CoarseGrain, default_m_values
-    from mdbridge.coarsegrain.figure import convergence_figure
+    from mdbridge.coarsegrain.figure import convergence_figure, length_figure
     from mdbridge.coarsegrain.params import build_params, write_params
     from mdbridge.coarsegrain.reader import read_ensemble
     from mdbridge.coarsegrain.stepmaterial import write_material_files
@@ -150,6 +150,8 @@ def run(args):
     write_params(out / "params.json", params)
     params["convergence"]["figure"] = "convergence.png"
     convergence_figure(out / "convergence.png", params)
+    length_figure(out / "by_length.png", params)
+    params["by_length_figure"] = "by_length.png"
     params["files"] = write_material_files(out, cg, extras, source)
     write_params(out / "params.json", params)
     ph = params["physical"]
@@ -161,5 +163,5 @@ def run(args):
     for c in caveats:
         print(f"  caveat: {c}")
     extra = [f for f in (params["files"].get("steps_file"), params["files"].get("material_file")) if f]
-    print(f"wrote {out / 'params.json'}, {out / 'convergence.png'}" + "".join(f", {out / f}" for f in extra))
+    print(f"wrote {out / 'params.json'}, {out / 'convergence.png'}, {out / 'by_length.png'}" + "".join(f", {out / f}" for f in extra))
     return 0
