@@ -8,9 +8,8 @@ between steps survive (needed by the m-step and sequence-averaged quantities).
 b = 1 is the ordinary bootstrap that treats frames as independent: the control the
 tests show to be wrong for correlated frames.
 
-A replicate is stored as frame counts w_t (how often frame t was drawn); means and
-covariances of all replicates are then two matrix products with the per-frame
-vectors and their outer products (BLAS), instead of copying frames.
+A replicate is a list of block starts; its sums of q and of the distinct products
+q_i q_j come from cumulative sums (one difference per block), so no frame is copied.
 """
 from __future__ import annotations
 
@@ -30,37 +29,75 @@ def block_length(tau_max: float, n_frames: int) -> int:
     return max(1, min(b, max(1, n_frames // 8)))
 
 
-def block_weights(n_frames: int, b: int, n_boot: int, rng: np.random.Generator) -> np.ndarray:
-    """(n_boot, T) frame counts of moving-block replicates of T frames (blocks of b
-    frames with random starts in [0, T - b], the last block cut to length)."""
+def block_starts(n_frames: int, b: int, n_boot: int, rng: np.random.Generator) -> np.ndarray:
+    """(n_boot, ceil(T / b)) random block starts in [0, T - b]: a replicate is the
+    blocks [s, s + b) glued together, the last one cut to T frames in all."""
     n_blocks = int(math.ceil(n_frames / b))
-    starts = rng.integers(0, n_frames - b + 1, size=(n_boot, n_blocks))
+    return rng.integers(0, n_frames - b + 1, size=(n_boot, n_blocks))
+
+
+def block_weights(n_frames: int, b: int, starts: np.ndarray) -> np.ndarray:
+    """(n_boot, T) frame counts of the replicates given by `starts` (for checks)."""
+    n_boot = len(starts)
     idx = (starts[:, :, None] + np.arange(b)[None, None, :]).reshape(n_boot, -1)[:, :n_frames]
     W = np.zeros((n_boot, n_frames))
-    rows = np.repeat(np.arange(n_boot), n_frames)
-    np.add.at(W, (rows, idx.ravel()), 1.0)
+    np.add.at(W, (np.repeat(np.arange(n_boot), n_frames), idx.ravel()), 1.0)
     return W
 
 
-def weighted_moments(q: np.ndarray, W: np.ndarray):
-    """Means (n_w, ..., p) and covariances (n_w, ..., p, p) of q (T, ..., p) under
-    frame weights W (n_w, T) (counts; normalisation sum(w) - 1). Only the p (p + 1) / 2
-    distinct products enter the matrix product."""
+def block_sums(x: np.ndarray, starts: np.ndarray, b: int, chunk: int = 16) -> np.ndarray:
+    """(n_boot, F) sums of x (T, F) over each replicate's frames, from cumulative sums:
+    a block costs one difference, so a replicate costs T / b row additions instead of
+    T (the reference BLAS of the platform makes the equivalent counts @ x product slow)."""
+    T = x.shape[0]
+    C = np.concatenate([np.zeros((1,) + x.shape[1:]), np.cumsum(x, axis=0)])
+    n_full = T // b
+    rem = T - n_full * b
+    out = np.empty((len(starts),) + x.shape[1:])
+    for i in range(0, len(starts), chunk):
+        st = starts[i:i + chunk]
+        full = st[:, :n_full]
+        acc = (C[full + b] - C[full]).sum(axis=1)
+        if rem:
+            last = st[:, n_full]
+            acc += C[last + rem] - C[last]
+        out[i:i + chunk] = acc
+    return out
+
+
+def _moments(ref, s1, s2u, n, p, shape):
+    iu, ju = np.triu_indices(p)
+    B = len(s1)
+    m = s1.reshape(B, -1, p) / n[:, None, None]
+    covu = (s2u.reshape(B, -1, len(iu)) - n[:, None, None] * m[:, :, iu] * m[:, :, ju]) / (n - 1)[:, None, None]
+    cov = np.empty((B, m.shape[1], p, p))
+    cov[:, :, iu, ju] = covu
+    cov[:, :, ju, iu] = covu
+    return ref + m.reshape((B,) + shape + (p,)), cov.reshape((B,) + shape + (p, p))
+
+
+def _centred(q):
     q = np.asarray(q, dtype=float)
     T, p = q.shape[0], q.shape[-1]
-    shape = q.shape[1:-1]
     ref = q.mean(axis=0)
     d = (q - ref).reshape(T, -1, p)
     iu, ju = np.triu_indices(p)
-    n = W.sum(axis=1)
-    m = (W @ d.reshape(T, -1)).reshape(len(W), -1, p) / n[:, None, None]
-    s2u = (W @ (d[:, :, iu] * d[:, :, ju]).reshape(T, -1)).reshape(len(W), -1, len(iu))
-    covu = (s2u - n[:, None, None] * m[:, :, iu] * m[:, :, ju]) / (n - 1)[:, None, None]
-    cov = np.empty((len(W), d.shape[1], p, p))
-    cov[:, :, iu, ju] = covu
-    cov[:, :, ju, iu] = covu
-    return (ref + m.reshape((len(W),) + shape + (p,)),
-            cov.reshape((len(W),) + shape + (p, p)))
+    return ref, d.reshape(T, -1), (d[:, :, iu] * d[:, :, ju]).reshape(T, -1), p, q.shape[1:-1]
+
+
+def replicate_moments(q: np.ndarray, starts: np.ndarray, b: int):
+    """Means (n_boot, ..., p) and covariances (n_boot, ..., p, p) of the moving-block
+    replicates of q (T, ..., p). Only the p (p + 1) / 2 distinct products are summed."""
+    ref, d, outer, p, shape = _centred(q)
+    n = np.full(len(starts), float(q.shape[0]))
+    return _moments(ref, block_sums(d, starts, b), block_sums(outer, starts, b), n, p, shape)
+
+
+def weighted_moments(q: np.ndarray, W: np.ndarray):
+    """Means and covariances of q (T, ..., p) under a few frame weightings W (n_w, T)
+    (counts; normalisation sum(w) - 1): halves, prefixes."""
+    ref, d, outer, p, shape = _centred(q)
+    return _moments(ref, W @ d, W @ outer, W.sum(axis=1), p, shape)
 
 
 def spread(samples: np.ndarray, axis: int = 0) -> np.ndarray:

@@ -25,7 +25,7 @@ import numpy as np
 from dna_models.errors import InputError
 
 from .autocorrelation import integrated_time
-from .bootstrap import block_length, block_weights, spread, weighted_moments
+from .bootstrap import block_length, block_starts, block_sums, replicate_moments, spread, weighted_moments
 from .composition import compose
 from .continuum import TWIST, physical_constants
 from .ensemble import StepEnsemble
@@ -172,7 +172,7 @@ class CoarseGrain:
                 f"{tau_max:.1f} frames); at least {self.min_effective:g} are needed, i.e. about "
                 f"{need} frames in total at this frame spacing")
         b = self.block if self.block is not None else block_length(tau_max, T)
-        W = block_weights(T, b, self.n_boot, self.rng)
+        starts_boot = block_starts(T, b, self.n_boot, self.rng)
         half = T // 2
         W_half = np.zeros((2, T))
         W_half[0, :half] = 1.0
@@ -184,7 +184,8 @@ class CoarseGrain:
         by_m = {}
         for m in self.m_values:
             qm, starts = series[m]
-            by_m[m] = self._estimate(m, qm, starts, W, W_half, W_conv, n_conv, q[:, :, 2].mean(axis=0))
+            by_m[m] = self._estimate(m, qm, starts, (starts_boot, b), W_half, W_conv, n_conv,
+                                      q[:, :, 2].mean(axis=0))
         res = {"discarded_frames": t0, "equilibration_rule": rule, "frames_used": T,
                "frames_total": ens.n_frames, "tau_int_max_frames": tau_max,
                "tau_int_steps": tau_steps, "effective_samples": n_eff, "block_length": b,
@@ -195,7 +196,7 @@ class CoarseGrain:
         self.results = res
         return self
 
-    def _estimate(self, m, qm, starts, W, W_half, W_conv, n_conv, rise):
+    def _estimate(self, m, qm, starts, boot, W_half, W_conv, n_conv, rise):
         T = qm.shape[0]
         n = len(rise)
         contour = rise[(starts[:, None] + np.arange(m)[None, :]) % n].sum(axis=1)   # (n_w,) A
@@ -214,14 +215,14 @@ class CoarseGrain:
         K = 0.5 * (Kinv + np.swapaxes(Kinv, -1, -2)) * bias_factor(n2, P)[:, None, None]
         phys = _constants_of(mean, cov, self.T_K, float(np.median(n2)), contour)
 
-        bm, bc = weighted_moments(qm, W)                            # (B, n_w, 6), (B, n_w, 6, 6)
+        bm, bc = replicate_moments(qm, *boot)                        # (B, n_w, 6), (B, n_w, 6, 6)
         bK = K_of(bc, n2[None, :])
         bphys = _constants_of(bm, bc, self.T_K, float(np.median(n2)), contour)
         # tangent correlation <cos Gamma> of the segments (static + dynamic bending)
         cosG = np.cos(np.radians(np.hypot(qm[..., 3], qm[..., 4]))).mean(axis=1)   # (T,)
         L_nm = float(np.mean(contour)) / 10.0
         phys["bend_persistence_length_tangent"] = -L_nm / np.log(cosG.mean())
-        bphys["bend_persistence_length_tangent"] = -L_nm / np.log((W @ cosG) / W.sum(axis=1))
+        bphys["bend_persistence_length_tangent"] = -L_nm / np.log(block_sums(cosG[:, None], *boot)[:, 0] / T)
         out = {"m": m, "first_step": starts,
                "mean": mean, "mean_err": spread(bm),
                "cov": cov, "K": K, "K_err": spread(bK), "tau2": tau2, "n_eff2": n2,
