@@ -28,9 +28,9 @@ Errors: moving-block bootstrap with the block length from the autocorrelation
 times. The equilibration stretch is discarded (Chodera's rule), the remaining
 frames must be worth --min-effective independent samples, the two halves are
 compared, and steps whose base pairs open (N1-N3 > 3.5 A) are excluded and
-listed. Writes DIR/params.json, DIR/convergence.png, DIR/by_length.png, and (with the per-step
-file module mdbridge.material) DIR/steps.h5 and, for a closed duplex, the rod's
-DIR/material.h5 (docs/coarse-graining.md).
+listed. Writes DIR/params.json, DIR/convergence.png, DIR/by_length.png and
+(with the per-step file module mdbridge.material) DIR/steps.h5 and, for a
+closed duplex, the rod's DIR/material.h5 (docs/coarse-graining.md).
 
 T is the trajectory's kinetic temperature (velocities, e.g. a TRR), or the .edr's
 (--edr), or --temperature (which wins); params.json says which.
