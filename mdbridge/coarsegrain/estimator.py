@@ -213,11 +213,14 @@ class CoarseGrain:
             return 0.5 * (K + np.swapaxes(K, -1, -2))
 
         K = 0.5 * (Kinv + np.swapaxes(Kinv, -1, -2)) * bias_factor(n2, P)[:, None, None]
-        phys = _constants_of(mean, cov, self.T_K, float(np.median(n2)), contour)
+        # the pooled covariance averages n_w windows, of which ~n_w / m do not overlap:
+        # its degrees of freedom for the bias correction are ~N_eff max(1, n_w / m)
+        n_pool = float(np.median(n2)) * max(1.0, len(starts) / m)
+        phys = _constants_of(mean, cov, self.T_K, n_pool, contour)
 
         bm, bc = replicate_moments(qm, *boot)                        # (B, n_w, 6), (B, n_w, 6, 6)
         bK = K_of(bc, n2[None, :])
-        bphys = _constants_of(bm, bc, self.T_K, float(np.median(n2)), contour)
+        bphys = _constants_of(bm, bc, self.T_K, n_pool, contour)
         # tangent correlation <cos Gamma> of the segments (static + dynamic bending)
         cosG = np.cos(np.radians(np.hypot(qm[..., 3], qm[..., 4]))).mean(axis=1)   # (T,)
         L_nm = float(np.mean(contour)) / 10.0
@@ -230,13 +233,13 @@ class CoarseGrain:
                "mean_avg": mean.mean(axis=0), "mean_avg_err": spread(bm.mean(axis=1)),
                "physical": {k: float(v) for k, v in phys.items()},
                "physical_err": {k: float(spread(v)) for k, v in bphys.items()},
-               "physical_boot": bphys}
+               "physical_boot": bphys, "n_eff_pooled": n_pool}
         # first half vs second half
         hm, hc = weighted_moments(qm, W_half)
         n2h = n2[None, :] / 2.0
         ok = np.all(n2h > P + 2)
         hK = K_of(hc, n2h) if ok else np.full_like(hc, np.nan)
-        hphys = _constants_of(hm, hc, self.T_K, float(np.median(n2)) / 2.0, contour) if np.median(n2) / 2 > P + 2 else None
+        hphys = _constants_of(hm, hc, self.T_K, n_pool / 2.0, contour) if n_pool / 2 > 4 else None
         out["halves"] = {"K_avg": hK.mean(axis=1), "mean_avg": hm.mean(axis=1),
                          "physical": None if hphys is None else {k: v for k, v in hphys.items()}}
         # convergence: first n frames
@@ -246,7 +249,7 @@ class CoarseGrain:
         cK = np.full_like(cc, np.nan)
         if okc.any():
             cK[okc] = K_of(cc[okc], n2c[okc])
-        n_c = float(np.median(n2)) * n_conv / T
+        n_c = n_pool * n_conv / T
         cphys = _constants_of(cm, cc, self.T_K, n_c if np.all(n_c > 4) else None, contour)
         out["convergence"] = {"frames": n_conv, "K_avg": cK.mean(axis=1), "mean_avg": cm.mean(axis=1),
                               "physical": cphys}

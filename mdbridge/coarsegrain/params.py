@@ -67,7 +67,7 @@ def build_params(cg, temperature_source: str, extras: dict | None = None,
     m_rod = r["m_rod"]
     bm = r["by_m"][m_rod]
     mean_rod = bm["mean_avg"] if not stressed else rest_shape(bm["mean_avg"], bm["cov"].mean(axis=0), F, tq, T_K)
-    rod = segment_rod_material(mean_rod, bm["cov"].mean(axis=0), T_K, float(np.median(bm["n_eff2"])))
+    rod = segment_rod_material(mean_rod, bm["cov"].mean(axis=0), T_K, bm["n_eff_pooled"])
     out = {
         "format": FORMAT,
         "source": ens.source, "sequence": ens.sequence, "closed": ens.closed,
