@@ -84,7 +84,6 @@ def unwrap_twist(qm: np.ndarray, q1_windows_twist_sum: np.ndarray) -> np.ndarray
 
 def composite_series(q: np.ndarray, m_values, closed: bool, excluded: np.ndarray):
     """{m: (q_m (T, n_w, 6), first steps (n_w,))} of the windows free of excluded steps."""
-    n = q.shape[1]
     comp = compose(q, m_values, closed)
     csum = np.concatenate([q[..., TWIST], q[..., TWIST]], axis=1) if closed else q[..., TWIST]
     cexc = np.concatenate([excluded, excluded]) if closed else excluded

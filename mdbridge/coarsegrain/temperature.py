@@ -92,5 +92,3 @@ def parse_temperature(value) -> float:
     if not (t > 0 and np.isfinite(t)):
         raise InputError(f"--temperature {value!r}: must be a positive temperature in K")
     return t
-
-

@@ -52,6 +52,12 @@ def test_atoms_trajectory_recovers_means_and_stiffness(tmp_path):
     za = z_scores(np.diagonal(np.array(p["average"]["stiffness"])), np.diagonal(np.array(p["average"]["stiffness_err"])),
                   np.diagonal(K.mean(axis=0)))
     assert np.all(np.abs(za) < 4)
+    # stationary input: the two halves agree, the convergence series ends at the full value
+    h = p["halves"]
+    assert np.all(np.abs(h["z_mean"]) < 4) and np.all(np.abs(h["z_stiffness_diag"]) < 4)
+    last = p["convergence"]["physical"]["bend_persistence_length"][-1]
+    assert p["convergence"]["frames"][-1] == 1000 and p["convergence"]["m"] == p["physical_m"] == 3
+    assert abs(last - p["physical"]["bend_persistence_length"]["value"]) < 1e-6 * last
     assert (tmp_path / "cg" / "convergence.png").stat().st_size > 10000
     assert (tmp_path / "cg" / "by_length.png").stat().st_size > 10000
 
@@ -158,3 +164,26 @@ def test_block_replicates_equal_explicitly_resampled_frames():
         assert np.allclose(m[r], x.mean(axis=0), atol=1e-12)
         for w in range(4):
             assert np.allclose(c[r, w], np.cov(x[:, w].T), atol=1e-12)
+
+
+def test_equilibration_drift_is_discarded():
+    """The first frames relax from a displaced state (twist +20 deg, rise +1 A decaying
+    with a 150-frame time constant): the rule discards them and the mean comes back within
+    its errors; the control keeps every frame (discard 0): its mean is off by more than 3
+    errors of the equilibrium estimate (its own errors grow too: the drift looks like a
+    slow correlation)."""
+    rng = np.random.default_rng(8)
+    seq = "ACGTA"
+    mean, K = per_step(seq)
+    q = ar1_steps(mean, K, 3000, 0.5, rng)
+    t = np.arange(3000)[:, None]
+    q[..., 5] += 20.0 * np.exp(-t / 150.0)
+    q[..., 2] += 1.0 * np.exp(-t / 150.0)
+    r = CoarseGrain(StepEnsemble(q, seq), 300.0, m_values=[1], n_boot=100).run().results
+    assert r["discarded_frames"] >= 300
+    b = r["by_m"][1]
+    z = (b["mean"][:, [2, 5]] - mean[:, [2, 5]]) / b["mean_err"][:, [2, 5]]
+    assert np.all(np.abs(z) < 3.5), z
+    bc = CoarseGrain(StepEnsemble(q, seq), 300.0, m_values=[1], n_boot=100, discard=0).run().results["by_m"][1]
+    zc = (bc["mean"][:, 5] - mean[:, 5]) / b["mean_err"][:, 5]   # bias / precision of the right analysis
+    assert np.all(zc > 3), zc
