@@ -32,8 +32,8 @@ def make_trajectory(directory, n_bp=158, frames=600, seed=0):
     import MDAnalysis as mda
     from MDAnalysis.coordinates.memory import MemoryReader
     from mdbridge.builder.duplex import build_duplex
-    from mdbridge.builder.frames import frames_from_steps
-    from mdbridge.coarsegrain.constants import AMU, BOLTZMANN
+    from mdbridge.geometry.steps import frames_from_steps
+    from mdbridge.gromacs.velocities import thermal_velocities
     from mdbridge.pdbio import write_pdb
 
     rng = np.random.default_rng(seed)
@@ -45,17 +45,17 @@ def make_trajectory(directory, n_bp=158, frames=600, seed=0):
     box = np.array([80.0, 80.0, n_bp * rise])
     pos = []
     for qt in q:
-        o, R = frames_from_steps(qt)
+        R, o = frames_from_steps(qt)
         pos.append(build_duplex(seq, o, R, periodic_box=box).coords)
-    o, R = frames_from_steps(q[0])
+    R, o = frames_from_steps(q[0])
     d = Path(directory)
     write_pdb(d / "dna158.pdb", build_duplex(seq, o, R, periodic_box=box))
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         u = mda.Universe(str(d / "dna158.pdb"))
     pos = np.array(pos, dtype=np.float32)
-    sd = np.sqrt(BOLTZMANN * 300.0 / (u.atoms.masses * AMU)) / 100.0
-    vel = (rng.standard_normal(pos.shape) * sd[None, :, None]).astype(np.float32)
+    vel = np.array([10.0 * thermal_velocities(u.atoms.masses, 300.0, k) for k in range(frames)],
+                   dtype=np.float32)                                    # nm/ps -> A/ps
     dims = np.tile(np.r_[box, 90, 90, 90], (frames, 1)).astype(np.float32)
     u.load_new(pos, format=MemoryReader, velocities=vel, dimensions=dims, dt=10.0)
     with mda.Writer(str(d / "dna158.trr"), n_atoms=u.atoms.n_atoms) as w:

@@ -6,11 +6,9 @@ from __future__ import annotations
 
 import math
 
-from dna_models.units import Units
+from dna_models.units import ANGSTROM, BOLTZMANN, Units  # noqa: F401 - re-exported for this package
 
-BOLTZMANN = 1.380649e-23          # J/K (SI 2019, exact)
 AMU = 1.66053906660e-27           # kg (CODATA 2018)
-ANGSTROM = 1e-10                  # m
 DEG = math.pi / 180.0             # rad per degree
 
 

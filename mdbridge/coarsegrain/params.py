@@ -2,7 +2,6 @@
 layout of issue 14 (docs/coarse-graining.md lists every key)."""
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 import numpy as np
@@ -176,6 +175,8 @@ def _mass_section(mi, rise_A, excluded, rod_rho_I=None):
 
 
 def write_params(path, params: dict) -> Path:
+    """Strict JSON (mdbridge.jsonio: a non-finite number becomes null)."""
+    from mdbridge.jsonio import dumps
     p = Path(path)
-    p.write_text(json.dumps(params, indent=1, allow_nan=True) + "\n")
+    p.write_text(dumps(params) + "\n")
     return p

@@ -7,7 +7,8 @@ with integrated autocorrelation time (1 + phi) / (2 (1 - phi)) frames in every
 component. `write_trajectory` turns the steps into all-atom frames with the
 toolkit's builder (mdbridge.builder, 3DNA rebuild) and writes them as a PDB
 topology plus a TRR trajectory with Maxwell-Boltzmann velocities at a given
-temperature, which MDAnalysis reads like any MD output.
+temperature (mdbridge.gromacs.velocities: zero momentum, exactly that kinetic
+temperature with 3N - 3 degrees of freedom), which MDAnalysis reads like any MD output.
 """
 from __future__ import annotations
 
@@ -15,7 +16,6 @@ from pathlib import Path
 
 import numpy as np
 
-from .constants import AMU, BOLTZMANN
 
 
 def ar1_steps(mean, K, n_frames: int, phi: float, rng: np.random.Generator) -> np.ndarray:
@@ -40,26 +40,26 @@ def write_trajectory(directory, sequence: str, q: np.ndarray, temperature_K: flo
     from MDAnalysis.coordinates.memory import MemoryReader
 
     from mdbridge.builder.duplex import build_duplex
-    from mdbridge.builder.frames import frames_from_steps
+    from mdbridge.geometry.steps import frames_from_steps
     from mdbridge.pdbio import write_pdb
 
     d = Path(directory)
     d.mkdir(parents=True, exist_ok=True)
     pos = []
     for qt in q:
-        o, R = frames_from_steps(qt)
+        R, o = frames_from_steps(qt)
         s = build_duplex(sequence, o, R)
         pos.append(s.coords)
-    o, R = frames_from_steps(q[0])
+    R, o = frames_from_steps(q[0])
     pdb = d / "duplex.pdb"
     write_pdb(pdb, build_duplex(sequence, o, R))
     u = mda.Universe(str(pdb))
     pos = np.array(pos, dtype=np.float32)
     vel = None
     if temperature_K is not None:
-        m = u.atoms.masses * AMU
-        sd = np.sqrt(BOLTZMANN * temperature_K / m) / 100.0          # m/s -> A/ps
-        vel = (rng.standard_normal(pos.shape) * sd[None, :, None]).astype(np.float32)
+        from mdbridge.gromacs.velocities import thermal_velocities
+        vel = np.array([10.0 * thermal_velocities(u.atoms.masses, temperature_K, int(s))   # nm/ps -> A/ps
+                        for s in rng.integers(0, 2**31, len(pos))], dtype=np.float32)
     u.load_new(pos, format=MemoryReader, velocities=vel, dt=dt_ps)
     trr = d / "duplex.trr"
     with mda.Writer(str(trr), n_atoms=u.atoms.n_atoms) as w:

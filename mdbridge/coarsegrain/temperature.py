@@ -20,7 +20,7 @@ import numpy as np
 
 from dna_models.errors import InputError
 
-from .constants import AMU, BOLTZMANN
+from mdbridge.gromacs.velocities import kinetic_temperature as _kinetic
 
 _WATER = {"SOL", "WAT", "HOH", "TIP3", "TIP3P", "SPC", "TIP4", "TIP4P", "T3P", "SPCE"}
 
@@ -45,15 +45,13 @@ def kinetic_temperature(universe, start=None, stop=None, step=None, max_frames=M
     sel = atoms[keep]
     if len(sel) == 0:
         return None
-    m = sel.masses * AMU
     vals = []
     frames = np.arange(universe.trajectory.n_frames)[start:stop:step]
     frames = frames[np.unique(np.linspace(0, len(frames) - 1, min(len(frames), max_frames)).astype(int))]
     for ts in universe.trajectory[frames]:
         if not ts.has_velocities:
             return None
-        v = sel.velocities * 100.0               # A/ps -> m/s
-        vals.append(np.sum(m * np.sum(v * v, axis=1)) / (3 * len(sel) * BOLTZMANN))
+        vals.append(_kinetic(sel.masses, sel.velocities / 10.0, n_dof=3 * len(sel)))   # A/ps -> nm/ps
     vals = np.array(vals)
     return float(vals.mean()), float(vals.std()), int(len(sel)), (
         f"velocities of non-water, non-hydrogen atoms in {len(vals)} frames, 3 k_B T per atom "

@@ -23,7 +23,7 @@ def _ring_trajectory(tmp_path, n_bp=20, T=400, seed=0):
     from mdbridge.pdbio import write_pdb
     rng = np.random.default_rng(seed)
     seq = "".join(rng.choice(list("ACGT"), n_bp))
-    o0, R0 = ideal_frames(n_bp, 3.38, 36.0)
+    R0, o0 = ideal_frames(n_bp, 3.38, 36.0)
     box = np.array([70.0, 70.0, n_bp * 3.38])
     pos = []
     for _ in range(T):
