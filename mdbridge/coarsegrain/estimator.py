@@ -27,7 +27,7 @@ from dna_models.errors import InputError
 from .autocorrelation import integrated_time
 from .bootstrap import block_length, block_starts, block_sums, replicate_moments, spread, weighted_moments
 from .composition import compose
-from .continuum import TWIST, physical_constants
+from .continuum import TWIST, contour_constants, physical_constants
 from .ensemble import StepEnsemble
 from .equilibration import equilibration_start
 from .stiffness import bias_factor, mahalanobis_time
@@ -100,11 +100,25 @@ def composite_series(q: np.ndarray, m_values, closed: bool, excluded: np.ndarray
     return out
 
 
-def _constants_of(mean, cov, T_K, n_eff, contour_A):
+def _constants_of(mean, cov, T_K, n_eff, contour_A, sums=None):
     """Continuum constants of the pooled windows: window-averaged mean and covariance,
-    segment length = the mean contour length (sum of the steps' mean rises)."""
-    return physical_constants(mean.mean(axis=-2), cov.mean(axis=-3), T_K, n_eff,
-                              length_A=float(np.mean(contour_A)))
+    segment length = the mean contour length (sum of the steps' mean rises); with
+    sums = (mean (..., n_w, 2), cov (..., n_w, 2, 2)) of the windows' summed rise and
+    twist, the contour constants too."""
+    out = physical_constants(mean.mean(axis=-2), cov.mean(axis=-3), T_K, n_eff,
+                             length_A=float(np.mean(contour_A)))
+    if sums is not None:
+        out.update(contour_constants(sums[0].mean(axis=-2), sums[1].mean(axis=-3), T_K, n_eff))
+    return out
+
+
+def window_sums(q: np.ndarray, starts: np.ndarray, m: int) -> np.ndarray:
+    """(T, n_w, 2): sum of rise and of twist over the m steps of each window
+    (wrapping for a closed duplex: starts + m may pass n_steps)."""
+    x = q[..., [2, TWIST]]
+    x = np.concatenate([x, x], axis=1)
+    C = np.concatenate([np.zeros_like(x[:, :1]), np.cumsum(x, axis=1)], axis=1)
+    return C[:, starts + m] - C[:, starts]
 
 
 class CoarseGrain:
@@ -176,7 +190,7 @@ class CoarseGrain:
         W_half = np.zeros((2, T))
         W_half[0, :half] = 1.0
         W_half[1, half:] = 1.0
-        n_conv = np.unique(np.linspace(max(2 * P + 10, T // self.convergence_points), T,
+        n_conv = np.unique(np.linspace(min(T, max(2 * P + 10, T // self.convergence_points)), T,
                                        self.convergence_points).astype(int))
         W_conv = (np.arange(T)[None, :] < n_conv[:, None]).astype(float)
 
@@ -184,7 +198,7 @@ class CoarseGrain:
         for m in self.m_values:
             qm, starts = series[m]
             by_m[m] = self._estimate(m, qm, starts, (starts_boot, b), W_half, W_conv, n_conv,
-                                      q[:, :, 2].mean(axis=0))
+                                      q[:, :, 2].mean(axis=0), window_sums(q, starts, m))
         res = {"discarded_frames": t0, "equilibration_rule": rule, "frames_used": T,
                "frames_total": ens.n_frames, "tau_int_max_frames": tau_max,
                "tau_int_steps": tau_steps, "effective_samples": n_eff, "block_length": b,
@@ -195,7 +209,7 @@ class CoarseGrain:
         self.results = res
         return self
 
-    def _estimate(self, m, qm, starts, boot, W_half, W_conv, n_conv, rise):
+    def _estimate(self, m, qm, starts, boot, W_half, W_conv, n_conv, rise, sums):
         T = qm.shape[0]
         n = len(rise)
         contour = rise[(starts[:, None] + np.arange(m)[None, :]) % n].sum(axis=1)   # (n_w,) A
@@ -215,11 +229,13 @@ class CoarseGrain:
         # the pooled covariance averages n_w windows, of which ~n_w / m do not overlap:
         # its degrees of freedom for the bias correction are ~N_eff max(1, n_w / m)
         n_pool = float(np.median(n2)) * max(1.0, len(starts) / m)
-        phys = _constants_of(mean, cov, self.T_K, n_pool, contour)
+        ds = sums - sums.mean(axis=0)
+        sums_full = (sums.mean(axis=0), np.einsum("twi,twj->wij", ds, ds) / (T - 1))
+        phys = _constants_of(mean, cov, self.T_K, n_pool, contour, sums_full)
 
         bm, bc = replicate_moments(qm, *boot)                        # (B, n_w, 6), (B, n_w, 6, 6)
         bK = K_of(bc, n2[None, :])
-        bphys = _constants_of(bm, bc, self.T_K, n_pool, contour)
+        bphys = _constants_of(bm, bc, self.T_K, n_pool, contour, replicate_moments(sums, *boot))
         # tangent correlation <cos Gamma> of the segments (static + dynamic bending)
         cosG = np.cos(np.radians(np.hypot(qm[..., 3], qm[..., 4]))).mean(axis=1)   # (T,)
         L_nm = float(np.mean(contour)) / 10.0
@@ -238,7 +254,8 @@ class CoarseGrain:
         n2h = n2[None, :] / 2.0
         ok = np.all(n2h > P + 2)
         hK = K_of(hc, n2h) if ok else np.full_like(hc, np.nan)
-        hphys = _constants_of(hm, hc, self.T_K, n_pool / 2.0, contour) if n_pool / 2 > 4 else None
+        hphys = (_constants_of(hm, hc, self.T_K, n_pool / 2.0, contour, weighted_moments(sums, W_half))
+                 if n_pool / 2 > 4 else None)
         out["halves"] = {"K_avg": hK.mean(axis=1), "mean_avg": hm.mean(axis=1),
                          "physical": None if hphys is None else {k: v for k, v in hphys.items()}}
         # convergence: first n frames
@@ -249,7 +266,8 @@ class CoarseGrain:
         if okc.any():
             cK[okc] = K_of(cc[okc], n2c[okc])
         n_c = n_pool * n_conv / T
-        cphys = _constants_of(cm, cc, self.T_K, n_c if np.all(n_c > 4) else None, contour)
+        cphys = _constants_of(cm, cc, self.T_K, n_c if np.all(n_c > 4) else None, contour,
+                              weighted_moments(sums, W_conv))
         out["convergence"] = {"frames": n_conv, "K_avg": cK.mean(axis=1), "mean_avg": cm.mean(axis=1),
                               "physical": cphys}
         return out

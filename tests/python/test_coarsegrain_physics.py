@@ -7,7 +7,8 @@
 * Continuum: a chain of independent Gaussian bends with A1 / kT = 50 nm and
   A2 / kT = 40 nm per unit length, twisted by 34.3 deg per step, is a worm-like
   chain with persistence length 2 A1 A2 / (A1 + A2) / kT = 44.4 nm (the twist mixes
-  the two bend directions); <t(0).t(L)> = exp(-L / l_b) exactly.
+  the two bend directions); <t(0).t(L)> = exp(-L / l_b) exactly. Its independent
+  twist and rise fluctuations give C / kT = 100 nm and S = 1000 pN at every length.
 """
 import numpy as np
 import pytest
@@ -85,11 +86,15 @@ def test_known_bend_stiffness_gives_its_persistence_length_at_every_m():
         # the variance form, 2 L / (var tilt + var roll)
         lv, ev = b["physical"]["bend_persistence_length"], b["physical_err"]["bend_persistence_length"]
         assert abs(lv - l_true) < 3.5 * ev and ev < 0.05 * l_true, (m, lv, ev)
-    # stretch and twist at m = 1, where geometric bend-twist and bend-length couplings vanish
-    b1 = cg.results["by_m"][1]
-    for k, truth in (("torsional_persistence_length", 100.0), ("stretch_modulus", 1000.0)):
-        v, e = b1["physical"][k], b1["physical_err"][k]
-        assert abs(v - truth) < 3.5 * e and e < 0.05 * truth, (k, v, e)
+        # twist and stretch from the summed steps (contour length, total twist): the input at every m
+        for k, truth in (("torsional_persistence_length", 100.0), ("stretch_modulus", 1000.0)):
+            v, e = b["physical"][k], b["physical_err"][k]
+            assert abs(v - truth) < 3.5 * e and e < 0.05 * truth, (m, k, v, e)
+    # the segment's own chord and CEHS twist: exact at m = 1, then bend contributions lower them
+    b1, b20 = cg.results["by_m"][1], cg.results["by_m"][20]
+    for k in ("torsional_persistence_length_segment", "stretch_modulus_segment"):
+        assert b1["physical"][k] == pytest.approx(b1["physical"][k.replace("_segment", "")], rel=1e-9)
+        assert b20["physical"][k] < b20["physical"][k.replace("_segment", "")] - 3 * b20["physical_err"][k]
 
 
 def test_twist_stretch_coupling_sign():
