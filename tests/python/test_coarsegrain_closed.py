@@ -10,6 +10,7 @@ import json
 import warnings
 
 import numpy as np
+import pytest
 
 from mdbridge.builder.duplex import build_duplex
 from mdbridge.builder.frames import ideal_frames
@@ -43,13 +44,20 @@ def _ring_trajectory(tmp_path, n_bp=20, T=400, seed=0):
     return seq, tmp_path / "ring.pdb", tmp_path / "ring.trr"
 
 
-def test_closed_ring_closing_step_like_the_others(tmp_path):
+@pytest.fixture(scope="module")
+def ring(tmp_path_factory):
+    tmp_path = tmp_path_factory.mktemp("ring")
     seq, pdb, trr = _ring_trajectory(tmp_path)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         rc = main(["coarse-grain", str(pdb), str(trr), "--temperature", "300", "--discard", "0",
                    "--tension", "0", "-o", str(tmp_path / "cg")])
     assert rc == 0
+    return seq, tmp_path
+
+
+def test_closed_ring_closing_step_like_the_others(ring):
+    seq, tmp_path = ring
     p = json.loads((tmp_path / "cg" / "params.json").read_text())
     assert p["closed"] and len(p["steps"]) == 20
     assert p["steps"][-1]["dimer"] == seq[-1] + seq[0]
@@ -65,3 +73,23 @@ def test_closed_ring_closing_step_like_the_others(tmp_path):
     assert np.all(np.abs(K[-1] - others) < 4 * Ke[-1]), (K[-1], others, Ke[-1])
     # every m-step window wraps: n_windows == n_steps
     assert all(b["n_windows"] == 20 for b in p["by_length"])
+
+
+def test_steps_and_material_files(ring):
+    """With the per-step file module (engineer seq's mdbridge.material, shared format
+    "dnarod-steps/1"): steps.h5 carries params.json's per-step numbers and masses, and
+    material.h5 is a rod material file with one point per base pair. Skipped, with this
+    reason, in a tree without that module."""
+    pytest.importorskip("mdbridge.material.stepfile", reason="mdbridge.material (per-step file) not in this tree")
+    import h5py
+    from mdbridge.material.stepfile import read_steps
+    seq, tmp_path = ring
+    p = json.loads((tmp_path / "cg" / "params.json").read_text())
+    sm = read_steps(tmp_path / "cg" / "steps.h5")
+    assert sm.sequence == seq and sm.closed and sm.temperature_K == 300.0
+    assert np.allclose(sm.step_params, [s["mean"] for s in p["steps"]])
+    assert np.allclose(sm.stiffness, [s["stiffness"] for s in p["steps"]])
+    assert np.allclose(sm.mass, p["mass_inertia"]["mass_amu"])
+    with h5py.File(tmp_path / "cg" / "material.h5", "r") as f:
+        assert f.attrs["format"] == "dnarod-material/1"
+        assert f["K"].shape == (20, 6, 6) and f["rho"].shape == (20,)
