@@ -135,7 +135,7 @@ def _halves(bm):
     if h["physical"] is not None:
         d["physical"] = {k: {"first": float(v[0]), "second": float(v[1]),
                              "z": float((v[0] - v[1]) / (2.0 * bm["physical_err"][k]))}
-                         for k, v in h["physical"].items()}
+                         for k, v in h["physical"].items() if bm["physical_err"].get(k, 0.0) > 0}
     d["note"] = "z = (first - second) / (2 x full-run error); |z| > 3 says the run is not stationary"
     return d
 

@@ -12,6 +12,7 @@ temperature with 3N - 3 degrees of freedom), which MDAnalysis reads like any MD 
 """
 from __future__ import annotations
 
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -62,7 +63,9 @@ def write_trajectory(directory, sequence: str, q: np.ndarray, temperature_K: flo
                         for s in rng.integers(0, 2**31, len(pos))], dtype=np.float32)
     u.load_new(pos, format=MemoryReader, velocities=vel, dt=dt_ps)
     trr = d / "duplex.trr"
-    with mda.Writer(str(trr), n_atoms=u.atoms.n_atoms) as w:
-        for _ in u.trajectory:
-            w.write(u.atoms)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)   # MDAnalysis: box angles of "no box"
+        with mda.Writer(str(trr), n_atoms=u.atoms.n_atoms) as w:
+            for _ in u.trajectory:
+                w.write(u.atoms)
     return pdb, trr
