@@ -218,7 +218,14 @@ class CoarseGrain:
         cov = np.einsum("twi,twj->wij", d, d) / (T - 1)
         tau2 = mahalanobis_time(qm, mean, cov)                      # (n_w,)
         n2 = T / (2.0 * tau2)
-        bias_factor(n2, P)                                          # clear error if too few
+        if np.any(n2 <= P + 2):
+            w = int(np.argmin(n2))
+            need = math.ceil((P + 3) * 2.0 * tau2[w] * 2.0)
+            raise InputError(
+                f"{self.ens.source}: m = {m}, window from step {starts[w] + 1}: its {T} frames are worth "
+                f"{n2[w]:.1f} independent samples of the 6x6 covariance (autocorrelation time of its "
+                f"second moments {tau2[w]:.1f} frames); inverting it needs more than {P + 2}: use a "
+                f"longer trajectory (about {need} frames), or smaller m (--m-max)")
         Kinv = np.linalg.inv(cov)
 
         def K_of(c, n):
