@@ -140,6 +140,7 @@ class CoarseGrain:
         self.T_K = float(temperature_K)
         self.m_values = list(m_values) if m_values is not None else default_m_values(
             ensemble.n_steps, ensemble.closed, excluded=ensemble.excluded)
+        self.m_values = sorted(set(self.m_values) | {1})       # per-step results always
         self.m_rod = int(m_rod) if m_rod is not None else max(self.m_values)
         if self.m_rod not in self.m_values:
             self.m_values = sorted(set(self.m_values) | {self.m_rod})
