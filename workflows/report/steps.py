@@ -75,13 +75,23 @@ def rod_dispersion(scene: dict) -> dict:
 def analyse_rod(scene_path, h5_path, prefix, n_boot=200):
     from mdbridge.analysis import BasePairTrajectory, WaveAnalysis
     scene = load_scene(scene_path)
+    from workflows.report import matched
     run = RodRun.read(h5_path)
     traj = BasePairTrajectory.from_rod(run, scene_n_bp(scene, scene_path))
-    a = WaveAnalysis(traj, n_boot=n_boot).run()
+    e_in = matched.scene_in_plane(scene, scene_path)
+    a = WaveAnalysis(traj, in_plane=e_in, offset=True, n_boot=n_boot).run()
     s = a.summary()
-    s.update(kind="rod", A_v_A_per_ps=scene["initial"].get("A_v_A_per_ps"),
-             A_A=scene["initial"].get("A_A", 0.0), dispersion=rod_dispersion(scene),
-             complete=run.complete)
+    side = Path(scene_path).with_suffix(".json")
+    meta = json.loads(side.read_text()) if side.is_file() else {}
+    s.update(kind="rod", A_v_A_per_ps=scene["initial"].get("A_v_A_per_ps", meta.get("A_v_A_per_ps")),
+             A_A=scene["initial"].get("A_A", meta.get("A_A", 0.0)),
+             dispersion=meta.get("dispersion") or rod_dispersion(scene),
+             complete=run.complete, standing_mode=matched.mode_fit(a),
+             plane=matched.plane_report(a, e_in),
+             matched=matched.rod_matched(traj, run, scene if not meta else
+                                         dict(scene, initial={"rise_A": meta["box_rise_A"]})))
+    if meta:
+        s["prestrain"] = meta
     if not s["complete"]:
         log = Path(h5_path).with_name("rodsim.log")
         s["stopped"] = log.read_text().strip().splitlines()[0] if log.is_file() else "run incomplete"
@@ -105,9 +115,13 @@ def analyse_md(scene_path, md_dir, prefix, n_boot=200):
     n_bp = scene_n_bp(scene, scene_path)
     if traj.n_bp != n_bp:
         raise InputError(f"{md_dir}: the MD duplex has {traj.n_bp} base pairs, the scene {n_bp}")
-    a = WaveAnalysis(traj, n_boot=n_boot).run()
+    from workflows.report import matched
+    e_in = matched.scene_in_plane(scene, scene_path)
+    a = WaveAnalysis(traj, in_plane=e_in, offset=True, n_boot=n_boot).run()
     t_int, intact, _ = bp_intact_fraction(u, traj.meta["pairs"])
     s = a.summary()
+    s.update(standing_mode=matched.mode_fit(a), plane=matched.plane_report(a, e_in),
+             matched=matched.md_matched(traj, u, md_dir, scene))
     s.update(kind="md", A_v_A_per_ps=scene["initial"].get("A_v_A_per_ps"),
              bp_intact_fraction_final=float(intact[-1]), bp_intact_fraction_min=float(intact.min()),
              bp_intact_fraction_mean=float(intact.mean()))
