@@ -65,3 +65,21 @@ def test_regime_labels():
     assert regime(30.0, 0.0)["regime"] == "nonlinear elastic"
     assert regime(130.0, 0.0)["regime"] == "beyond the overstretching plateau"
     assert regime(float("nan"))["regime"] == "unknown"
+
+
+def test_thermal_mode_amplitude_and_oscillator():
+    """Equipartition amplitude against the persistence-length form done by hand, and the
+    sampled Langevin oscillator's variance and frequency against their exact values."""
+    from mdbridge.analysis.thermal_mode import _oscillator, thermal_mode_rms_A
+    L_A, D = 158 * 3.38, 2.75e-28            # D = 66.4 nm x kT(300 K)
+    lp_A = D / (1.380649e-23 * 300) * 1e10
+    k = 2 * np.pi / L_A
+    assert thermal_mode_rms_A(L_A, D) == pytest.approx(math.sqrt(4 / (lp_A * k ** 4 * L_A)), rel=1e-9)
+    assert thermal_mode_rms_A(L_A, D, tension_pN=10.0) < thermal_mode_rms_A(L_A, D)
+    rng = np.random.default_rng(2)
+    w, dt = 0.05, 2.0
+    x = _oscillator(rng, 200, 400, dt, w, 20.0, 3.0)
+    assert np.mean(x ** 2) == pytest.approx(9.0, rel=0.05)
+    spec = np.mean(np.abs(np.fft.rfft(x, axis=1)) ** 2, axis=0)
+    nu = np.fft.rfftfreq(400, dt) * 2 * np.pi
+    assert nu[np.argmax(spec)] == pytest.approx(w, rel=0.05)

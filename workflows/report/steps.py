@@ -4,6 +4,8 @@
     python -m workflows.report.steps rod     SCENE.toml ROD.h5 OUT_PREFIX [--n-boot 200]
     python -m workflows.report.steps md      SCENE.toml MD_DIR OUT_PREFIX [--n-boot 200]
     python -m workflows.report.steps modulus SCENE.toml OUT.json MD_ANALYSIS.json...
+    python -m workflows.report.steps prestrain-scene BASE.toml OUT.toml --A-v 1 --rest-length-A L0 \
+        --run-ps 600 --every-ps 1
 
 `rod` and `md` run the same `mdbridge.analysis.WaveAnalysis` and write OUT_PREFIX.json
 (scalars) and OUT_PREFIX.npz (u(s, t), axis, planarity and integrity over time).
@@ -174,6 +176,13 @@ def main(argv=None) -> int:
         p.add_argument("input")
         p.add_argument("prefix")
         p.add_argument("--n-boot", type=int, default=200)
+    p = sub.add_parser("prestrain-scene")
+    p.add_argument("base")
+    p.add_argument("out")
+    p.add_argument("--A-v", type=float, required=True)
+    p.add_argument("--rest-length-A", type=float, required=True)
+    p.add_argument("--run-ps", type=float, required=True)
+    p.add_argument("--every-ps", type=float, required=True)
     p = sub.add_parser("modulus")
     p.add_argument("scene")
     p.add_argument("out")
@@ -182,6 +191,13 @@ def main(argv=None) -> int:
     try:
         if a.step == "scene":
             make_scene(a.base, a.out, a.A_v, a.run_ps, a.every_ps)
+        elif a.step == "prestrain-scene":
+            from workflows.report.prestrain import gamma03_from_rest_length, make_prestrain_scene
+            sc = load_scene(a.base)
+            ini = sc.get("initial", {})
+            G = gamma03_from_rest_length(scene_n_bp(sc, a.base), float(ini.get("rise_A", Units.paper().rise_A)),
+                                         a.rest_length_A)
+            make_prestrain_scene(a.base, a.out, G, a.A_v, a.run_ps, a.every_ps)
         elif a.step == "modulus":
             fit_moduli(a.scene, a.md_json, a.out)
         elif a.step == "rod":
