@@ -84,4 +84,4 @@ def test_thermal_mode_amplitude_and_oscillator():
     assert np.mean(x[:, -1] ** 2) == pytest.approx(9.0, rel=0.11)
     spec = np.mean(np.abs(np.fft.rfft(x, axis=1)) ** 2, axis=0)
     nu = np.fft.rfftfreq(400, dt) * 2 * np.pi
-    assert nu[np.argmax(spec)] == pytest.approx(w, rel=0.05)
+    assert nu[np.argmax(spec)] == pytest.approx(w, abs=nu[1])  # to one frequency bin
