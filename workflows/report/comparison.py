@@ -43,6 +43,7 @@ def _rod_row(j) -> dict | None:
             "mode_amplitude_A": _num(f.get("mode_amplitude_A")), "offset_A": _num(f.get("offset_A")),
             "contour_strain": _num(m.get("contour_strain_mean")),
             "tension_pN": _num(m.get("tension_pN")), "tension_sem_pN": _num(m.get("tension_sem_pN")),
+            "tension_max_pN": _num(m.get("tension_max_pN")),
             "plane_angle_to_scene_deg": (j.get("plane") or {}).get("plane_angle_to_scene_deg"),
             "reason": f.get("reason"), "complete": j.get("complete", True)}
 
@@ -105,6 +106,9 @@ def comparison_block(cfg: dict, data: dict) -> dict:
         row = {"A_v_A_per_ps": av, "rod": rod, "md": md}
         if rod:
             row["rod_regime"] = regime(rod["tension_pN"] - rod_base_T, rod_base_T)
+            # the label uses the time-mean tension (as for MD); the rod's peak is known too
+            row["rod_regime"]["peak_tension_pN"] = rod["tension_max_pN"]
+            row["rod_regime"]["peak_regime"] = regime(rod["tension_max_pN"] - rod_base_T, rod_base_T)["regime"]
         if md:
             added = md["tension_pN"] - md_base_T if md_base_T is not None and math.isfinite(md_base_T) \
                 else md["tension_pN"]

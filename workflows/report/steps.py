@@ -74,6 +74,18 @@ def rod_dispersion(scene: dict) -> dict:
             "shear_branch_speed_A_per_ps": lab_speed_A_per_ps(L, D1, 1.0, "plus", 1, u)}
 
 
+def _report_mode_fit(s: dict):
+    """The run's reported speed is the standing-mode fit's (offset fitted, three-part error,
+    refused with the reason on too short a standing record: mdbridge/analysis/mode_error.py);
+    the travelling-wave fit of WaveAnalysis stays under wave_fit."""
+    sm = s["standing_mode"]
+    s["wave_speed_A_per_ps"] = sm.get("speed_A_per_ps")
+    s["wave_speed_err_A_per_ps"] = sm.get("speed_err_A_per_ps")
+    s["wave_quantity"] = sm.get("quantity")
+    if sm.get("reason"):
+        s["wave_fit"] = dict(s["wave_fit"], reason=sm["reason"])
+
+
 def analyse_rod(scene_path, h5_path, prefix, n_boot=200):
     from mdbridge.analysis import BasePairTrajectory, WaveAnalysis
     scene = load_scene(scene_path)
@@ -94,6 +106,7 @@ def analyse_rod(scene_path, h5_path, prefix, n_boot=200):
                                          dict(scene, initial={"rise_A": meta["box_rise_A"]})))
     if meta:
         s["prestrain"] = meta
+    _report_mode_fit(s)
     if not s["complete"]:
         log = Path(h5_path).with_name("rodsim.log")
         s["stopped"] = log.read_text().strip().splitlines()[0] if log.is_file() else "run incomplete"
@@ -124,6 +137,7 @@ def analyse_md(scene_path, md_dir, prefix, n_boot=200):
     s = a.summary()
     s.update(standing_mode=matched.mode_fit(a), plane=matched.plane_report(a, e_in),
              matched=matched.md_matched(traj, u, md_dir, scene))
+    _report_mode_fit(s)
     s.update(kind="md", A_v_A_per_ps=scene["initial"].get("A_v_A_per_ps"),
              bp_intact_fraction_final=float(intact[-1]), bp_intact_fraction_min=float(intact.min()),
              bp_intact_fraction_mean=float(intact.mean()))
