@@ -120,10 +120,20 @@ def tension_summary(series_pN, times_ps=None) -> dict:
     return out
 
 
-def regime(added_pN: float, baseline_pN: float | None = None) -> dict:
-    """The regime label of a run from the tension its kick adds above the baseline."""
+def regime(added_pN: float, baseline_pN: float | None = None, err_pN: float | None = None) -> dict:
+    """The regime label of a run from the tension its kick adds above the baseline; with its
+    standard error err_pN, a label the error could change (the interval +-2 err straddles a
+    boundary) is reported as "not resolved" with the labels at both ends."""
     if added_pN is None or not math.isfinite(added_pN):
         return {"regime": "unknown", "reason": "no tension measured"}
+    if err_pN is not None and math.isfinite(err_pN) and err_pN > 0:
+        lo = regime(abs(added_pN) - 2 * err_pN if abs(added_pN) > 2 * err_pN else 0.0, baseline_pN)
+        hi = regime(abs(added_pN) + 2 * err_pN, baseline_pN)
+        out = regime(added_pN, baseline_pN)
+        out["added_tension_err_pN"] = err_pN
+        if lo["regime"] != hi["regime"]:
+            out["regime"] = f"not resolved ({lo['regime']} .. {hi['regime']} within 2 standard errors)"
+        return out
     a = abs(added_pN)
     base_ok = baseline_pN is not None and math.isfinite(baseline_pN)
     if a >= OVERSTRETCH_PN:

@@ -231,10 +231,14 @@ def standing_mode_fit(times_ps, c, k_per_A: float, record_term: bool = True,
     return out
 
 
+def _finite(x) -> bool:
+    return isinstance(x, (int, float)) and math.isfinite(x)
+
+
 def combine_seeds(fits: list[dict]) -> dict:
     """Mean over seeds of the speed, with the three error parts: fit and record (each run's,
     combined as the error of the mean) and the between-seed scatter std / sqrt(n)."""
-    ok = [f for f in fits if f and math.isfinite(f.get("speed_A_per_ps", float("nan")))]
+    ok = [f for f in fits if f and _finite(f.get("speed_A_per_ps"))]  # (JSON writes NaN as null)
     nan = float("nan")
     if not ok:
         reasons = sorted({f.get("reason", "no fit") for f in fits if f})
@@ -243,8 +247,7 @@ def combine_seeds(fits: list[dict]) -> dict:
     v = np.array([f["speed_A_per_ps"] for f in ok])
     n = len(v)
     fit = math.sqrt(sum(f["speed_err_fit_A_per_ps"] ** 2 for f in ok)) / n
-    rec_parts = [f["speed_err_record_A_per_ps"] for f in ok
-                 if math.isfinite(f.get("speed_err_record_A_per_ps", nan))]
+    rec_parts = [f["speed_err_record_A_per_ps"] for f in ok if _finite(f.get("speed_err_record_A_per_ps"))]
     rec = math.sqrt(sum(x * x for x in rec_parts)) / n if rec_parts else 0.0
     out = {"speed_A_per_ps": float(v.mean()), "n_seeds": n,
            "speed_err_fit_A_per_ps": fit, "speed_err_record_A_per_ps": rec,

@@ -65,6 +65,8 @@ def test_regime_labels():
     assert regime(30.0, 0.0)["regime"] == "nonlinear elastic"
     assert regime(130.0, 0.0)["regime"] == "beyond the overstretching plateau"
     assert regime(float("nan"))["regime"] == "unknown"
+    assert regime(30.0, 0.0, err_pN=1.0)["regime"] == "nonlinear elastic"
+    assert regime(-296.0, None, err_pN=564.0)["regime"].startswith("not resolved")
 
 
 def test_thermal_mode_amplitude_and_oscillator():

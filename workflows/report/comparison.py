@@ -112,7 +112,9 @@ def comparison_block(cfg: dict, data: dict) -> dict:
         if md:
             added = md["tension_pN"] - md_base_T if md_base_T is not None and math.isfinite(md_base_T) \
                 else md["tension_pN"]
-            row["md_regime"] = regime(added, md_base_T)
+            base_err = base_md["tension_sem_pN"] if base_md and base_md is not md else 0.0
+            row["md_regime"] = regime(added, md_base_T,
+                                      math.hypot(md["tension_sem_pN"], base_err or 0.0))
             if md_base_T is None:
                 row["md_regime"]["note"] = ("no A_v = 0 MD run: the added tension is the total; "
                                             "the baseline is not known")
