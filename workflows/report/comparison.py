@@ -183,6 +183,17 @@ def html_table(comp: dict) -> str:
             f"<td>rod: {html.escape((r.get('rod_regime') or {}).get('regime', 'n/a'))}; "
             f"MD: {html.escape((r.get('md_regime') or {}).get('regime', 'n/a'))}</td></tr>")
     b = comp.get("buckling") or {}
+    notes = [f"A_v = {_f(r['A_v_A_per_ps'])}: the MD's mean contour strain is below the rod's buckling "
+             f"strain {_f(b.get('critical_strain'))}: the rod would buckle there"
+             for r in comp["rows"] if r.get("md_beyond_rod_buckling")]
+    pre = comp.get("prestrain_rod") or []
+    pre_html = ""
+    if pre:
+        pre_html = ("<h3>Rod at the MD's rest length</h3><table><tr><th>A_v [A/ps]</th><th>rod [A/ps]</th>"
+                    "<th>tension [pN]</th></tr>" + "".join(
+                        f"<tr><td>{_f(p.get('A_v_A_per_ps'))}</td><td>{_f(p.get('speed_A_per_ps'))} &plusmn; "
+                        f"{_f(p.get('speed_err_A_per_ps'), 2)}</td><td>{_f(p.get('tension_pN'))}</td></tr>"
+                        for p in pre) + "</table>")
     return ("<h2>Matched comparison (amplitude, strain, tension)</h2>"
             "<p>Frequencies from the fit with the static mode offset; errors = fit (AR(1) noise) "
             "&oplus; record length &oplus; between seeds (docs/analysis.md). Regime from the tension "
@@ -191,4 +202,5 @@ def html_table(comp: dict) -> str:
             "<table><tr><th>A_v [A/ps]</th><th>mode amplitude rod / MD [A]</th><th>rod [A/ps]</th>"
             "<th>MD [A/ps]</th><th>rod omega at the MD amplitude [rad/ps]</th>"
             "<th>contour strain rod / MD</th><th>tension rod / MD [pN]</th><th>regime</th></tr>"
-            + "\n".join(trs) + "</table>")
+            + "\n".join(trs) + "</table>"
+            + "".join(f"<p><b>{html.escape(n)}</b></p>" for n in notes) + pre_html)
