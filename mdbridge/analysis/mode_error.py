@@ -38,7 +38,7 @@ agreeing on the wrong value, while records of >= 0.6 period are covered by the s
 less than ~0.6 period of an anharmonic oscillation overestimates the number of periods it
 holds (0.5 true -> ~0.7 fitted), so the number is refused -- `speed_A_per_ps` NaN with the
 reason, the unreportable fit kept under `unreported` -- when the FITTED record holds fewer
-than REPORT_MIN_PERIODS = 0.8 periods and the mode is standing. A travelling wave (|A_+| and
+than REPORT_MIN_PERIODS = 0.75 periods and the mode is standing. A travelling wave (|A_+| and
 |A_-| differ) keeps |c| constant and its phase turns uniformly even when the wave is
 nonlinear, so for it only MIN_PERIODS applies. `min_periods` lowers the threshold for
 studies of harmonic data.
@@ -57,7 +57,7 @@ import numpy as np
 from mdbridge.analysis.wavespeed import fit_wave_speed
 
 MIN_PERIODS = 0.25       # below: no fit at all (cannot tell a frequency from a slow drift)
-REPORT_MIN_PERIODS = 0.8  # below: the number is refused (module doc, "Refusal")
+REPORT_MIN_PERIODS = 0.75  # below: the number is refused (module doc, "Refusal")
 RECORD_WINDOW = 2.0 / 3  # the two sub-records of the record term
 STANDING_SIGMA = 2.0     # |A_+| - |A_-| within this many standard errors -> standing
 
