@@ -58,6 +58,11 @@ def test_prestrained_rod_speed(rodsim, tmp_path, G):
     w0, _ = linear_frequencies(k, u.D_star[0], G, 0.0)
     assert abs(u.velocity_to_A_per_ps(G * w0 / k) - f["speed_A_per_ps"]) > 0.3
     assert meta["dispersion"]["bend_branch_speed_A_per_ps"] == pytest.approx(predicted, rel=1e-9)
+    # the workflow's step reads the same run through the scene's side record (n_bp, in_plane)
+    from workflows.report.steps import analyse_rod
+    s = analyse_rod(tmp_path / "ps.toml", tmp_path / "ps.h5", tmp_path / "analysis", n_boot=0)
+    assert s["wave_speed_A_per_ps"] == pytest.approx(f["speed_A_per_ps"], rel=1e-9)
+    assert s["prestrain"]["Gamma03"] == G and s["plane"]["in_plane_source"] == "scene"
     m = rod_matched(traj, tmp_path / "ps.h5", {"initial": {"rise_A": 3.38}})
     assert m["tension_pN"] == pytest.approx(u.C * u.C_star[2] * (G - 1) * 1e12, rel=1e-4)  # ~10.8 pN
 

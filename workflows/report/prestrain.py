@@ -101,7 +101,7 @@ def make_prestrain_scene(base_path, out_path, Gamma03: float, A_v: float, run_ps
     out.write_text(f"# made by dnarod compare from {base_path}: pre-strained rod, Gamma03 = "
                    f"{Gamma03!r} (box / MD rest length), A_v = {A_v} A/ps, {run_ps} ps\n" + toml.dumps(new))
     pred = prestrain_prediction(n, rise, Gamma03, turns, D1, C3, u)
-    meta = {"in_plane": [1.0, 0.0, 0.0], "A_v_A_per_ps": float(A_v), "A_A": float(ini.get("A_A", 0.0)),
+    meta = {"in_plane": [1.0, 0.0, 0.0], "n_bp": n, "A_v_A_per_ps": float(A_v), "A_A": float(ini.get("A_A", 0.0)),
             "Gamma03": Gamma03, "box_rise_A": rise, "rest_length_A": n * rise / Gamma03,
             "dispersion": {"fiducial_length": L, "D1": D1, "Gamma03": Gamma03,
                            "bend_branch_speed_A_per_ps": pred["bend_branch_speed_A_per_ps"],

@@ -91,12 +91,13 @@ def analyse_rod(scene_path, h5_path, prefix, n_boot=200):
     scene = load_scene(scene_path)
     from workflows.report import matched
     run = RodRun.read(h5_path)
-    traj = BasePairTrajectory.from_rod(run, scene_n_bp(scene, scene_path))
+    side = Path(scene_path).with_suffix(".json")  # a pre-strained rod's record (prestrain.py)
+    meta = json.loads(side.read_text()) if side.is_file() else {}
+    traj = BasePairTrajectory.from_rod(run, int(meta["n_bp"]) if "n_bp" in meta
+                                       else scene_n_bp(scene, scene_path))
     e_in = matched.scene_in_plane(scene, scene_path)
     a = WaveAnalysis(traj, in_plane=e_in, offset=True, n_boot=n_boot).run()
     s = a.summary()
-    side = Path(scene_path).with_suffix(".json")
-    meta = json.loads(side.read_text()) if side.is_file() else {}
     s.update(kind="rod", A_v_A_per_ps=scene["initial"].get("A_v_A_per_ps", meta.get("A_v_A_per_ps")),
              A_A=scene["initial"].get("A_A", meta.get("A_A", 0.0)),
              dispersion=meta.get("dispersion") or rod_dispersion(scene),
