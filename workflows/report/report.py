@@ -269,9 +269,9 @@ def _f(x, nd=3):
 
 def write_html(cfg: dict, res: dict, figs: dict, path: Path):
     rows = [
-        ("rod wave speed [A/ps]", f"{_f(res['rod_wave_speed_A_per_ps'])} &plusmn; {_f(res['rod_wave_speed_err_A_per_ps'], 2)}"
+        (f"rod {html.escape(res.get('rod_quantity') or 'wave speed')} [A/ps] ({html.escape(str(res.get('rod_regime')))})", f"{_f(res['rod_wave_speed_A_per_ps'])} &plusmn; {_f(res['rod_wave_speed_err_A_per_ps'], 2)}"
          f" (check {_f(res['rod_wave_speed_check_A_per_ps'])}; Eq 39: {_f(res['rod_dispersion_speed_A_per_ps'])})", "1.4"),
-        ("MD wave speed [A/ps]", f"{_f(res['md_wave_speed_A_per_ps'])} &plusmn; {_f(res['md_wave_speed_err_A_per_ps'], 2)}"
+        (f"MD {html.escape(res.get('md_quantity') or 'wave speed')} [A/ps] ({html.escape(str(res.get('md_regime')))})", f"{_f(res['md_wave_speed_A_per_ps'])} &plusmn; {_f(res['md_wave_speed_err_A_per_ps'], 2)}"
          f" (check {_f(res['md_wave_speed_check_A_per_ps'])})", "2.2 (by eye)"),
         ("rod planarity (out/in RMS)", _f(res["rod_planarity"]), "planar"),
         ("MD planarity (out/in RMS)", _f(res["md_planarity"]), "planar (A_v = 1), non-planar (A_v = 5)"),
