@@ -64,3 +64,35 @@ def bend_modulus_for_speed(speed_A_per_ps: float, length_fiducial: float, Gamma0
     D = D1 * u.I * u.C / u.rho
     return {"D1_star": D1, "D_J_m": D, "D_over_paper": D1 / u.D_star[0],
             "persistence_length_nm_300K": persistence_length_nm(D, 300.0)}
+
+
+def omega_pm_tension(kappa, D1: float, Gamma3: float, n3: float, branch: str = "minus"):
+    """Eq (39) generalised to a straight rod held at Gamma3 under the axial force n3
+    (dimensionless, units of C; n3 = C3 (Gamma3 - Gamma03) of the rod's own intrinsic Gamma03).
+    Linearising the planar polarisation (gamma1, Gamma1, omega2, Omega2) about that state
+    adds Omega2 n3 to the force balance (Eq 33) and -Gamma1 n3 to the moment balance (Eq 34),
+    giving  (w^2 - D1 k^2)(w^2 - k^2) = (G - n3)(G w^2 - n3 k^2),  G = Gamma3, which is the
+    paper's consistency condition for n3 = 0. The bend branch vanishes at the Euler load
+    n3 = -D1 k^2 / (G - n3) (`critical_compression`)."""
+    k2 = np.asarray(kappa, float) ** 2
+    G, T = float(Gamma3), float(n3)
+    b = D1 * k2 + k2 + G * (G - T)
+    c = D1 * k2 ** 2 + (G - T) * T * k2
+    disc = np.sqrt(np.maximum(b * b - 4 * c, 0.0))
+    if branch == "plus":
+        return np.sqrt(0.5 * (b + disc))
+    if branch == "minus":
+        x = 0.5 * (b - disc)
+        return np.where(x >= 0, np.sqrt(np.abs(x)), np.nan)
+    raise ValueError(f"branch must be 'plus' or 'minus', got {branch!r}")
+
+
+def critical_compression(length_fiducial: float, D1: float, C3: float, mode: int = 1) -> dict:
+    """Axial strain and force (dimensionless) at which the bend branch of the fundamental of
+    a closed rod vanishes (buckling), from `omega_pm_tension` with n3 = C3 (Gamma3 - 1):
+    solves D1 k^2 + (G - n3) n3 = 0 for the strain e = G - 1 < 0."""
+    from scipy.optimize import brentq
+    k2 = (2 * np.pi * mode / length_fiducial) ** 2
+    f = lambda e: D1 * k2 + ((1 + e) - C3 * e) * C3 * e  # noqa: E731
+    e = brentq(f, -0.5, 0.0)
+    return {"strain": float(e), "n3": float(C3 * e)}

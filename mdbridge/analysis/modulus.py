@@ -40,7 +40,8 @@ def rod_speed(scene, n_bp: int, scale: float, which: str = "bend", units: Units 
     run = run_scene(scene, source=str(scene),
                     set=[_material(which, scale, u), 'output.fields=["internal", "centerline", "directors"]'])
     traj = BasePairTrajectory.from_rod(run, n_bp, u)
-    return float(WaveAnalysis(traj, n_boot=0).run().results.wave["speed_A_per_ps"])
+    # in_plane: the dna_planar scene kicks along lab Z (docs/scenes.md)
+    return float(WaveAnalysis(traj, in_plane=[0.0, 0.0, 1.0], n_boot=0).run().results.wave["speed_A_per_ps"])
 
 
 def fit_modulus(scene, n_bp: int, target_speed_A_per_ps: float, which: str = "bend",

@@ -48,10 +48,10 @@ def initial_plane_direction(u_perp: np.ndarray, times: np.ndarray, n_early: int 
 
 
 class WaveAnalysis:
-    def __init__(self, traj: BasePairTrajectory, in_plane=None, offset: bool = False,
+    def __init__(self, traj: BasePairTrajectory, in_plane=None, offset: bool = True,
                  n_boot: int = 200):
         """traj: the base-pair trajectory; in_plane: a lab vector in the plane of the initial
-        disturbance (from the scene), or None to take it from the first frames; offset: allow a
+        disturbance (from the scene), or None to take it from the first frames; offset: fit the
         static k-mode deformation in the wave fit; n_boot: bootstrap replicates."""
         self.traj = traj
         self.in_plane = None if in_plane is None else np.asarray(in_plane, float)

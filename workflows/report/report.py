@@ -99,6 +99,9 @@ def collect(cfg: dict, out: Path) -> dict:
     data["modulus"] = json.loads(fit.read_text()) if fit.is_file() else None
     for av in cfg.get("sweep", {}).get("A_v_A_per_ps", []) or []:
         data["sweep"][float(av)] = _load(out / "sweep" / f"Av{fmt_av(av)}" / "analysis")
+    data["prestrain"] = {}
+    for d in sorted((out / "prestrain").glob("Av*")) if (out / "prestrain").is_dir() else []:
+        data["prestrain"][d.name] = _load(d / "analysis")
     return data
 
 
@@ -111,6 +114,13 @@ def results_json(cfg: dict, data: dict) -> dict:
     md_runs = [m for m in md_runs if m]
     md_speed, md_err = _combine([m["wave_speed_A_per_ps"] for m in md_runs],
                                 [m["wave_speed_err_A_per_ps"] for m in md_runs])
+    from workflows.report.comparison import comparison_block
+    comp = comparison_block(cfg, data)
+    head_row = next((r for r in comp["rows"] if r["A_v_A_per_ps"] == head), {})
+    md_head = head_row.get("md") or {}
+    if md_runs and all("standing_mode" in m for m in md_runs):
+        # the three-part error of mdbridge/analysis/mode_error.py (offset always fitted)
+        md_speed, md_err = md_head.get("speed_A_per_ps", md_speed), md_head.get("speed_err_A_per_ps", md_err)
     res = {
         "headline_A_v_A_per_ps": head,
         "rod_wave_speed_A_per_ps": _num(rod_j and rod_j["wave_speed_A_per_ps"]),
@@ -137,6 +147,14 @@ def results_json(cfg: dict, data: dict) -> dict:
             "md_bp_intact_fraction": "fraction of base pairs with N1-N3 < 3.5 A (minimum image), "
                                      "last frame, mean over seeds",
         },
+        "comparison": comp,
+        "md_wave_speed_err_parts_A_per_ps": {k: md_head.get(k) for k in (
+            "speed_err_fit_A_per_ps", "speed_err_record_A_per_ps", "speed_err_seeds_A_per_ps",
+            "speed_err_seeds_note")} if md_head else None,
+        "md_quantity": md_head.get("quantity"),
+        "rod_quantity": (head_row.get("rod") or {}).get("quantity"),
+        "md_regime": (head_row.get("md_regime") or {}).get("regime"),
+        "rod_regime": (head_row.get("rod_regime") or {}).get("regime"),
         "runs": {"rod": [j for j, _ in data["rod"].values() if j],
                  "md": [j for j, _ in data["md"].values() if j],
                  "sweep": [j for j, _ in data["sweep"].values() if j]},
@@ -251,9 +269,9 @@ def _f(x, nd=3):
 
 def write_html(cfg: dict, res: dict, figs: dict, path: Path):
     rows = [
-        ("rod wave speed [A/ps]", f"{_f(res['rod_wave_speed_A_per_ps'])} &plusmn; {_f(res['rod_wave_speed_err_A_per_ps'], 2)}"
+        (f"rod {html.escape(res.get('rod_quantity') or 'wave speed')} [A/ps] ({html.escape(str(res.get('rod_regime')))})", f"{_f(res['rod_wave_speed_A_per_ps'])} &plusmn; {_f(res['rod_wave_speed_err_A_per_ps'], 2)}"
          f" (check {_f(res['rod_wave_speed_check_A_per_ps'])}; Eq 39: {_f(res['rod_dispersion_speed_A_per_ps'])})", "1.4"),
-        ("MD wave speed [A/ps]", f"{_f(res['md_wave_speed_A_per_ps'])} &plusmn; {_f(res['md_wave_speed_err_A_per_ps'], 2)}"
+        (f"MD {html.escape(res.get('md_quantity') or 'wave speed')} [A/ps] ({html.escape(str(res.get('md_regime')))})", f"{_f(res['md_wave_speed_A_per_ps'])} &plusmn; {_f(res['md_wave_speed_err_A_per_ps'], 2)}"
          f" (check {_f(res['md_wave_speed_check_A_per_ps'])})", "2.2 (by eye)"),
         ("rod planarity (out/in RMS)", _f(res["rod_planarity"]), "planar"),
         ("MD planarity (out/in RMS)", _f(res["md_planarity"]), "planar (A_v = 1), non-planar (A_v = 5)"),
@@ -273,6 +291,8 @@ def write_html(cfg: dict, res: dict, figs: dict, path: Path):
         f"<td>{_f(j.get('bp_intact_fraction_final', ''))}</td><td>{_f(j['t_end_ps'])}"
         f"{'' if j.get('complete', True) else ' (stopped: ' + html.escape(j.get('stopped', '')) + ')'}</td></tr>"
         for j in res["runs"]["rod"] + res["runs"]["md"] + res["runs"]["sweep"])
+    from workflows.report.comparison import html_table
+    matched_html = html_table(res["comparison"]) if res.get("comparison") else ""
     imgs = "\n".join(f'<h3>{html.escape(k)}</h3><img alt="{html.escape(k)}" src="data:image/png;base64,{v}">'
                      for k, v in figs.items())
     note = ""
@@ -290,6 +310,7 @@ table{{border-collapse:collapse}} img{{max-width:100%}}</style></head><body>
 Estimators and definitions: docs/analysis.md.</p>{note}
 <h2>Summary vs the paper</h2>
 <table><tr><th>quantity</th><th>this run</th><th>paper (Sec 6)</th></tr>{table}</table>
+{matched_html}
 <h2>All runs</h2>
 <table><tr><th>kind</th><th>A_v [A/ps]</th><th>seed</th><th>speed [A/ps]</th><th>check</th>
 <th>planarity</th><th>bp intact</th><th>t_end [ps]</th></tr>{runs}</table>

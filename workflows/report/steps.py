@@ -4,6 +4,8 @@
     python -m workflows.report.steps rod     SCENE.toml ROD.h5 OUT_PREFIX [--n-boot 200]
     python -m workflows.report.steps md      SCENE.toml MD_DIR OUT_PREFIX [--n-boot 200]
     python -m workflows.report.steps modulus SCENE.toml OUT.json MD_ANALYSIS.json...
+    python -m workflows.report.steps prestrain-scene BASE.toml OUT.toml --A-v 1 --rest-length-A L0 \
+        --run-ps 600 --every-ps 1
 
 `rod` and `md` run the same `mdbridge.analysis.WaveAnalysis` and write OUT_PREFIX.json
 (scalars) and OUT_PREFIX.npz (u(s, t), axis, planarity and integrity over time).
@@ -72,16 +74,40 @@ def rod_dispersion(scene: dict) -> dict:
             "shear_branch_speed_A_per_ps": lab_speed_A_per_ps(L, D1, 1.0, "plus", 1, u)}
 
 
+def _report_mode_fit(s: dict):
+    """The run's reported speed is the standing-mode fit's (offset fitted, three-part error,
+    refused with the reason on too short a standing record: mdbridge/analysis/mode_error.py);
+    the travelling-wave fit of WaveAnalysis stays under wave_fit."""
+    sm = s["standing_mode"]
+    s["wave_speed_A_per_ps"] = sm.get("speed_A_per_ps")
+    s["wave_speed_err_A_per_ps"] = sm.get("speed_err_A_per_ps")
+    s["wave_quantity"] = sm.get("quantity")
+    if sm.get("reason"):
+        s["wave_fit"] = dict(s["wave_fit"], reason=sm["reason"])
+
+
 def analyse_rod(scene_path, h5_path, prefix, n_boot=200):
     from mdbridge.analysis import BasePairTrajectory, WaveAnalysis
     scene = load_scene(scene_path)
+    from workflows.report import matched
     run = RodRun.read(h5_path)
-    traj = BasePairTrajectory.from_rod(run, scene_n_bp(scene, scene_path))
-    a = WaveAnalysis(traj, n_boot=n_boot).run()
+    side = Path(scene_path).with_suffix(".json")  # a pre-strained rod's record (prestrain.py)
+    meta = json.loads(side.read_text()) if side.is_file() else {}
+    traj = BasePairTrajectory.from_rod(run, int(meta["n_bp"]) if "n_bp" in meta
+                                       else scene_n_bp(scene, scene_path))
+    e_in = matched.scene_in_plane(scene, scene_path)
+    a = WaveAnalysis(traj, in_plane=e_in, offset=True, n_boot=n_boot).run()
     s = a.summary()
-    s.update(kind="rod", A_v_A_per_ps=scene["initial"].get("A_v_A_per_ps"),
-             A_A=scene["initial"].get("A_A", 0.0), dispersion=rod_dispersion(scene),
-             complete=run.complete)
+    s.update(kind="rod", A_v_A_per_ps=scene["initial"].get("A_v_A_per_ps", meta.get("A_v_A_per_ps")),
+             A_A=scene["initial"].get("A_A", meta.get("A_A", 0.0)),
+             dispersion=meta.get("dispersion") or rod_dispersion(scene),
+             complete=run.complete, standing_mode=matched.mode_fit(a),
+             plane=matched.plane_report(a, e_in),
+             matched=matched.rod_matched(traj, run, scene if not meta else
+                                         dict(scene, initial={"rise_A": meta["box_rise_A"]})))
+    if meta:
+        s["prestrain"] = meta
+    _report_mode_fit(s)
     if not s["complete"]:
         log = Path(h5_path).with_name("rodsim.log")
         s["stopped"] = log.read_text().strip().splitlines()[0] if log.is_file() else "run incomplete"
@@ -105,9 +131,14 @@ def analyse_md(scene_path, md_dir, prefix, n_boot=200):
     n_bp = scene_n_bp(scene, scene_path)
     if traj.n_bp != n_bp:
         raise InputError(f"{md_dir}: the MD duplex has {traj.n_bp} base pairs, the scene {n_bp}")
-    a = WaveAnalysis(traj, n_boot=n_boot).run()
+    from workflows.report import matched
+    e_in = matched.scene_in_plane(scene, scene_path)
+    a = WaveAnalysis(traj, in_plane=e_in, offset=True, n_boot=n_boot).run()
     t_int, intact, _ = bp_intact_fraction(u, traj.meta["pairs"])
     s = a.summary()
+    s.update(standing_mode=matched.mode_fit(a), plane=matched.plane_report(a, e_in),
+             matched=matched.md_matched(traj, u, md_dir, scene))
+    _report_mode_fit(s)
     s.update(kind="md", A_v_A_per_ps=scene["initial"].get("A_v_A_per_ps"),
              bp_intact_fraction_final=float(intact[-1]), bp_intact_fraction_min=float(intact.min()),
              bp_intact_fraction_mean=float(intact.mean()))
@@ -148,12 +179,16 @@ def fit_moduli(scene_path, md_jsons, out_json, which=("bend", "stretch")):
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(prog="python -m workflows.report.steps", description=__doc__.splitlines()[0])
     sub = ap.add_subparsers(dest="step", required=True)
-    p = sub.add_parser("scene")
-    p.add_argument("base")
-    p.add_argument("out")
-    p.add_argument("--A-v", type=float, required=True)
-    p.add_argument("--run-ps", type=float, required=True)
-    p.add_argument("--every-ps", type=float, required=True)
+    for name in ("scene", "prestrain-scene"):
+        p = sub.add_parser(name)
+        p.add_argument("base")
+        p.add_argument("out")
+        p.add_argument("--A-v", type=float, required=True)
+        p.add_argument("--run-ps", type=float, required=True)
+        p.add_argument("--every-ps", type=float, required=True)
+        if name == "prestrain-scene":
+            p.add_argument("--rest-length-A", type=float, required=True,
+                           help="the MD duplex's zero-tension length [A]")
     for name in ("rod", "md"):
         p = sub.add_parser(name)
         p.add_argument("scene")
@@ -168,6 +203,13 @@ def main(argv=None) -> int:
     try:
         if a.step == "scene":
             make_scene(a.base, a.out, a.A_v, a.run_ps, a.every_ps)
+        elif a.step == "prestrain-scene":
+            from workflows.report.prestrain import gamma03_from_rest_length, make_prestrain_scene
+            sc = load_scene(a.base)
+            ini = sc.get("initial", {})
+            G = gamma03_from_rest_length(scene_n_bp(sc, a.base), float(ini.get("rise_A", Units.paper().rise_A)),
+                                         a.rest_length_A)
+            make_prestrain_scene(a.base, a.out, G, a.A_v, a.run_ps, a.every_ps)
         elif a.step == "modulus":
             fit_moduli(a.scene, a.md_json, a.out)
         elif a.step == "rod":
