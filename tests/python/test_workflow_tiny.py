@@ -14,24 +14,6 @@ import pytest
 ROOT = Path(__file__).resolve().parents[2]
 
 
-@pytest.fixture(scope="module")
-def tiny_run(tmp_path_factory, bin_dir):
-    if not (bin_dir / "rodsim").is_file():
-        pytest.skip(f"{bin_dir / 'rodsim'} not built (scripts/build.sh)")
-    if not list(bin_dir.parent.glob("python/rodcore*.so")):
-        pytest.skip("rodcore Python module not built (scripts/build.sh)")
-    if shutil.which(os.environ.get("DNAROD_GMX", "gmx")) is None:
-        pytest.skip("gmx (GROMACS) not found: scripts/setup.sh installs it")
-    out = tmp_path_factory.mktemp("compare_tiny")
-    env = dict(os.environ, DNAROD_BIN_DIR=str(bin_dir),
-               PYTHONPATH=os.pathsep.join([str(ROOT), str(bin_dir.parent / "python")]))
-    cmd = [sys.executable, "-m", "workflows.cli", "compare", "--config",
-           str(ROOT / "workflows" / "config" / "tiny.yaml"), "--out", str(out), "--cores", "2"]
-    p = subprocess.run(cmd, env=env, capture_output=True, text=True, timeout=900)
-    assert p.returncode == 0, p.stdout[-3000:] + p.stderr[-3000:]
-    return out, cmd, env
-
-
 def test_results_and_report(tiny_run):
     out, _, _ = tiny_run
     res = json.loads((out / "results.json").read_text())

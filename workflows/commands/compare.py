@@ -45,18 +45,9 @@ def add_arguments(p):
 
 
 def run(args) -> int:
+    from workflows.configuration import load
     cfg = Path(args.config)
-    if not cfg.is_file():
-        raise InputError(f"--config {cfg}: no such file (shipped configs: workflows/config/*.yaml)")
-    import yaml
-    try:
-        data = yaml.safe_load(cfg.read_text())
-    except yaml.YAMLError as e:
-        raise InputError(f"{cfg}: not valid YAML ({e})") from None
-    required = ("scene", "A_v_A_per_ps", "seeds", "rod", "md")
-    missing = [k for k in required if not isinstance(data, dict) or k not in data]
-    if missing:
-        raise InputError(f"{cfg}: missing key(s) {missing}; see workflows/config/default.yaml")
+    load(cfg)  # every key checked before anything runs (workflows/config/schema.yaml)
     if args.cores < 1:
         raise InputError(f"--cores {args.cores}: must be at least 1")
     out = Path(args.out).resolve()

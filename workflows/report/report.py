@@ -178,7 +178,28 @@ def results_json(cfg: dict, data: dict) -> dict:
     return res
 
 
+# What each figure shows and what to look for (the report prints it under the figure).
+CAPTIONS = {
+    "kymographs": "In-plane displacement u_in of the helical axis from the straight axis, over axial "
+                  "position and time, for the rod and the MD at the headline amplitude. Look for the "
+                  "same pattern and period: tilted stripes are a travelling wave, vertical nodes a "
+                  "standing mode.",
+    "snapshots": "u_in(s) at five times (cf. paper Figs 8-9). Look for the shape of the fundamental "
+                 "mode and whether the MD curve is as smooth as the rod's (thermal noise in the MD).",
+    "planarity_integrity": "Left: RMS out-of-plane over RMS in-plane displacement (0 = a planar "
+                           "motion). Right: fraction of MD base pairs still paired (N1-N3 < 3.5 A). "
+                           "Look for rod curves near 0 and MD integrity near 1; a falling integrity "
+                           "means the duplex frays and its numbers mean less.",
+    "rmsd": "RMSD of the rod's helical axis fitted onto the MD's (Kabsch), per MD frame. It starts "
+            "near 0 (the MD is built on the rod); look for how fast the two drift apart.",
+    "amplitude": "Rod wave speed against the kick amplitude A_v (sweep), with the small-amplitude "
+                 "limit of Eq 39, the paper's values and this run's MD. Look for where the rod leaves "
+                 "the linear limit and where the MD point sits on the rod's curve.",
+}
+
+
 def figures(cfg: dict, data: dict, res: dict) -> dict:
+    """The report's figures as matplotlib Figures, keyed like CAPTIONS."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -199,7 +220,7 @@ def figures(cfg: dict, data: dict, res: dict) -> dict:
                        extent=[z["x_A"][0], z["x_A"][-1], z["times_ps"][0], z["times_ps"][-1]])
         ax.set(xlabel="axial position s [A]", ylabel="t [ps]", title=f"{name}: u_in(s, t), A_v = {head:g} A/ps")
     fig.colorbar(im, ax=axs[0].tolist(), label="in-plane displacement [A]")
-    figs["kymographs"] = _png(fig)
+    figs["kymographs"] = fig
     # snapshots (paper Figs 8-9)
     fig, axs = plt.subplots(len(pairs), 1, figsize=(8, 3 * len(pairs)), squeeze=False, constrained_layout=True)
     for ax, (name, z) in zip(axs[:, 0], pairs):
@@ -211,7 +232,7 @@ def figures(cfg: dict, data: dict, res: dict) -> dict:
             ax.plot(z["x_A"], z["u_in"][i], label=f"t = {z['times_ps'][i]:.0f} ps")
         ax.set(xlabel="axial position s [A]", ylabel="u_in [A]", title=f"{name} snapshots (cf. paper Figs 8-9)")
         ax.legend(fontsize=7)
-    figs["snapshots"] = _png(fig)
+    figs["snapshots"] = fig
     # planarity and integrity
     fig, axs = plt.subplots(1, 2, figsize=(11, 3.8))
     for av, (j, z) in data["rod"].items():
@@ -221,11 +242,11 @@ def figures(cfg: dict, data: dict, res: dict) -> dict:
         if z is not None:
             axs[0].plot(z["times_ps"], z["ratio"], "--", label=f"MD A_v={av:g} seed {s}")
             axs[1].plot(z["intact_times_ps"], z["intact_fraction"], label=f"A_v={av:g} seed {s}")
-    axs[0].set(xlabel="t [ps]", ylabel="RMS out-of-plane / in-plane", title="planarity", yscale="log")
+    axs[0].set(xlabel="t [ps]", ylabel="RMS out-of-plane / in-plane [1]", title="planarity", yscale="log")
     axs[0].legend(fontsize=7)
-    axs[1].set(xlabel="t [ps]", ylabel="fraction N1-N3 < 3.5 A", title="MD base-pair integrity", ylim=(0, 1.05))
+    axs[1].set(xlabel="t [ps]", ylabel="fraction with N1-N3 < 3.5 A [1]", title="MD base-pair integrity", ylim=(0, 1.05))
     axs[1].legend(fontsize=7)
-    figs["planarity_integrity"] = _png(fig)
+    figs["planarity_integrity"] = fig
     # RMSD
     if res["rod_md_rmsd"]:
         fig, ax = plt.subplots(figsize=(6, 3.5))
@@ -233,7 +254,7 @@ def figures(cfg: dict, data: dict, res: dict) -> dict:
             ax.plot(r["times_ps"], r["rmsd_A"], label=f"seed {r['seed']}")
         ax.set(xlabel="t [ps]", ylabel="RMSD [A]", title=f"rod axis fitted onto MD axis (Kabsch), A_v = {head:g}")
         ax.legend(fontsize=7)
-        figs["rmsd"] = _png(fig)
+        figs["rmsd"] = fig
     # amplitude dependence
     sw = sorted((av, j) for av, (j, _) in data["sweep"].items() if j)
     if sw:
@@ -253,7 +274,7 @@ def figures(cfg: dict, data: dict, res: dict) -> dict:
         ax.set_xscale("symlog", linthresh=float(pos.min()) if len(pos) else 1.0)
         ax.set(xlabel="A_v [A/ps]", ylabel="wave speed [A/ps]", title="wave speed vs amplitude")
         ax.legend(fontsize=7)
-        figs["amplitude"] = _png(fig)
+        figs["amplitude"] = fig
     return figs
 
 
@@ -293,8 +314,10 @@ def write_html(cfg: dict, res: dict, figs: dict, path: Path):
         for j in res["runs"]["rod"] + res["runs"]["md"] + res["runs"]["sweep"])
     from workflows.report.comparison import html_table
     matched_html = html_table(res["comparison"]) if res.get("comparison") else ""
-    imgs = "\n".join(f'<h3>{html.escape(k)}</h3><img alt="{html.escape(k)}" src="data:image/png;base64,{v}">'
-                     for k, v in figs.items())
+    imgs = "\n".join(f'<figure id="fig-{html.escape(k)}"><img alt="{html.escape(k)}" '
+                     f'src="data:image/png;base64,{_png(fig)}"><figcaption><b>{html.escape(k)}.</b> '
+                     f'{html.escape(CAPTIONS[k])}</figcaption></figure>'
+                     for k, fig in figs.items())
     note = ""
     if float(res["md_run_ps"]) < PAPER["md_run_ps"]:
         note = (f"<p><b>Note:</b> the MD here runs {_f(res['md_run_ps'])} ps, shorter than the paper's "
@@ -303,13 +326,13 @@ def write_html(cfg: dict, res: dict, figs: dict, path: Path):
     path.parent.mkdir(parents=True, exist_ok=True)
     path.write_text(f"""<!DOCTYPE html><html><head><meta charset="utf-8"><title>dnarod compare</title>
 <style>body{{font-family:sans-serif;max-width:1100px;margin:auto}} td,th{{border:1px solid #ccc;padding:3px 8px}}
-table{{border-collapse:collapse}} img{{max-width:100%}}</style></head><body>
+table{{border-collapse:collapse}} img{{max-width:100%}} figcaption{{font-size:90%;color:#333}}</style></head><body>
 <h1>Rod vs all-atom MD: bend-shear wave on a periodic duplex</h1>
 <p>Generated {datetime.datetime.now(datetime.timezone.utc).isoformat(timespec='seconds')} by
 <code>dnarod compare</code>. Headline run: A_v = {_f(res['headline_A_v_A_per_ps'])} A/ps.
 Estimators and definitions: docs/analysis.md.</p>{note}
 <h2>Summary vs the paper</h2>
-<table><tr><th>quantity</th><th>this run</th><th>paper (Sec 6)</th></tr>{table}</table>
+<table id="headline"><tr><th>quantity</th><th>this run</th><th>paper (Sec 6)</th></tr>{table}</table>
 {matched_html}
 <h2>All runs</h2>
 <table><tr><th>kind</th><th>A_v [A/ps]</th><th>seed</th><th>speed [A/ps]</th><th>check</th>

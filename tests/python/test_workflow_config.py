@@ -1,0 +1,98 @@
+"""The workflow configuration is checked like a scene (workflows/configuration.py,
+workflows/config/schema.yaml): before anything runs, every unknown, misspelt or
+missing key and every value of the wrong type or range is an error naming the file
+and the key, with what is allowed."""
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+import yaml
+
+from dna_models.errors import InputError
+from workflows.configuration import SCHEMA_PATH, load, schema, validate
+
+ROOT = Path(__file__).resolve().parents[2]
+SHIPPED = sorted((ROOT / "workflows" / "config").glob("*.yaml"))
+GOOD = {"scene": "workflows/scenes/dna21.toml", "A_v_A_per_ps": [5], "seeds": [1],
+        "headline_A_v_A_per_ps": 5, "rod": {"run_ps": 20, "output_every_ps": 0.2},
+        "md": {"run_ps": 4}}
+
+
+def _err(data) -> str:
+    with pytest.raises(InputError) as e:
+        validate(data, "my.yaml")
+    return str(e.value)
+
+
+@pytest.mark.parametrize("path", [p for p in SHIPPED if p != SCHEMA_PATH], ids=lambda p: p.name)
+def test_shipped_configs_are_valid(path):
+    cfg = load(path)
+    assert cfg["md"]["threads"] >= 1 and "n_boot" in cfg["analysis"]
+
+
+def test_defaults_are_filled_in():
+    cfg = validate(GOOD)
+    assert cfg["md"]["enabled"] is True and cfg["md"]["threads"] == 2
+    assert cfg["sweep"] == {"A_v_A_per_ps": []} and cfg["analysis"] == {"fit_modulus": False, "n_boot": 200}
+    assert GOOD["md"] == {"run_ps": 4}  # the input is not modified
+
+
+def test_the_reported_case_missing_run_ps_and_a_stray_key():
+    """The case a new user met: md without run_ps, with a stray key; both are named."""
+    bad = dict(GOOD, md={"threads": 2, "run_ps_": 4})
+    msg = _err(bad)
+    assert "my.yaml" in msg
+    assert "missing key 'md.run_ps'" in msg
+    assert "unknown key 'md.run_ps_'" in msg and "did you mean 'md.run_ps'" in msg
+
+
+def test_misspelt_top_level_key_did_you_mean():
+    bad = dict(GOOD)
+    bad["seed"] = bad.pop("seeds")
+    msg = _err(bad)
+    assert "missing key 'seeds'" in msg and "unknown key 'seed' (did you mean 'seeds'?)" in msg
+
+
+@pytest.mark.parametrize("change, key, allowed", [
+    ({"md": {"run_ps": "long"}}, "md.run_ps", "must be number, > 0"),
+    ({"md": {"run_ps": -1}}, "md.run_ps", "> 0"),
+    ({"seeds": [1.5]}, "seeds[0]", "integer"),
+    ({"A_v_A_per_ps": []}, "A_v_A_per_ps", "at least 1 item"),
+    ({"md": {"run_ps": 4, "enabled": "yes"}}, "md.enabled", "boolean"),
+    ({"analysis": {"n_boot": 3}}, "analysis.n_boot", ">= 10"),
+])
+def test_wrong_type_or_range_names_key_and_allowed(change, key, allowed):
+    msg = _err(dict(GOOD, **change))
+    assert f"key '{key}'" in msg and allowed in msg
+
+
+def test_headline_must_be_one_of_the_amplitudes():
+    msg = _err(dict(GOOD, headline_A_v_A_per_ps=1))
+    assert "headline_A_v_A_per_ps" in msg and "[5]" in msg
+
+
+def test_every_key_is_documented():
+    """docs/workflow.md lists every key of the schema (dotted), in its key table."""
+    doc = (ROOT / "docs" / "workflow.md").read_text()
+
+    def keys(node, prefix=""):
+        for name, sub in node.get("properties", {}).items():
+            yield prefix + name
+            if sub.get("type") == "object":
+                yield from keys(sub, prefix + name + ".")
+    missing = [k for k in keys(schema()) if not re.search(rf"`{re.escape(k)}`", doc)]
+    assert not missing, f"docs/workflow.md does not document {missing}"
+
+
+def test_compare_refuses_before_snakemake_runs(tmp_path, bin_dir):
+    cfg = dict(GOOD, md={"threads": 2, "run_sp": 4})
+    path = tmp_path / "bad.yaml"
+    path.write_text(yaml.safe_dump(cfg))
+    p = subprocess.run([str(bin_dir / "dnarod"), "compare", "--config", str(path), "--out", str(tmp_path / "o")],
+                       capture_output=True, text=True)
+    assert p.returncode == 2, p.stderr
+    assert str(path) in p.stderr and "missing key 'md.run_ps'" in p.stderr and "did you mean 'md.run_ps'" in p.stderr
+    assert "Snakefile" not in p.stderr and "Traceback" not in p.stderr
+    assert not (tmp_path / "o" / ".snakemake").exists()

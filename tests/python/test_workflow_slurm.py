@@ -1,0 +1,174 @@
+"""`dnarod compare` through the shipped SLURM profile (workflows/profiles/slurm) on a
+real SLURM cluster: Debian's slurm-wlm and munge, brought up on this machine for the
+test (slurmctld + slurmd, one node with the machine's cores, proctrack/linuxproc so
+it also runs in a container) and stopped at the end.
+
+Checks the same things as the local tiny run (tests/python/test_workflow_tiny.py):
+the same results.json keys and the same rod numbers (the rod part is deterministic;
+the MD part is not bitwise reproducible across runs, so only its presence is checked).
+"""
+import json
+import os
+import shutil
+import socket
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[2]
+PROFILE = ROOT / "workflows" / "profiles" / "slurm"
+
+
+def _need(exe: str) -> str:
+    path = shutil.which(exe) or (f"/usr/sbin/{exe}" if Path(f"/usr/sbin/{exe}").is_file() else None)
+    if path is None:
+        pytest.fail(f"{exe} not found: scripts/setup.sh installs slurm-wlm and munge")
+    return path
+
+
+def _free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def _cpus() -> int:
+    return os.cpu_count() or 1
+
+
+@pytest.fixture(scope="module")
+def slurm_cluster(tmp_path_factory):
+    """A one-node SLURM cluster on localhost; yields the environment that points the
+    SLURM clients (sbatch, scontrol) at it."""
+    if os.geteuid() != 0:
+        pytest.skip("a local SLURM cluster needs root (slurmd runs jobs as their user); "
+                    "run the test command as root, as CI does")
+    munged, mungekey = _need("munged"), _need("mungekey")
+    slurmctld, slurmd = _need("slurmctld"), _need("slurmd")
+    d = tmp_path_factory.mktemp("slurm")
+    for sub in ("state", "spool", "log", "munge"):
+        (d / sub).mkdir()
+    host = socket.gethostname().split(".")[0]
+    key, sock = d / "munge" / "munge.key", d / "munge" / "munge.socket"
+    subprocess.run([mungekey, "--create", "--force", "--keyfile", str(key)], check=True)
+    conf = d / "slurm.conf"
+    conf.write_text(f"""\
+ClusterName=dnarodtest
+SlurmctldHost={host}
+SlurmctldPort={_free_port()}
+SlurmdPort={_free_port()}
+SlurmUser=root
+SlurmdUser=root
+AuthType=auth/munge
+AuthInfo=socket={sock}
+CryptoType=crypto/munge
+MpiDefault=none
+ProctrackType=proctrack/linuxproc
+TaskPlugin=task/none
+JobAcctGatherType=jobacct_gather/none
+AccountingStorageType=accounting_storage/none
+SchedulerType=sched/backfill
+SelectType=select/cons_tres
+SelectTypeParameters=CR_Core
+ReturnToService=2
+MinJobAge=600
+KillWait=5
+StateSaveLocation={d / 'state'}
+SlurmdSpoolDir={d / 'spool'}
+SlurmctldPidFile={d / 'slurmctld.pid'}
+SlurmdPidFile={d / 'slurmd.pid'}
+SlurmctldLogFile={d / 'log' / 'slurmctld.log'}
+SlurmdLogFile={d / 'log' / 'slurmd.log'}
+NodeName={host} CPUs={_cpus()} RealMemory=4000 State=UNKNOWN
+PartitionName=debug Nodes={host} Default=YES MaxTime=INFINITE State=UP
+""")
+    env = dict(os.environ, SLURM_CONF=str(conf))
+    started = []
+    try:
+        subprocess.run([munged, f"--key-file={key}", f"--socket={sock}", f"--pid-file={d / 'munge' / 'pid'}",
+                        f"--log-file={d / 'munge' / 'log'}", f"--seed-file={d / 'munge' / 'seed'}", "--force"],
+                       check=True, env=env)
+        started.append(d / "munge" / "pid")
+        subprocess.run([slurmctld, "-f", str(conf)], check=True, env=env)
+        started.append(d / "slurmctld.pid")
+        subprocess.run([slurmd, "-f", str(conf)], check=True, env=env)
+        started.append(d / "slurmd.pid")
+        deadline = time.time() + 60
+        while True:
+            p = subprocess.run(["sinfo", "-h", "-o", "%T"], capture_output=True, text=True, env=env)
+            if p.returncode == 0 and p.stdout.strip() == "idle":
+                break
+            if time.time() > deadline:
+                logs = "".join(f.read_text()[-2000:] for f in (d / "log").glob("*.log"))
+                pytest.fail(f"local SLURM did not come up within 60 s (sinfo: {p.stdout!r} {p.stderr!r})\n{logs}")
+            time.sleep(0.5)
+        yield env
+    finally:
+        subprocess.run(["scancel", "--user", "root"], env=env, capture_output=True)
+        for pid_file in reversed(started):
+            try:
+                os.kill(int(pid_file.read_text().split()[0]), 15)
+            except (OSError, ValueError):
+                pass
+        time.sleep(1)
+
+
+def _compare(out: Path, env: dict, bin_dir: Path, *extra: str, timeout: int = 1200) -> subprocess.CompletedProcess:
+    cmd = [str(bin_dir / "dnarod"), "compare", "--config", str(ROOT / "workflows" / "config" / "tiny.yaml"),
+           "--out", str(out), "--cores", str(_cpus()), "--", "--profile", str(PROFILE), *extra]
+    return subprocess.run(cmd, env=env, capture_output=True, text=True, timeout=timeout)
+
+
+def test_profile_is_a_valid_snakemake_profile():
+    import yaml
+    cfg = yaml.safe_load((PROFILE / "config.yaml").read_text())
+    assert cfg["cluster"].startswith("mkdir -p slurm && sbatch --parsable")
+    assert os.access(PROFILE / cfg["cluster-status"], os.X_OK)
+
+
+def test_status_script_maps_slurm_states(slurm_cluster):
+    """The status script against real jobs: one that completes, one that fails, one
+    that SLURM kills at its time limit."""
+    env = slurm_cluster
+    status = PROFILE / "slurm_status.py"
+
+    def submit(*args: str) -> str:
+        p = subprocess.run(["sbatch", "--parsable", "-o", "/dev/null", *args], env=env,
+                           capture_output=True, text=True, check=True)
+        return p.stdout.strip().split(";")[0]
+
+    def wait_state(job: str, allowed: set[str], seconds: float = 120) -> str:
+        end = time.time() + seconds
+        while time.time() < end:
+            s = subprocess.run([str(status), job], env=env, capture_output=True, text=True).stdout.strip()
+            if s in allowed:
+                return s
+            time.sleep(0.5)
+        return s
+
+    ok = submit("--wrap", "true")
+    bad = submit("--wrap", "exit 3")
+    assert wait_state(ok, {"success", "failed"}) == "success"
+    assert wait_state(bad, {"success", "failed"}) == "failed"
+    long = submit("--time=1", "--wrap", "sleep 600")  # 1 minute: SLURM kills it
+    assert wait_state(long, {"running"}, 30) == "running"
+    assert wait_state(long, {"success", "failed"}, 180) == "failed"
+
+
+def test_tiny_comparison_through_slurm(slurm_cluster, tiny_run, bin_dir, tmp_path):
+    local_out = tiny_run[0]
+    out = tmp_path / "slurm_tiny"
+    p = _compare(out, slurm_cluster, bin_dir)
+    assert p.returncode == 0, p.stdout[-3000:] + p.stderr[-3000:]
+    jobs = list((out / "slurm").glob("*.out"))
+    assert any(j.name.startswith("md_run-") for j in jobs), "the MD did not run as a SLURM job"
+    assert any(j.name.startswith("rod_run-") for j in jobs)
+    local = json.loads((local_out / "results.json").read_text())
+    res = json.loads((out / "results.json").read_text())
+    assert set(res) == set(local)
+    for key in ("rod_wave_speed_A_per_ps", "rod_wave_speed_err_A_per_ps", "rod_planarity", "rod_run_ps"):
+        assert res[key] == local[key], key
+    assert res["md_wave_speed_A_per_ps"] is not None
