@@ -171,4 +171,7 @@ def test_tiny_comparison_through_slurm(slurm_cluster, tiny_run, bin_dir, tmp_pat
     assert set(res) == set(local)
     for key in ("rod_wave_speed_A_per_ps", "rod_wave_speed_err_A_per_ps", "rod_planarity", "rod_run_ps"):
         assert res[key] == local[key], key
-    assert res["md_wave_speed_A_per_ps"] is not None
+    # the MD ran and was analysed (its numbers differ run to run: GROMACS is not bitwise
+    # reproducible across runs and loads)
+    assert len(res["runs"]["md"]) == len(local["runs"]["md"]) >= 1
+    assert 0.0 <= res["md_bp_intact_fraction"] <= 1.0

@@ -1,0 +1,140 @@
+"""`dnarod rod-to-atoms`: a rod trajectory as molecules for VMD, PyMOL, MDAnalysis."""
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+
+from dna_models.errors import InputError
+
+NAME = "rod-to-atoms"
+HELP = "write a rod run as an all-atom trajectory (like an MD build) or as a coarse bead model"
+DESCRIPTION = """\
+Back-map every frame of a rod run (rodsim HDF5 with centerline and directors) to
+molecules a viewer reads (docs/viewing.md).
+
+  --like MDDIR  all-atom: each rod frame rebuilt by the builder's rule on the rod's
+                base-pair frames, in the atoms, order and names of the MD build in
+                MDDIR (its conf.gro / topol.top), so MDDIR's structure file loads both
+                the rod's and the MD's trajectories and overlays them frame by frame.
+                Writes OUT (.xtc, .trr or .dcd), OUT's first frame as .gro and .pdb, and
+                OUT.chemistry.json: per frame the O3'-P link lengths (min/max) and the
+                closest non-bonded heavy-atom contact, since rigid nucleotides on
+                strained frames stretch the backbone.
+  --coarse      one pseudo-atom per base pair on the centreline (C) plus the tip of
+                its d1 director (D1), bonded by CONECT records: a light view of the rod
+                and its twist. OUT is a multi-model .pdb.
+
+Examples:
+  dnarod rod-to-atoms out/rod/Av1/rod.h5 --like out/md/Av1_seed1 -o rod_atoms.xtc
+  vmd out/md/Av1_seed1/conf.gro rod_atoms.xtc out/md/Av1_seed1/md.xtc   (see docs/viewing.md)
+  dnarod rod-to-atoms out/rod/Av1/rod.h5 --coarse --bp 158 -o rod_coarse.pdb
+"""
+
+
+def add_arguments(p):
+    p.add_argument("rod", help="rod run (rodsim HDF5 with centerline and directors)")
+    mode = p.add_mutually_exclusive_group(required=True)
+    mode.add_argument("--like", metavar="MDDIR", help="MD build directory (dnarod build-md) whose atoms to use")
+    mode.add_argument("--coarse", action="store_true", help="coarse bead model instead of atoms")
+    p.add_argument("-o", "--out", required=True, help="output trajectory (.xtc/.trr/.dcd with --like, .pdb with --coarse)")
+    p.add_argument("--bp", type=int, help="base pairs the rod carries (default: from MDDIR/build.json or the "
+                                          "rod file's scene)")
+    p.add_argument("--every", type=int, default=1, help="write every n-th rod frame (default 1)")
+    p.add_argument("--no-chemistry", action="store_true", help="skip the per-frame link/contact report")
+    p.add_argument("--relax-steps", type=int, default=0,
+                   help="with --like: a restrained steepest descent of this many steps per frame (base "
+                        "atoms held, the MD build's em.mdp), for viewing; 0 = off (default)")
+    p.add_argument("--gmx", help="gmx executable for --relax-steps (default: as dnarod run-md finds it)")
+
+
+def _n_bp(args, rod_path: Path, build: dict | None) -> int:
+    if args.bp:
+        return args.bp
+    if build is not None:
+        return int(build["n_bp"])
+    import h5py
+    with h5py.File(rod_path, "r") as f:
+        scene = f.attrs.get("scene")
+    if scene is not None:
+        import tomllib
+        from mdbridge.builder.scene import n_bp_of_scene
+        return n_bp_of_scene(tomllib.loads(scene if isinstance(scene, str) else scene.decode()), rod_path)
+    raise InputError(f"{rod_path}: the number of base pairs is not recorded; give --bp")
+
+
+def run(args) -> int:
+    from mdbridge.rodframes import read_rod_frames
+    rod = Path(args.rod)
+    if not rod.is_file():
+        raise InputError(f"{rod}: no such rod run (rodsim HDF5)")
+    if args.every < 1:
+        raise InputError(f"--every {args.every}: must be at least 1")
+    out = Path(args.out)
+    build = None
+    if args.like:
+        md = Path(args.like)
+        for f in ("build.json", "conf.gro", "topol.top"):
+            if not (md / f).is_file():
+                raise InputError(f"--like {md}: {f} missing (an MD build directory of `dnarod build-md`)")
+        build = json.loads((md / "build.json").read_text())
+    n_bp = _n_bp(args, rod, build)
+    R, o, t = read_rod_frames(rod, n_bp)
+    R, o, t = R[::args.every], o[::args.every], t[::args.every]
+    if args.coarse:
+        if out.suffix.lower() != ".pdb":
+            raise InputError(f"-o {out}: --coarse writes a multi-model PDB; name it *.pdb")
+        from mdbridge.backmap import write_coarse_pdb
+        write_coarse_pdb(out, R, o)
+        print(f"rod-to-atoms: {len(t)} frames of {n_bp} beads (+ d1 tips) -> {out}")
+        return 0
+    if out.suffix.lower() not in (".xtc", ".trr", ".dcd"):
+        raise InputError(f"-o {out}: allowed trajectory formats .xtc, .trr, .dcd")
+    import MDAnalysis as mda
+    from mdbridge.backmap import atom_map, closest_nonbonded, link_lengths
+    import warnings
+    from mdbridge.gromacs.gmx import find_gmx, gmx_top_dir
+    gmx = find_gmx(args.gmx)
+    # topol.top #includes charmm27.ff/...: the force-field folder of the GROMACS install
+    u = mda.Universe(str(md / "topol.top"), str(md / "conf.gro"), topology_format="ITP",
+                     include_dir=str(gmx_top_dir(gmx)))
+    amap = atom_map(u, build["sequence"])
+    xyz = amap.place(R, o).astype(np.float32)
+    if args.relax_steps < 0:
+        raise InputError(f"--relax-steps {args.relax_steps}: must be >= 0")
+    if args.relax_steps:
+        from mdbridge.backmap import relax
+        xyz = relax(md, u, xyz, steps=args.relax_steps, gmx=gmx,
+                    workdir=out.with_name(out.stem + "_relax")).astype(np.float32)
+    # the MD is built on the rod's frames in the rod's lab frame: same box, same axes
+    u.trajectory.ts.dimensions = u.dimensions
+    # XTC at 1e-4 nm (GROMACS's default is 1e-3 nm = 0.01 A, which alone tilts a fitted
+    # base frame by up to ~0.2 deg): re-analysed frames then equal the rod's to 0.1 deg
+    opts = {"precision": 4} if out.suffix.lower() == ".xtc" else {}
+    with mda.Writer(str(out), n_atoms=u.atoms.n_atoms, **opts) as w:
+        for k in range(len(t)):
+            u.atoms.positions = xyz[k]
+            u.trajectory.ts.time = float(t[k])
+            w.write(u.atoms)
+    u.atoms.positions = xyz[0]
+    u.atoms.write(str(out.with_suffix(".gro")))
+    with warnings.catch_warnings():  # MDAnalysis lists the PDB columns a .gro lacks
+        warnings.simplefilter("ignore", UserWarning)
+        u.atoms.write(str(out.with_suffix(".pdb")))
+    msg = f"rod-to-atoms: {len(t)} frames x {u.atoms.n_atoms} atoms -> {out} (+ {out.with_suffix('.gro').name})"
+    if not args.no_chemistry:
+        links = link_lengths(u, xyz)
+        contact = closest_nonbonded(u, xyz)
+        report = {"times_ps": t.tolist(), "O3P_min_A": links.min(1).tolist(), "O3P_max_A": links.max(1).tolist(),
+                  "closest_nonbonded_heavy_A": [float(c) if np.isfinite(c) else None for c in contact],
+                  "definitions": {"O3P": "O3'(i)-P(i+1) bond lengths along both strands, minimum image; "
+                                         "CHARMM27 equilibrium 1.61 A",
+                                  "closest_nonbonded_heavy_A": "closest heavy-atom pair that is not 1-2 or 1-3 "
+                                                               "bonded, within 4 A (null: none)"}}
+        path = out.with_suffix(".chemistry.json")
+        path.write_text(json.dumps(report, indent=1))
+        msg += (f"; O3'-P {links.min():.2f}-{links.max():.2f} A, closest contact "
+                f"{np.nanmin(np.where(np.isfinite(contact), contact, np.nan)):.2f} A ({path.name})")
+    print(msg)
+    return 0
