@@ -24,7 +24,8 @@ molecules a viewer reads (docs/viewing.md).
                 strained frames stretch the backbone.
   --coarse      one pseudo-atom per base pair on the centreline (C) plus the tip of
                 its d1 director (D1), bonded by CONECT records: a light view of the rod
-                and its twist. OUT is a multi-model .pdb.
+                and its twist. OUT is a multi-model .pdb. With --like MDDIR too, in the
+                MD's coordinates (and box).
 
 Examples:
   dnarod rod-to-atoms out/rod/Av1/rod.h5 --like out/md/Av1_seed1 -o rod_atoms.xtc
@@ -35,9 +36,9 @@ Examples:
 
 def add_arguments(p):
     p.add_argument("rod", help="rod run (rodsim HDF5 with centerline and directors)")
-    mode = p.add_mutually_exclusive_group(required=True)
-    mode.add_argument("--like", metavar="MDDIR", help="MD build directory (dnarod build-md) whose atoms to use")
-    mode.add_argument("--coarse", action="store_true", help="coarse bead model instead of atoms")
+    p.add_argument("--like", metavar="MDDIR", help="MD build directory (dnarod build-md) whose atoms and "
+                                                  "coordinates to use (with --coarse: only its coordinates)")
+    p.add_argument("--coarse", action="store_true", help="coarse bead model instead of atoms")
     p.add_argument("-o", "--out", required=True, help="output trajectory (.xtc/.trr/.dcd with --like, .pdb with --coarse)")
     p.add_argument("--bp", type=int, help="base pairs the rod carries (default: from MDDIR/build.json or the "
                                           "rod file's scene)")
@@ -54,24 +55,24 @@ def _n_bp(args, rod_path: Path, build: dict | None) -> int:
         return args.bp
     if build is not None:
         return int(build["n_bp"])
-    import h5py
-    with h5py.File(rod_path, "r") as f:
-        scene = f.attrs.get("scene")
-    if scene is not None:
-        import tomllib
-        from mdbridge.builder.scene import n_bp_of_scene
-        return n_bp_of_scene(tomllib.loads(scene if isinstance(scene, str) else scene.decode()), rod_path)
-    raise InputError(f"{rod_path}: the number of base pairs is not recorded; give --bp")
+    from mdbridge.rodrun import RodRun, scene_n_bp
+    scene = RodRun.read(rod_path).attrs.get("scene")
+    if scene is None:
+        raise InputError(f"{rod_path}: the number of base pairs is not recorded; give --bp")
+    import tomllib
+    return scene_n_bp(tomllib.loads(scene), str(rod_path))
 
 
 def run(args) -> int:
-    from mdbridge.rodframes import read_rod_frames
+    from mdbridge.rodrun import RodRun
     rod = Path(args.rod)
     if not rod.is_file():
         raise InputError(f"{rod}: no such rod run (rodsim HDF5)")
     if args.every < 1:
         raise InputError(f"--every {args.every}: must be at least 1")
     out = Path(args.out)
+    if not (args.like or args.coarse):
+        raise InputError("give --like MDDIR (all-atom, like that MD build) or --coarse (beads)")
     build = None
     if args.like:
         md = Path(args.like)
@@ -80,13 +81,19 @@ def run(args) -> int:
                 raise InputError(f"--like {md}: {f} missing (an MD build directory of `dnarod build-md`)")
         build = json.loads((md / "build.json").read_text())
     n_bp = _n_bp(args, rod, build)
-    R, o, t = read_rod_frames(rod, n_bp)
+    run = RodRun.read(rod)
+    R, o = run.bp_frames(n_bp)
+    if build is not None:
+        # build-md moved the duplex into its box by build.json's box.shift_A: the same rigid
+        # shift puts the rod where the MD is, so the two overlay frame by frame
+        o = o + np.asarray(build["box"]["shift_A"], dtype=float)
+    t = np.asarray(run.time, float) * float(run.attrs.get("tau_ps", 1.0))  # ps, as the MD's
     R, o, t = R[::args.every], o[::args.every], t[::args.every]
     if args.coarse:
         if out.suffix.lower() != ".pdb":
             raise InputError(f"-o {out}: --coarse writes a multi-model PDB; name it *.pdb")
         from mdbridge.backmap import write_coarse_pdb
-        write_coarse_pdb(out, R, o)
+        write_coarse_pdb(out, R, o, box=None if build is None else build["box"]["box_A"])
         print(f"rod-to-atoms: {len(t)} frames of {n_bp} beads (+ d1 tips) -> {out}")
         return 0
     if out.suffix.lower() not in (".xtc", ".trr", ".dcd"):
@@ -107,8 +114,6 @@ def run(args) -> int:
         from mdbridge.backmap import relax
         xyz = relax(md, u, xyz, steps=args.relax_steps, gmx=gmx,
                     workdir=out.with_name(out.stem + "_relax")).astype(np.float32)
-    # the MD is built on the rod's frames in the rod's lab frame: same box, same axes
-    u.trajectory.ts.dimensions = u.dimensions
     # XTC at 1e-4 nm (GROMACS's default is 1e-3 nm = 0.01 A, which alone tilts a fitted
     # base frame by up to ~0.2 deg): re-analysed frames then equal the rod's to 0.1 deg
     opts = {"precision": 4} if out.suffix.lower() == ".xtc" else {}
