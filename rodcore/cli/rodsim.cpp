@@ -23,13 +23,14 @@
 #include <string>
 #include <vector>
 
+#include "progress.hpp"
 #include "rodcore/checkpoint.hpp"
 #include "rodcore/error.hpp"
-#include "rodcore/h5_output.hpp"
-#include "rodcore/initial_conditions.hpp"
-#include "rodcore/progress.hpp"
-#include "rodcore/scene_reader.hpp"
+#include "rodcore/h5_writer.hpp"
+#include "rodcore/initial_conditions.hpp"  // kinds (internal: rodsim is part of rodcore)
+#include "rodcore/scene_io.hpp"
 #include "rodcore/simulation.hpp"
+#include "signals.hpp"
 
 namespace {
 
@@ -83,12 +84,12 @@ int run(const std::string& scene_path, const std::string& out_path, const std::v
   if (checkpoint_every >= 0.0) scene.output.checkpoint_interval_s = checkpoint_every;
   rodcore::Simulation sim(scene);
   const std::string ckpt = rodcore::checkpoint_path(out_path);
-  std::unique_ptr<rodcore::H5Output> out;
+  std::shared_ptr<rodcore::H5Writer> out;
   if (resume && fs::exists(ckpt)) {
     const rodcore::Checkpoint c = rodcore::read_checkpoint(ckpt);
     rodcore::check_checkpoint_matches(c, scene, ckpt);
     sim.resume_from(c);
-    out = std::make_unique<rodcore::H5Output>(out_path, sim.scene(), sim.grid(), rodcore::H5Output::Resume{c.next_frame});
+    out = std::make_shared<rodcore::H5Writer>(out_path, sim, c.next_frame);
     if (!quiet)
       std::cerr << "rodsim: resuming from " << ckpt << " at t = " << c.integrator.t << " (" << c.next_frame << " of "
                 << scene.output.frames << " frames written)\n";
@@ -96,7 +97,7 @@ int run(const std::string& scene_path, const std::string& out_path, const std::v
     if (resume && !quiet) std::cerr << "rodsim: no checkpoint " << ckpt << ": starting from t = 0\n";
     std::error_code ec;
     fs::remove(ckpt, ec);  // a stale checkpoint of an earlier run must never be paired with this output
-    out = std::make_unique<rodcore::H5Output>(out_path, sim.scene(), sim.grid());  // resolved method
+    out = std::make_shared<rodcore::H5Writer>(out_path, sim);  // resolved method
   }
   // The scene as written, and the overrides, next to the resolved `scene`.
   {
@@ -108,43 +109,38 @@ int run(const std::string& scene_path, const std::string& out_path, const std::v
     for (const auto& s : sets) overrides += s + "\n";
     out->annotate("scene_overrides", overrides);
   }
+  // The run loop's observers: the file, the checkpoints, the progress bar.
   rodcore::CheckpointSchedule schedule(scene.output.checkpoint_interval_s);
   rodcore::install_stop_signal_handlers();
-  sim.set_checkpoint_hooks({[&] { return schedule.due(); },
-                            [&](const rodcore::Checkpoint& c) {
-                              rodcore::write_checkpoint(ckpt, c);
-                              schedule.written();
-                              if (int sig = rodcore::stop_signal())
-                                throw rodcore::Interrupted(
-                                    std::string(sig == SIGINT ? "SIGINT" : "SIGTERM") + " received: stopped at t = " +
-                                        num(c.integrator.t) + " with " + std::to_string(c.next_frame) + " of " +
-                                        std::to_string(scene.output.frames) + " frames in " + out->partial_path() +
-                                        "; checkpoint " + ckpt + ". Continue with:\n  " +
-                                        resume_command(scene_path, out_path, sets),
-                                    sig);
-                            }});
+  sim.add_observer(out);
+  sim.add_observer(std::make_shared<rodcore::CheckpointWriter>(
+      ckpt, [&] { return schedule.due(); },
+      [&](const rodcore::Checkpoint& c) {
+        schedule.written();
+        if (int sig = rodcore::stop_signal())
+          throw rodcore::Interrupted(std::string(sig == SIGINT ? "SIGINT" : "SIGTERM") + " received: stopped at t = " +
+                                         num(c.integrator.t) + " with " + std::to_string(c.next_frame) + " of " +
+                                         std::to_string(scene.output.frames) + " frames in " + out->partial_path() +
+                                         "; checkpoint " + ckpt + ". Continue with:\n  " +
+                                         resume_command(scene_path, out_path, sets),
+                                     sig);
+      }));
   rodcore::ProgressBar bar(!quiet && rodcore::ProgressBar::stderr_is_terminal());
+  sim.add_observer(std::make_shared<rodcore::ProgressObserver>(bar));
   rodcore::RunSummary sum;
   try {
-    sum = sim.run([&](const rodcore::Frame& f) { out->write_frame(f); },
-                  [&](double t, double t_end) { bar.update(t, t_end); });
+    sum = sim.run();  // finished(): the file is renamed complete, the checkpoint removed
   } catch (const rodcore::Interrupted& e) {
     bar.finish();
     std::cerr << "rodsim: " << e.what() << "\n";
     return 128 + e.signal;
   } catch (const rodcore::NumericalError& e) {
+    // failed(): the file is renamed with complete = 0, the checkpoint removed
     bar.finish();
-    int written = out->frames_written();
-    out->fail(e.what());
-    std::error_code ec;
-    fs::remove(ckpt, ec);  // continuing would meet the same error
-    return fail(3, std::string(e.what()) + "\nrodsim: " + std::to_string(written) + " frame(s) written so far are in " +
-                       out_path + " (attribute complete = 0)");
+    return fail(3, std::string(e.what()) + "\nrodsim: " + std::to_string(out->frames_written()) +
+                       " frame(s) written so far are in " + out_path + " (attribute complete = 0)");
   }
   bar.finish();
-  out->finish(sum);
-  std::error_code ec;
-  fs::remove(ckpt, ec);
   if (!quiet) {
     char line[512];
     std::snprintf(line, sizeof line,

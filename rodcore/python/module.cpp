@@ -4,6 +4,12 @@
 //   out = rodcore.run({"rod": {"length": 6.28, "points": 32}, "output": {"t_end": 1.0}})
 //   out["fields"]["Gamma"]      # (T, N, 3)
 //
+// or hold a simulation and step it (the C++ Simulation, rodcore/simulation.hpp):
+//
+//   sim = rodcore.Simulation(scene)          # dict, TOML text or path; initial= arrays
+//   sim.add_observer(lambda frame: ...)      # called at every output frame
+//   sim.step_to(1.0); sim.state["Gamma"]; sim.energy(); sim.rhs(sim.state)
+//
 // The scene is the same thing as a scene file (docs/scenes.md): a dict with
 // the TOML structure, TOML text, or a path. Everything goes through the same
 // reader and Simulation as rodsim, so Python and the CLI cannot disagree.
@@ -11,7 +17,6 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
-#include <atomic>
 #include <cstring>
 #include <filesystem>
 #include <map>
@@ -22,11 +27,11 @@
 #include "rodcore/analytic.hpp"
 #include "rodcore/dna_units.hpp"
 #include "rodcore/error.hpp"
-#include "rodcore/h5_initial.hpp"
-#include "rodcore/h5_output.hpp"
+#include "rodcore/h5_writer.hpp"
 #include "rodcore/initial_conditions.hpp"
 #include "rodcore/scene_reader.hpp"
 #include "rodcore/simulation.hpp"
+#include "rodcore/version.hpp"
 
 namespace py = pybind11;
 namespace fs = std::filesystem;
@@ -178,65 +183,78 @@ std::vector<double> initial_state(const py::dict& initial, std::size_t& N) {
   return y;
 }
 
-// A temporary file removed when this goes out of scope.
-struct TempFile {
-  std::string path;
-  TempFile() {
-    static std::atomic<int> counter{0};
-    path = (fs::temp_directory_path() /
-            ("rodcore_initial_" + std::to_string(::getpid()) + "_" + std::to_string(counter++) + ".h5"))
-               .string();
-  }
-  ~TempFile() {
-    std::error_code ec;
-    fs::remove(path, ec);
-  }
+// A resolved scene, and the initial state when initial= arrays replace its
+// [initial] section (then recorded as kind = "file" with a note as path).
+struct Resolved {
+  Scene scene;
+  std::optional<InitialState> initial;
 };
 
-// Resolves the scene, with initial= arrays replacing [initial] if given.
-Scene resolve(const py::object& scene, const py::object& initial, const std::vector<std::string>& sets,
-              std::optional<TempFile>& tmp) {
+constexpr const char* kArraysNote = "(initial= arrays given to rodcore.run; the t = 0 frame holds them)";
+
+Resolved resolve(const py::object& scene, const py::object& initial, const std::vector<std::string>& sets) {
   SceneSource src = scene_source(scene);
-  if (initial.is_none()) return read_scene_table(std::move(src.table), src.label, src.base_dir, sets);
+  if (initial.is_none()) return {read_scene_table(std::move(src.table), src.label, src.base_dir, sets), {}};
   if (!py::isinstance<py::dict>(initial))
     throw InputError("initial must be a dict of (N, 3) arrays gamma, omega, Gamma, Omega, or None");
   std::size_t N = 0;
-  std::vector<double> y = initial_state(py::reinterpret_borrow<py::dict>(initial), N);
-  // The arrays fix N; the scene fixes L. Resolve the rod first (as a scene at
-  // rest), then write the arrays on its grid and read them as kind = "file".
+  InitialState state;
+  state.y = initial_state(py::reinterpret_borrow<py::dict>(initial), N);
+  // The arrays fix N; the scene fixes L. Resolve the rod as a scene at rest;
+  // the arrays are the state on its grid (no file in between).
   toml::table table = src.table;
   auto* rod = table["rod"].as_table();
   if (!rod) table.insert("rod", toml::table{}), rod = table["rod"].as_table();
   if (!rod->contains("points")) rod->insert("points", static_cast<long long>(N));
   table.insert_or_assign("initial", toml::table{{"kind", "rest"}});
-  Scene probe = read_scene_table(table, src.label, src.base_dir, sets);
+  Scene probe = read_scene_table(std::move(table), src.label, src.base_dir, sets);
   if (static_cast<std::size_t>(probe.rod.points) != N)
     throw InputError(src.label + ": rod.points = " + std::to_string(probe.rod.points) + " but the initial arrays have N = " +
                      std::to_string(N) + " points");
-  std::vector<double> s(N);
-  for (std::size_t i = 0; i < N; ++i) s[i] = static_cast<double>(i) * probe.rod.length / static_cast<double>(N);
-  tmp.emplace();
-  write_initial_fields(tmp->path, s, y);
-  table.insert_or_assign("initial", toml::table{{"kind", "file"}, {"path", tmp->path}});
-  return read_scene_table(std::move(table), src.label, src.base_dir, sets);
+  probe.initial = Initial{};
+  probe.initial.kind = "file";
+  probe.initial.path = kArraysNote;
+  return {std::move(probe), std::move(state)};
+}
+
+std::unique_ptr<Simulation> make_simulation(Resolved& r) {
+  if (r.initial) return std::make_unique<Simulation>(r.scene, std::move(*r.initial));
+  return std::make_unique<Simulation>(r.scene);
+}
+
+py::dict summary_dict(const RunSummary& sum) {
+  py::dict summary;
+  summary["steps"] = sum.steps;
+  summary["rejected"] = sum.rejected;
+  summary["rhs_evaluations"] = sum.rhs_evaluations;
+  summary["wall_seconds"] = sum.wall_seconds;
+  summary["energy_drift"] = sum.energy_drift;
+  summary["method"] = sum.method;
+  summary["reduced"] = sum.reduced;
+  summary["reduce_note"] = sum.reduce_note;
+  summary["method_note"] = sum.method_note;
+  return summary;
+}
+
+py::dict scales_dict() {
+  return py::dict(py::arg("tau_ps") = dna_units::tau_ps, py::arg("ell_A") = dna_units::ell_A,
+                  py::arg("velocity_A_per_ps") = dna_units::velocity_A_per_ps);
 }
 
 py::dict run(const py::object& scene, const py::object& initial, const std::vector<std::string>& sets,
              const py::object& output) {
-  std::optional<TempFile> tmp;
-  Scene sc = resolve(scene, initial, sets, tmp);
-  Simulation sim(sc);  // reads the initial state now
-  // The temporary IC file dies with this call: say where the state came from instead.
-  if (tmp) sc.initial.path = "(initial= arrays given to rodcore.run; the t = 0 frame holds them)";
+  Resolved r = resolve(scene, initial, sets);
+  const Scene sc = r.scene;
+  auto simp = make_simulation(r);
+  Simulation& sim = *simp;
   const std::vector<double> s = sim.grid();
   const std::size_t N = s.size();
 
   std::vector<double> time, energy, centerline, directors;
   std::vector<double> fields[kFields];
   std::map<std::string, std::vector<double>> parts;
-  std::optional<H5Output> h5;
   if (!output.is_none())
-    h5.emplace(py::module_::import("os").attr("fspath")(output).cast<std::string>(), sc, s);
+    sim.add_observer(std::make_shared<H5Writer>(py::module_::import("os").attr("fspath")(output).cast<std::string>(), sc, s));
 
   auto on_frame = [&](const Frame& fr) {
     time.push_back(fr.t);
@@ -249,20 +267,13 @@ py::dict run(const py::object& scene, const py::object& initial, const std::vect
       for (const auto& [k, v] : fr.energy_parts) parts[k].push_back(v);
     if (sc.output.centerline && fr.centerline) centerline.insert(centerline.end(), fr.centerline, fr.centerline + 3 * N);
     if (sc.output.directors && fr.directors) directors.insert(directors.end(), fr.directors, fr.directors + 9 * N);
-    if (h5) h5->write_frame(fr);
   };
 
   RunSummary sum;
   {
     py::gil_scoped_release release;  // the integration touches no Python object
-    try {
-      sum = sim.run(on_frame);
-    } catch (const NumericalError& e) {
-      if (h5) h5->fail(e.what());
-      throw;
-    }
+    sum = sim.run(on_frame);         // a NumericalError marks the file failed (H5Writer::failed)
   }
-  if (h5) h5->finish(sum);
 
   const auto T = static_cast<py::ssize_t>(time.size());
   const auto n = static_cast<py::ssize_t>(N);
@@ -282,24 +293,135 @@ py::dict run(const py::object& scene, const py::object& initial, const std::vect
   }
   if (sc.output.centerline) out["centerline"] = array(centerline, {T, n, 3});
   if (sc.output.directors) out["directors"] = array(directors, {T, n, 3, 3});
-  py::dict summary;
-  summary["steps"] = sum.steps;
-  summary["rejected"] = sum.rejected;
-  summary["rhs_evaluations"] = sum.rhs_evaluations;
-  summary["wall_seconds"] = sum.wall_seconds;
-  summary["energy_drift"] = sum.energy_drift;
-  summary["method"] = sum.method;
-  summary["reduced"] = sum.reduced;
-  summary["reduce_note"] = sum.reduce_note;
-  summary["method_note"] = sum.method_note;
-  out["summary"] = summary;
+  out["summary"] = summary_dict(sum);
   Scene as_run = sim.scene();  // solver.space/time as resolved from "auto"
   as_run.initial.path = sc.initial.path;
   out["scene"] = scene_to_toml(as_run);
-  out["scales"] = py::dict(py::arg("tau_ps") = dna_units::tau_ps, py::arg("ell_A") = dna_units::ell_A,
-                           py::arg("velocity_A_per_ps") = dna_units::velocity_A_per_ps);
+  out["scales"] = scales_dict();
   return out;
 }
+
+// ---- the Simulation object ---------------------------------------------------
+
+// The four fields of a 12 N state as a dict of (N, 3) arrays.
+py::dict fields_dict(const double* y, std::size_t N) {
+  py::dict out;
+  for (int f = 0; f < kFields; ++f) {
+    py::array_t<double> a({static_cast<py::ssize_t>(N), py::ssize_t{3}});
+    auto w = a.mutable_unchecked<2>();
+    for (std::size_t i = 0; i < N; ++i)
+      for (int c = 0; c < 3; ++c) w(i, c) = component(y, N, static_cast<Field>(f), c)[i];
+    out[kFieldNames[f]] = a;
+  }
+  return out;
+}
+
+// A state given as a dict of (N, 3) arrays or a flat array of 12 N values
+// (layout of state.hpp) -> 12 N values; `as_dict` says which it was.
+std::vector<double> state_values(const py::object& state, std::size_t N, bool& as_dict) {
+  as_dict = py::isinstance<py::dict>(state);
+  if (as_dict) {
+    std::size_t n = 0;
+    std::vector<double> y = initial_state(py::reinterpret_borrow<py::dict>(state), n);
+    if (n != N)
+      throw InputError("state: the arrays have N = " + std::to_string(n) + " points, the rod has " + std::to_string(N));
+    return y;
+  }
+  auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(state);
+  if (!a || static_cast<std::size_t>(a.size()) != kComponents * N)
+    throw InputError("state: expected a dict of (N, 3) arrays gamma, omega, Gamma, Omega or an array of 12 N = " +
+                     std::to_string(kComponents * N) + " values (layout: rows gamma1..Omega3, each N long)");
+  return std::vector<double>(a.data(), a.data() + a.size());
+}
+
+// A frame as a dict of numpy arrays (copies: they outlive the call).
+py::dict frame_dict(const Frame& fr) {
+  const std::size_t N = fr.N;
+  const auto n = static_cast<py::ssize_t>(N);
+  py::dict d;
+  d["index"] = fr.index;
+  d["t"] = fr.t;
+  d["fields"] = fields_dict(fr.y, N);
+  if (fr.energy) d["energy"] = *fr.energy;
+  if (fr.checked_energy) d["checked_energy"] = *fr.checked_energy;
+  if (fr.energy_drift) d["energy_drift"] = *fr.energy_drift;
+  if (!fr.energy_parts.empty()) {
+    py::dict p;
+    for (const auto& [k, v] : fr.energy_parts) p[py::str(k)] = v;
+    d["energy_parts"] = p;
+  }
+  if (fr.centerline) d["centerline"] = array(std::vector<double>(fr.centerline, fr.centerline + 3 * N), {n, 3});
+  if (fr.directors) d["directors"] = array(std::vector<double>(fr.directors, fr.directors + 9 * N), {n, 3, 3});
+  if (fr.end_to_end) d["end_to_end"] = array(std::vector<double>(fr.end_to_end->begin(), fr.end_to_end->end()), {3});
+  if (fr.end_rotation) d["end_rotation"] = *fr.end_rotation;
+  if (fr.end_rotation) d["max_director_norm_error"] = fr.max_director_norm_error;
+  return d;
+}
+
+// A Python callable as an observer: callback(frame_dict) at every frame.
+// The GIL is taken for the call only (step_to releases it).
+struct PyFrameObserver : Observer {
+  py::object callback;
+  explicit PyFrameObserver(py::object cb) : callback(std::move(cb)) {}
+  ~PyFrameObserver() override {
+    py::gil_scoped_acquire gil;
+    callback = py::object();
+  }
+  void frame(const Simulation&, const Frame& fr) override {
+    py::gil_scoped_acquire gil;
+    callback(frame_dict(fr));
+  }
+};
+
+struct PySimulation {
+  Resolved resolved;
+  std::unique_ptr<Simulation> sim;
+  std::vector<std::shared_ptr<Observer>> python_observers;  // kept to release them with the GIL held
+
+  PySimulation(const py::object& scene, const py::object& initial, const std::vector<std::string>& sets)
+      : resolved(resolve(scene, initial, sets)), sim(make_simulation(resolved)) {}
+
+  void step_to(double t) {
+    py::gil_scoped_release release;
+    sim->step_to(t);
+  }
+  py::dict run() {
+    RunSummary sum;
+    {
+      py::gil_scoped_release release;
+      sum = sim->run();
+    }
+    return summary_dict(sum);
+  }
+  void add_observer(py::object callback) {
+    if (!PyCallable_Check(callback.ptr())) throw InputError("add_observer: expected a callable f(frame: dict)");
+    auto o = std::make_shared<PyFrameObserver>(std::move(callback));
+    python_observers.push_back(o);
+    sim->add_observer(o);
+  }
+  void add_output(const py::object& path) {
+    sim->add_observer(std::make_shared<H5Writer>(py::module_::import("os").attr("fspath")(path).cast<std::string>(),
+                                                 resolved.scene, sim->grid()));
+  }
+  py::object rhs(const py::object& state) const {
+    const std::size_t N = sim->grid().size();
+    bool as_dict = false;
+    const std::vector<double> y = state_values(state, N, as_dict);
+    std::vector<double> f(kComponents * N);
+    sim->rhs(y.data(), f.data());
+    if (as_dict) return fields_dict(f.data(), N);
+    return array(f, {static_cast<py::ssize_t>(kComponents * N)});
+  }
+  std::string scene_text() const {
+    Scene as_run = sim->scene();
+    as_run.initial.path = resolved.scene.initial.path;
+    return scene_to_toml(as_run);
+  }
+};
+
+}  // namespace
+
+namespace {
 
 py::list kinds() {
   py::list out;
@@ -341,6 +463,7 @@ PYBIND11_MODULE(rodcore, m) {
   m.doc() =
       "rodcore: the geometrically exact elastic rod solver (paper Eqs 11-14) from Python.\n\n"
       "run(scene, initial=None, set=(), output=None) -> dict of numpy arrays\n"
+      "Simulation(scene, initial=None, set=()): construct, step_to(t), read state, add_observer(callback)\n"
       "kinds() -> the initial-condition kinds and their parameters\n"
       "resolve(scene, set=()) -> the resolved scene as TOML text (all defaults filled)\n"
       "analytic: closed-form waves and dispersion of the paper (Eqs 24, 26, 27, 39-45)";
@@ -393,11 +516,50 @@ The GIL is released while integrating.)");
   m.def(
       "resolve",
       [](const py::object& scene, const std::vector<std::string>& sets) {
-        std::optional<TempFile> tmp;
-        return scene_to_toml(resolve(scene, py::none(), sets, tmp));
+        return scene_to_toml(resolve(scene, py::none(), sets).scene);
       },
       py::arg("scene"), py::arg("set") = std::vector<std::string>{},
       "Validate a scene and return it resolved (every key, defaults filled) as TOML text.");
+
+  py::class_<PySimulation>(m, "Simulation", R"(A simulation of one scene that you step and read (C++ rodcore::Simulation).
+
+Simulation(scene, initial=None, set=()): scene and initial as for run().
+Everything is dimensionless (paper Sec 2.2); rodcore.run(...)["scales"] and
+the output file say how to convert.)")
+      .def(py::init<const py::object&, const py::object&, const std::vector<std::string>&>(), py::arg("scene"),
+           py::arg("initial") = py::none(), py::arg("set") = std::vector<std::string>{})
+      .def("step_to", &PySimulation::step_to, py::arg("t"),
+           "Advance to time t (>= time). Frames the integrator passes go to the observers (frame 0 on the "
+           "first call). Steps are not shortened to stop at t: the state at t comes from the continuous "
+           "extension, so stepping in pieces equals one run. The GIL is released while integrating.")
+      .def("run", &PySimulation::run, "Integrate to the last output time; return the summary dict (as run()['summary']).")
+      .def("add_observer", &PySimulation::add_observer, py::arg("callback"),
+           "Call callback(frame) at every output frame; frame is a dict: index, t, fields {gamma, omega, Gamma, "
+           "Omega: (N, 3)}, and when computed energy, energy_parts, checked_energy, energy_drift, centerline (N, 3), "
+           "directors (N, 3, 3), end_to_end, end_rotation. An exception raised by the callback stops the run.")
+      .def("add_output", &PySimulation::add_output, py::arg("path"),
+           "Also write the HDF5 file rodsim would write (an observer; complete when run() finishes).")
+      .def_property_readonly("time", [](const PySimulation& p) { return p.sim->time(); })
+      .def_property_readonly("s", [](const PySimulation& p) {
+        const auto s = p.sim->grid();
+        return array(s, {static_cast<py::ssize_t>(s.size())});
+      })
+      .def_property_readonly(
+          "state", [](const PySimulation& p) { return fields_dict(p.sim->state().data(), p.sim->grid().size()); },
+          "The state at time: dict gamma, omega, Gamma, Omega of (N, 3) arrays (internal frame).")
+      .def_property_readonly(
+          "y", [](const PySimulation& p) { return array(p.sim->state(), {static_cast<py::ssize_t>(p.sim->state().size())}); },
+          "The state at time as 12 N values (rows gamma1..Omega3, each N long; state.hpp).")
+      .def_property_readonly("frames_delivered", [](const PySimulation& p) { return p.sim->frames_delivered(); })
+      .def("frame_time", [](const PySimulation& p, int k) { return p.sim->frame_time(k); }, py::arg("index"))
+      .def("energy", [](const PySimulation& p) { return p.sim->energy(); }, "Total energy of the state (Appendix A).")
+      .def("energy_parts", [](const PySimulation& p) { return p.sim->energy_parts(); })
+      .def("rhs", &PySimulation::rhs, py::arg("state"),
+           "d(state)/dt of Eqs (11)-(14) for this rod and material: state as a dict of (N, 3) arrays "
+           "(returns the same) or 12 N values (returns 12 N values).")
+      .def("summary", [](const PySimulation& p) { return summary_dict(p.sim->summary()); })
+      .def_property_readonly("scene", &PySimulation::scene_text, "The scene as run, resolved, as TOML text.")
+      .def_property_readonly_static("scales", [](const py::object&) { return scales_dict(); });
 
   auto a = m.def_submodule("analytic", "Closed-form results of the paper (rodcore/include/rodcore/analytic.hpp).");
   a.def("dispersion", &analytic::dispersion, py::arg("kappa"), py::arg("D1"), py::arg("Gamma03"), py::arg("branch"),

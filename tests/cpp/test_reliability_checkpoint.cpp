@@ -16,6 +16,7 @@
 
 #include "physics_test_util.hpp"
 #include "rodcore/checkpoint.hpp"
+#include "signals.hpp"  // rodsim's stop signals and schedule (rodcore/cli)
 #include "rodcore/error.hpp"
 #include "rodcore/simulation.hpp"
 #include "temp_dir.hpp"

@@ -13,19 +13,35 @@
 //   datasets    y, f (state and its time derivative at t), controller
 // written to OUT.h5.ckpt.tmp, synced to disk and renamed over the previous
 // one, so a kill during the write never spoils the last good checkpoint.
+//
+// Simulation::checkpoint() makes one, Simulation::resume_from() continues
+// from one, and the observer CheckpointWriter writes them during a run
+// (when: its `due` predicate; rodsim's is a wall-clock timer or a stop
+// signal, rodcore/cli/signals.hpp).
 #pragma once
-#include <csignal>
-#include <chrono>
+#include <functional>
 #include <limits>
 #include <string>
+#include <vector>
 
 #include "rodcore/error.hpp"
-#include "rodcore/integrators.hpp"
+#include "rodcore/observer.hpp"
 #include "rodcore/scene.hpp"
 
 namespace rodcore {
 
 inline constexpr int kCheckpointFormat = 1;
+
+// Everything a time integrator needs to continue exactly from a step
+// boundary: restoring it and stepping on gives the same bits as never having
+// stopped.
+struct IntegratorState {
+  double t = 0.0;
+  double dt_next = 0.0;            // the step the controller will try next
+  std::vector<double> y, f;        // y(t) and f(t, y) (FSAL stage / Hermite slope)
+  std::vector<double> controller;  // step-size controller memory (scheme-specific)
+  long steps = 0, rejected = 0, rhs_evaluations = 0;
+};
 
 struct Checkpoint {
   std::string scene;           // checkpoint_scene_text() of the run's scene
@@ -35,7 +51,7 @@ struct Checkpoint {
   double E0 = std::numeric_limits<double>::quiet_NaN();  // energy at t = 0
   double energy_drift = 0.0;   // largest relative drift over the frames so far
   double wall_seconds = 0.0;   // wall time spent on the run so far
-  std::string reduced;         // "" (full 12-row state) or "omega2"/"omega1" (reduced_planar.hpp)
+  std::string reduced;         // "" (full 12-row state) or "omega2"/"omega1" (reduced planar system)
 };
 
 // OUT.h5 -> OUT.h5.ckpt
@@ -57,30 +73,26 @@ Checkpoint read_checkpoint(const std::string& path);
 void check_checkpoint_matches(const Checkpoint& checkpoint, const Scene& scene,
                               const std::string& checkpoint_file);
 
-// ---------------------------------------------------------------- signals
-// SIGINT and SIGTERM set a flag (nothing else happens in the handler); the
-// run loop asks `stop_signal()` at every step boundary, writes a checkpoint
-// and stops. A second signal of the same kind kills at once (SA_RESETHAND).
-void install_stop_signal_handlers();
-int stop_signal();  // 0, or the number of the first SIGINT/SIGTERM received
-void clear_stop_signal();  // for tests
-
-// Thrown by the checkpoint hook after it saved the run because of a signal.
-struct Interrupted : Error {
-  Interrupted(const std::string& message, int signal_number) : Error(message), signal(signal_number) {}
-  int signal;
-};
-
-// When to write a checkpoint: every `interval_s` wall seconds (0: never on a
-// timer) and whenever a stop signal arrived.
-class CheckpointSchedule {
+// The observer that writes checkpoints: after every accepted step whose
+// frames are delivered (and while frames remain), it asks `due()`; when it
+// says yes it writes the checkpoint to `path` and calls `written(checkpoint)`,
+// which may throw to stop the run (rodsim does after a stop signal). A run
+// that ends (finished or failed numerically) removes the file: continuing
+// would meet the same error, and a stale checkpoint must never be paired
+// with a later output.
+class CheckpointWriter : public Observer {
  public:
-  explicit CheckpointSchedule(double interval_s);
-  bool due() const;
-  void written();  // restart the timer
+  CheckpointWriter(std::string path, std::function<bool()> due,
+                   std::function<void(const Checkpoint&)> written = {});
+  void stepped(const Simulation& sim) override;
+  void finished(const Simulation& sim, const RunSummary& summary) override;
+  void failed(const Simulation& sim, const std::string& message) override;
+  const std::string& path() const { return path_; }
+
  private:
-  double interval_s_;
-  std::chrono::steady_clock::time_point last_;
+  std::string path_;
+  std::function<bool()> due_;
+  std::function<void(const Checkpoint&)> written_;
 };
 
 }  // namespace rodcore

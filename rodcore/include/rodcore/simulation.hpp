@@ -1,90 +1,106 @@
-// Running a scene: the problem (Scene) is separate from the solver
-// (spatial operator + time integrator) and from the output handlers
-// (callbacks that receive Frames). Dedalus-style separation.
+// Running a scene: the problem (Scene) is separate from the solver (spatial
+// operator + time integrator, inside) and from what is done with the result
+// (observers, observer.hpp). OpenMM's Context, Dedalus' solver.
+//
+//   rodcore::Scene scene = rodcore::read_scene_file("dna158.toml");  // scene_io.hpp
+//   rodcore::Simulation sim(scene);
+//   sim.add_observer(std::make_shared<rodcore::H5Writer>("out.h5", sim));  // h5_writer.hpp
+//   rodcore::RunSummary summary = sim.run();      // or: sim.step_to(t) in pieces
+//   sim.time(); sim.state(); sim.energy();         // the state now
+//
+// The solver works in the paper's dimensionless variables only (Sec 2.2);
+// scenes in DNA units (e.g. dna_planar's A_v_A_per_ps) are converted when
+// the initial state is made, by the scene layer (library rodcore_scene).
 #pragma once
+#include <array>
 #include <functional>
 #include <map>
 #include <memory>
-#include <optional>
 #include <string>
 #include <vector>
 
 #include "rodcore/checkpoint.hpp"
+#include "rodcore/observer.hpp"
 #include "rodcore/scene.hpp"
 
 namespace rodcore {
 
-// What an output handler sees at one output time. Pointers are valid only
-// during the callback. Optional parts are present only if the scene asked.
-struct Frame {
-  int index = 0;
-  double t = 0.0;
-  std::size_t N = 0;
-  const double* y = nullptr;  // 12*N state, layout of state.hpp
-  std::optional<double> energy;
-  std::map<std::string, double> energy_parts;  // kinetic_translational, kinetic_rotational,
-                                               // shear, extension, bend, twist
-  const double* centerline = nullptr;  // N x 3, row-major (point, xyz); lab frame
-  const double* directors = nullptr;   // N x 3 x 3, [i][xyz][k] = component xyz of d_k
-  double max_director_norm_error = 0.0;
-  // Closure of the reconstructed rod over one period (only with centerline
-  // or directors): end_to_end = r(L) - r(0) in the lab frame, end_rotation =
-  // angle (rad) of the rotation R(0)^T R(L). A closed ring or a ligated DNA
-  // circle has both ~0; a straight periodic rod has end_to_end = its length
-  // along d3 and end_rotation = its total twist mod 2 pi.
-  std::optional<Vec3> end_to_end;
-  std::optional<double> end_rotation;
-};
-
-struct RunSummary {
-  long steps = 0;
-  long rejected = 0;
-  long rhs_evaluations = 0;
-  double wall_seconds = 0.0;
-  double energy_drift = 0.0;  // max relative |E - E0| / |E0| over the output frames where E is
-                              // computed: all with output.energy(_parts) or a finite
-                              // checks.max_energy_drift, else the first and the last
-  std::string method;         // e.g. "spectral+dop853"
-  bool reduced = false;       // the reduced planar system was used (to the end)
-  std::string reduce_note;    // why the run is reduced or not (solver.reduce)
-  std::string method_note;    // how solver.space / solver.time were chosen ("auto" or as given)
+// A dimensionless initial state: the 12 N fields on the grid s_i = i L / N
+// (layout of state.hpp, internal frame) and the lab frame of the rod at
+// s = 0, t = 0 (used only when the scene reconstructs centerline/directors).
+struct InitialState {
+  std::vector<double> y;
+  std::array<double, 4> q0{1.0, 0.0, 0.0, 0.0};  // unit quaternion (w, x, y, z) of the directors at s = 0
+  Vec3 r0{0.0, 0.0, 0.0};                         // r(0, 0)
 };
 
 class Simulation {
  public:
-  explicit Simulation(const Scene& scene);  // throws InputError
+  // The initial state made from scene.initial (its kind; scene layer). A
+  // scene built in code may leave rod.length/points to the kind (dna_planar).
+  // Throws InputError.
+  explicit Simulation(const Scene& scene);
+  // The initial state given; scene.initial is then only recorded (e.g. in the
+  // output file). Throws InputError (sizes, non-finite values, settings).
+  Simulation(const Scene& scene, InitialState initial);
   ~Simulation();
   Simulation(const Simulation&) = delete;
   Simulation& operator=(const Simulation&) = delete;
 
+  // Observers are called in the order added, after the scene's own checks.
+  void add_observer(std::shared_ptr<Observer> observer);
+
+  // Advance to time t (>= time()). Every output frame (output.frames equally
+  // spaced times 0..output.t_end) the integrator passes on the way is handed
+  // to the observers, frame 0 on the first call. Steps are taken toward
+  // max(t, output.t_end) and never shortened to stop at t: the state at t
+  // comes from the integrator's continuous extension, so stepping in pieces
+  // gives the same numbers as one run. Throws NumericalError on bad numbers
+  // (the frames already delivered are complete).
+  void step_to(double t);
+
+  // Integrate to the last output time, calling on_frame at each output time
+  // (including t = 0) and progress after every step, then the observers'
+  // finished(). Returns the summary (also: summary()).
   using FrameHandler = std::function<void(const Frame&)>;
   using ProgressHandler = std::function<void(double t, double t_end)>;
+  RunSummary run(const FrameHandler& on_frame = {}, const ProgressHandler& progress = {});
+  RunSummary summary() const;  // of the steps taken so far
 
-  // Integrate to output.t_end, calling on_frame at each output time
-  // (including t = 0). Throws NumericalError on bad numbers; the frames
-  // already handed to on_frame are complete.
-  RunSummary run(const FrameHandler& on_frame, const ProgressHandler& progress = {});
-
-  // Checkpoints (checkpoint.hpp): after every accepted step, once the frames
-  // up to that time are delivered, `due()` is asked; when it says yes the
-  // run point is handed to `save`, which may throw to stop the run.
+  // Checkpoints (checkpoint.hpp). checkpoint(): the run point now; valid
+  // between steps once their frames are delivered (as in Observer::stepped).
+  // resume_from(): the next step_to()/run() continues from `checkpoint` (no
+  // frame before checkpoint.next_frame is delivered again); throws
+  // InputError if it does not belong to this scene.
+  Checkpoint checkpoint() const;
+  void resume_from(const Checkpoint& checkpoint);
+  // Older interface, kept: a CheckpointWriter-like observer with these hooks.
   struct CheckpointHooks {
     std::function<bool()> due;
     std::function<void(const Checkpoint&)> save;
   };
   void set_checkpoint_hooks(CheckpointHooks hooks);
-  // The next run() continues from `checkpoint` (no frame before
-  // checkpoint.next_frame is delivered again). Throws InputError if it does
-  // not belong to this scene.
-  void resume_from(const Checkpoint& checkpoint);
 
-  // The scene as run: solver.space and solver.time resolved from "auto".
+  // The scene as run: solver.space and solver.time resolved from "auto";
+  // given_scene(): as given ("auto" kept; what checkpoints record).
   const Scene& scene() const;
-  std::vector<double> grid() const;  // s_i
-  const std::vector<double>& state() const;  // current 12*N state
+  const Scene& given_scene() const;
+  std::vector<double> grid() const;          // s_i
+  const std::vector<double>& state() const;  // 12 N state at time()
   double time() const;
+  // How far the integrator has got (>= time(): steps are not shortened to stop at t).
+  double integrator_time() const;
+  int frames_delivered() const;              // output frames handed out so far
+  double frame_time(int index) const;        // time of output frame `index`
+  // Diagnostics of the state now (Appendix A), computed on demand.
+  double energy() const;
+  std::map<std::string, double> energy_parts() const;
+  // The right-hand side of Eqs (11)-(14) for this scene's rod and material:
+  // dydt = f(y), both 12 N values in the layout of state.hpp.
+  void rhs(const double* y, double* dydt) const;
 
  private:
+  Checkpoint run_point() const;  // checkpoint() without the scene text (core)
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

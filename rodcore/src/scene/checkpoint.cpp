@@ -1,16 +1,16 @@
-// Checkpoint files and stop signals (checkpoint.hpp).
+// Checkpoint files and the observer that writes them (checkpoint.hpp).
 #include "rodcore/checkpoint.hpp"
 
 #include <fcntl.h>
 #include <unistd.h>
 
-#include <atomic>
 #include <cmath>
 #include <filesystem>
 #include <sstream>
 
 #include "h5_handle.hpp"
 #include "rodcore/scene_reader.hpp"
+#include "rodcore/simulation.hpp"
 
 namespace rodcore {
 namespace {
@@ -102,14 +102,6 @@ void sync_file(const std::string& path) {
   const int rc = ::fsync(fd);
   ::close(fd);
   if (rc != 0) throw Error("checkpoint: cannot sync '" + path + "' to disk");
-}
-
-std::atomic<int> g_stop_signal{0};
-static_assert(std::atomic<int>::is_always_lock_free, "the signal handler needs a lock-free flag");
-
-extern "C" void on_stop_signal(int sig) {
-  int expected = 0;
-  g_stop_signal.compare_exchange_strong(expected, sig);
 }
 
 }  // namespace
@@ -211,27 +203,25 @@ void check_checkpoint_matches(const Checkpoint& c, const Scene& scene, const std
                    "' now. Resume with the same scene and --set options, or run again without --resume.");
 }
 
-void install_stop_signal_handlers() {
-  struct sigaction sa {};
-  sa.sa_handler = on_stop_signal;
-  sigemptyset(&sa.sa_mask);
-  sa.sa_flags = SA_RESETHAND;  // a second signal kills at once
-  sigaction(SIGINT, &sa, nullptr);
-  sigaction(SIGTERM, &sa, nullptr);
+CheckpointWriter::CheckpointWriter(std::string path, std::function<bool()> due,
+                                   std::function<void(const Checkpoint&)> written)
+    : path_(std::move(path)), due_(std::move(due)), written_(std::move(written)) {}
+
+void CheckpointWriter::stepped(const Simulation& sim) {
+  if (sim.frames_delivered() >= sim.scene().output.frames || !due_ || !due_()) return;
+  const Checkpoint c = sim.checkpoint();
+  write_checkpoint(path_, c);
+  if (written_) written_(c);
 }
 
-int stop_signal() { return g_stop_signal.load(); }
-void clear_stop_signal() { g_stop_signal.store(0); }
-
-CheckpointSchedule::CheckpointSchedule(double interval_s)
-    : interval_s_(interval_s), last_(std::chrono::steady_clock::now()) {}
-
-bool CheckpointSchedule::due() const {
-  if (stop_signal() != 0) return true;
-  if (!(interval_s_ > 0.0)) return false;
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - last_).count() >= interval_s_;
+void CheckpointWriter::finished(const Simulation&, const RunSummary&) {
+  std::error_code ec;
+  std::filesystem::remove(path_, ec);
 }
 
-void CheckpointSchedule::written() { last_ = std::chrono::steady_clock::now(); }
+void CheckpointWriter::failed(const Simulation&, const std::string&) {
+  std::error_code ec;
+  std::filesystem::remove(path_, ec);  // continuing would meet the same error
+}
 
 }  // namespace rodcore

@@ -1,13 +1,11 @@
-// Scene files (TOML) -> validated Scene. Every key, its units, default and
-// allowed range are documented in docs/scenes.md. Every mistake is an
-// InputError that names the file (and line), the dotted key (e.g.
+// Scene files (TOML) -> validated Scene, and back. Every key, its units,
+// default and allowed range are documented in docs/scenes.md. Every mistake
+// is an InputError that names the file (and line), the dotted key (e.g.
 // `solver.rtol`), what was found and what is allowed; a misspelt key gets a
-// "did you mean" suggestion.
+// "did you mean" suggestion. Scene layer (library rodcore_scene).
 #pragma once
 #include <string>
 #include <vector>
-
-#include <toml++/toml.h>
 
 #include "rodcore/scene.hpp"
 
@@ -26,21 +24,9 @@ Scene read_scene_string(const std::string& text, const std::string& source = "<s
                         const std::string& base_dir = ".",
                         const std::vector<std::string>& overrides = {});
 
-// Reads a scene from an already parsed TOML table (the Python module builds
-// one from a dict).
-Scene read_scene_table(toml::table table, const std::string& source, const std::string& base_dir,
-                       const std::vector<std::string>& overrides = {});
-
 // The fully resolved scene (every key, defaults filled, derived rod values,
 // absolute paths, doubles to 17 digits) as TOML text: reading it back gives
 // the same Scene. Written into every output file so a run can be repeated.
 std::string scene_to_toml(const Scene& scene);
-
-// Levenshtein distance, case-insensitive (for "did you mean" suggestions).
-int edit_distance(const std::string& a, const std::string& b);
-
-// The closest of `candidates` to `word` if it is close enough to be a
-// plausible misspelling, else "".
-std::string closest_match(const std::string& word, const std::vector<std::string>& candidates);
 
 }  // namespace rodcore

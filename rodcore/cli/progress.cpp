@@ -1,9 +1,11 @@
-#include "rodcore/progress.hpp"
+#include "progress.hpp"
 
 #include <unistd.h>
 
 #include <algorithm>
 #include <string>
+
+#include "rodcore/simulation.hpp"
 
 namespace rodcore {
 
@@ -38,5 +40,7 @@ void ProgressBar::finish() {
   std::fflush(out_);
   drawn_ = false;
 }
+
+void ProgressObserver::stepped(const Simulation& sim) { bar_.update(sim.integrator_time(), sim.scene().output.t_end); }
 
 }  // namespace rodcore

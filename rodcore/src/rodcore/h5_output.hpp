@@ -1,4 +1,4 @@
-// HDF5 output of a run (design.md "Public contracts"; docs/scenes.md "Output file"):
+// HDF5 output of a run (internal; the public face is the observer H5Writer, h5_writer.hpp) (design.md "Public contracts"; docs/scenes.md "Output file"):
 //   time                 (T)            output times (dimensionless)
 //   s                    (N)            grid s_i = i L / N
 //   fields/<name>        (T x N x 3)    gamma, omega, Gamma, Omega (internal frame)
@@ -20,13 +20,9 @@
 
 #include "rodcore/scene.hpp"
 #include "rodcore/simulation.hpp"
+#include "rodcore/version.hpp"
 
 namespace rodcore {
-
-inline constexpr const char* kRodcoreVersion = "0.1.0";
-
-// `git describe --always --dirty` of the source tree at configure time, or "unknown".
-const char* git_revision();
 
 class H5Output {
  public:

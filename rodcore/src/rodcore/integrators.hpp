@@ -24,22 +24,13 @@
 #include <string>
 #include <vector>
 
+#include "rodcore/checkpoint.hpp"  // IntegratorState
+
 namespace rodcore {
 
 struct OdeSystem {
   std::size_t n = 0;
   std::function<void(double t, const double* y, double* dydt)> f;
-};
-
-// Everything an integrator needs to continue exactly from a step boundary
-// (checkpoint/resume, checkpoint.hpp): restoring it and stepping on gives the
-// same bits as never having stopped.
-struct IntegratorState {
-  double t = 0.0;
-  double dt_next = 0.0;            // the step the controller will try next
-  std::vector<double> y, f;        // y(t) and f(t, y) (FSAL stage / Hermite slope)
-  std::vector<double> controller;  // step-size controller memory (scheme-specific)
-  long steps = 0, rejected = 0, rhs_evaluations = 0;
 };
 
 struct IntegratorOptions {

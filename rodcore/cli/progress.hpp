@@ -4,6 +4,8 @@
 #include <chrono>
 #include <cstdio>
 
+#include "rodcore/observer.hpp"
+
 namespace rodcore {
 
 class ProgressBar {
@@ -19,6 +21,16 @@ class ProgressBar {
   bool drawn_ = false;
   std::FILE* out_;
   std::chrono::steady_clock::time_point start_, last_;
+};
+
+// The bar as an observer of a run: redrawn after every step.
+class ProgressObserver : public Observer {
+ public:
+  explicit ProgressObserver(ProgressBar& bar) : bar_(bar) {}
+  void stepped(const Simulation& sim) override;
+
+ private:
+  ProgressBar& bar_;
 };
 
 }  // namespace rodcore
