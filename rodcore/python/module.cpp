@@ -561,7 +561,7 @@ the output file say how to convert.)")
       .def_property_readonly("scene", &PySimulation::scene_text, "The scene as run, resolved, as TOML text.")
       .def_property_readonly_static("scales", [](const py::object&) { return scales_dict(); });
 
-  auto a = m.def_submodule("analytic", "Closed-form results of the paper (rodcore/include/rodcore/analytic.hpp).");
+  auto a = m.def_submodule("analytic", "Closed-form results of the paper (rodcore/src/rodcore/analytic.hpp).");
   a.def("dispersion", &analytic::dispersion, py::arg("kappa"), py::arg("D1"), py::arg("Gamma03"), py::arg("branch"),
         "Eq 26 / 39: frequency w of the bend-shear wave, branch +1 (w_+) or -1 (w_-).");
   a.def("energy_ratio", &analytic::energy_ratio, py::arg("w"), py::arg("kappa"), py::arg("D1"), py::arg("Gamma03"),

@@ -1,7 +1,7 @@
 """Closed-form results of the paper used by the figures and checks.
 
 The dispersion relation (Eqs 26/39) and the energy ratio (Eq 27) live in the C++
-header rodcore/include/rodcore/analytic.hpp (ONE place) and are called here through
+header rodcore/src/rodcore/analytic.hpp (ONE place) and are called here through
 the compiled module (`rodcore.analytic`). The other closed forms below (Eqs 25, 37-38,
 40-45 and the paper's limits) have no C++ counterpart and are written once here.
 
