@@ -9,14 +9,17 @@
 #include "rodcore/error.hpp"
 
 namespace rodcore {
-namespace {
 
-std::string num(double x) {
+std::string message_number(double x) {
   std::ostringstream o;
   o.precision(6);
   o << x;
   return o.str();
 }
+
+namespace {
+
+std::string num(double x) { return message_number(x); }
 
 const char* kComponentNames[12] = {"gamma1", "gamma2", "gamma3", "omega1", "omega2", "omega3",
                                    "Gamma1", "Gamma2", "Gamma3", "Omega1", "Omega2", "Omega3"};

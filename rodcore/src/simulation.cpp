@@ -6,7 +6,6 @@
 #include <cmath>
 #include <limits>
 #include <optional>
-#include <sstream>
 
 #include "rodcore/diagnostics.hpp"
 #include "rodcore/error.hpp"
@@ -21,12 +20,7 @@
 namespace rodcore {
 namespace {
 
-std::string num(double x) {
-  std::ostringstream o;
-  o.precision(6);
-  o << x;
-  return o.str();
-}
+std::string num(double x) { return message_number(x); }
 
 const char* planar_name(Planar p) { return p == Planar::omega2 ? "omega2" : "omega1"; }
 

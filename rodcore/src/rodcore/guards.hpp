@@ -11,6 +11,7 @@
 // to the output observers.
 #pragma once
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "rodcore/observer.hpp"
@@ -26,5 +27,8 @@ void validate_run_settings(const Scene& scene);
 
 // Throws InputError naming the first non-finite initial value (component, point, s).
 void check_initial_finite(const Scene& scene, const std::vector<double>& y, const std::vector<double>& s);
+
+// A number in the run loop's messages (6 significant digits).
+std::string message_number(double x);
 
 }  // namespace rodcore
