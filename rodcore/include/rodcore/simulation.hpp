@@ -10,7 +10,11 @@
 //
 // The solver works in the paper's dimensionless variables only (Sec 2.2);
 // scenes in DNA units (e.g. dna_planar's A_v_A_per_ps) are converted when
-// the initial state is made, by the scene layer (library rodcore_scene).
+// the initial state is made, by the scene layer (library rodcore_scene,
+// exported as rodcore::scene). Three members are defined there, because they
+// need the scene's initial-condition kinds or its TOML text:
+// Simulation(const Scene&), checkpoint() and set_checkpoint_hooks(). The
+// rest is the solver core (rodcore::core).
 #pragma once
 #include <array>
 #include <functional>
