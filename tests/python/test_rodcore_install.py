@@ -28,7 +28,7 @@ def app(bin_dir, tmp_path_factory):
     subprocess.run(["cmake", "--install", str(build), "--prefix", str(prefix)], check=True,
                    capture_output=True, text=True)
     headers = {p.name for p in (prefix / "include" / "rodcore").iterdir()}
-    assert {"simulation.hpp", "scene_io.hpp", "observer.hpp", "h5_writer.hpp", "version.hpp"} <= headers
+    assert {"simulation.hpp", "scene_io.hpp", "observer.hpp", "h5_writer.hpp", "version.hpp", "dna_units.hpp"} <= headers
     for h in (prefix / "include" / "rodcore").iterdir():  # nothing of toml++ or HDF5 leaks
         text = h.read_text()
         assert "toml++" not in text and "<hdf5.h>" not in text, h.name
