@@ -21,6 +21,7 @@ PICOSECOND = 1e-12  # s
 ANGSTROM_PER_NM = 10.0  # GROMACS lengths are nm, dnarod's Angstrom
 BOLTZMANN = 1.380649e-23  # J/K (exact, SI 2019)
 AVOGADRO = 6.02214076e23  # 1/mol (exact, SI 2019)
+AMU = 1.66053906660e-27       # kg (CODATA 2018)
 BOLTZMANN_KJ_PER_MOL_K = BOLTZMANN * AVOGADRO / 1000.0  # GROMACS's k_B (R), kJ/(mol K)
 
 
@@ -127,6 +128,42 @@ class Units:
 
     def curvature_to_rad_per_A(self, k):
         return k / self.ell_A
+
+    # -- energy, stiffness and mass (the dimensionless energy is E / (C l)) ---
+    @property
+    def energy_scale_J(self) -> float:
+        """Energy unit of the rod, C l [J]: the dimensionless energy density is
+        e / C (Eq 15), so an energy E [J] of a rod piece is E / (C l)."""
+        return self.C * self.ell_m
+
+    def energy_to_rod(self, E_J):
+        return E_J / self.energy_scale_J
+
+    def kT_to_rod(self, temperature_K):
+        """k_B T in the rod's energy unit."""
+        return BOLTZMANN * temperature_K / self.energy_scale_J
+
+    def stiffness_to_rod(self, K_SI):
+        """(..., 6, 6) stiffness per unit length on (Gamma [1], Omega [rad/m]) in SI
+        (N, N m, N m^2 blocks) -> dimensionless K* = S K S / C with
+        S = diag(1, 1, 1, 1/l, 1/l, 1/l), because Omega* = l Omega and the
+        dimensionless energy density is e / C."""
+        import numpy as np
+        s = np.array([1.0, 1.0, 1.0, 1.0 / self.ell_m, 1.0 / self.ell_m, 1.0 / self.ell_m])
+        return np.asarray(K_SI, dtype=float) * s[:, None] * s[None, :] / self.C
+
+    def stiffness_to_SI(self, K_star):
+        import numpy as np
+        s = np.array([1.0, 1.0, 1.0, self.ell_m, self.ell_m, self.ell_m])
+        return np.asarray(K_star, dtype=float) * s[:, None] * s[None, :] * self.C
+
+    def mass_amu_per_length_A_to_rod(self, m_amu, h_A):
+        """rho* of a mass m [amu] spread over a length h [A] (rho* = rho / rho_paper)."""
+        return m_amu * AMU / (h_A * ANGSTROM) / self.rho
+
+    def inertia_amu_A2_per_length_A_to_rod(self, I_amu_A2, h_A):
+        """I* of a moment of inertia I [amu A^2] spread over a length h [A] (I* = I / I_paper)."""
+        return I_amu_A2 * AMU * ANGSTROM**2 / (h_A * ANGSTROM) / self.I
 
     def as_dict(self) -> dict:
         return {"tau_ps": self.tau_ps, "ell_A": self.ell_A,

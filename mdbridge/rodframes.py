@@ -35,7 +35,7 @@ import numpy as np
 
 from dna_models.errors import InputError
 from dna_models.units import Units
-from mdbridge.geometry.rotations import rotation_log, transpose
+from mdbridge.geometry.rotations import rotation_exp, rotation_log, transpose
 from mdbridge.geometry.steps import step_parameters_along
 
 
@@ -78,10 +78,41 @@ def midpoint_strains(R, o, ds, closing=None):
         Rn, on = closing
         R = np.concatenate([R, np.asarray(Rn, dtype=float)[None]], axis=0)
         o = np.concatenate([o, np.asarray(on, dtype=float)[None]], axis=0)
-    v = rotation_log(transpose(R[:-1]) @ R[1:])
     d_local = np.einsum("...ji,...j->...i", R[:-1], o[1:] - o[:-1])   # R_i^T (o_{i+1} - o_i)
-    Gamma = np.einsum("...ij,...j->...i", _inverse_left_jacobian(v), d_local) / ds
-    return v / ds, Gamma
+    v, w = step_log(transpose(R[:-1]) @ R[1:], d_local)
+    return v / ds, w / ds
+
+
+def step_log(R_rel, d_rel):
+    """SE(3) logarithm of one rigid step: (v, w) with R_rel = exp([v]x) and
+    d_rel = J(v) w, i.e. the constant strains of a rod piece of length ds that
+    makes this step are Omega = v / ds, Gamma = w / ds (d_rel in frame 1)."""
+    v = rotation_log(R_rel)
+    return v, np.einsum("...ij,...j->...i", _inverse_left_jacobian(v), np.asarray(d_rel, dtype=float))
+
+
+def step_exp(v, w):
+    """Inverse of step_log: (R_rel, d_rel) = (exp([v]x), J(v) w)."""
+    v = np.asarray(v, dtype=float)
+    return rotation_exp(v), np.einsum("...ij,...j->...i", _left_jacobian(v), np.asarray(w, dtype=float))
+
+
+def _skew(v):
+    K = np.zeros(v.shape[:-1] + (3, 3))
+    K[..., 0, 1], K[..., 0, 2], K[..., 1, 2] = -v[..., 2], v[..., 1], -v[..., 0]
+    K[..., 1, 0], K[..., 2, 0], K[..., 2, 1] = v[..., 2], -v[..., 1], v[..., 0]
+    return K
+
+
+def _left_jacobian(v):
+    """J(v) = I + (1 - cos t)/t^2 [v]x + (t - sin t)/t^3 [v]x^2, t = |v| (series below 1e-4)."""
+    t = np.linalg.norm(v, axis=-1)
+    small = t < 1e-4
+    ts = np.where(small, 1.0, t)
+    a = np.where(small, 0.5 - t * t / 24.0, (1.0 - np.cos(ts)) / ts**2)
+    b = np.where(small, 1.0 / 6.0 - t * t / 120.0, (ts - np.sin(ts)) / ts**3)
+    K = _skew(v)
+    return np.eye(3) + a[..., None, None] * K + b[..., None, None] * (K @ K)
 
 
 def _inverse_left_jacobian(v):
@@ -91,13 +122,11 @@ def _inverse_left_jacobian(v):
     ts = np.where(small, 1.0, t)
     coef = np.where(small, 1.0 / 12.0 + t * t / 720.0,
                     1.0 / ts**2 - (1.0 + np.cos(ts)) / (2.0 * ts * np.sin(ts)))
-    K = np.zeros(v.shape[:-1] + (3, 3))
-    K[..., 0, 1], K[..., 0, 2], K[..., 1, 2] = -v[..., 2], v[..., 1], -v[..., 0]
-    K[..., 1, 0], K[..., 2, 0], K[..., 2, 1] = v[..., 2], -v[..., 1], v[..., 0]
+    K = _skew(v)
     return np.eye(3) - 0.5 * K + coef[..., None, None] * (K @ K)
 
 
-def _trig_interpolate(values, x0, h, x):
+def trig_interpolate(values, x0, h, x):
     """Trigonometric interpolant through values[k] at x0 + k h (period n h), at x."""
     n = values.shape[0]
     L = n * h
@@ -135,8 +164,8 @@ def rod_strains_from_frames(R, o_A, L=None, N=None, periodic=True, closing=None,
             closing = (R[0], o[0] * u.ell_A)   # a closed ring
         Rn, on = closing
         Om, Ga = midpoint_strains(R, o, ds, closing=(Rn, np.asarray(on, dtype=float) / u.ell_A))
-        Omega = _trig_interpolate(Om, 0.5 * ds, ds, s)
-        Gamma = _trig_interpolate(Ga, 0.5 * ds, ds, s)
+        Omega = trig_interpolate(Om, 0.5 * ds, ds, s)
+        Gamma = trig_interpolate(Ga, 0.5 * ds, ds, s)
     else:
         from scipy.interpolate import CubicSpline
         Om, Ga = midpoint_strains(R, o, ds)

@@ -1,0 +1,131 @@
+"""`dnarod dna-rod`: a sequence-dependent DNA rod for rodsim (material, closed rest state, scene)."""
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from dna_models.errors import InputError
+
+NAME = "dna-rod"
+HELP = "a sequence-dependent DNA rod: per-step file, grid material, closed pre-stressed rest state, scene"
+DESCRIPTION = """\
+Make the rod of a given DNA: its per-step shape and stiffness from a parameter
+set, mapped exactly onto the rod (mdbridge.material.steps_to_rod), put on a
+grid of N = points-per-bp x n_bp points, and its closed, pre-stressed
+equilibrium (frame at L = frame at 0, end-to-end = the box length along the
+helix axis), which is the t = 0 state of the scene. Writes into DIR:
+
+  steps.h5      the per-step DNA file (format dnarod-steps/1)
+  material.h5   the grid material (format dnarod-material/1: K, I, rho, Gamma0, Omega0)
+  rest.h5       the closed rest state (initial.kind = "file"), with --kick the kicked state
+  scene.toml    rodsim scene: [material] material_file = "material.h5", [initial] path = "rest.h5"
+  rest.json     tension [pN], torque [pN nm], residuals, closure defect, parameters
+
+Parameter sets: paper (uniform, Sec 2.1), olson1998 (Olson et al. 1998 PNAS
+95:11163, Table 1), or a per-step file (e.g. from coarse-graining).
+
+Examples:
+  dnarod dna-rod --sequence CGCGAATTCGCGCGCGAATTC --params olson1998 -o rod21
+  dnarod dna-rod --sequence-from-md md158 --params olson1998 --kick 1.0 -o rod158
+  dnarod dna-rod --random 158 --seed 7 --params paper -o rod158p
+"""
+
+
+def add_arguments(p):
+    src = p.add_mutually_exclusive_group(required=True)
+    src.add_argument("--sequence", metavar="SEQ", help="strand I, 5'->3' (A/C/G/T)")
+    src.add_argument("--sequence-from-md", metavar="MDDIR", help="the sequence of a `dnarod build-md` folder "
+                     "(its build.json)")
+    src.add_argument("--random", type=int, metavar="N_BP", help="a random sequence of N_BP bases (--seed)")
+    p.add_argument("--seed", type=int, default=None, help="seed of --random (the build-md convention)")
+    p.add_argument("--params", default="olson1998", metavar="SET",
+                   help="paper | olson1998 | a per-step file STEPS.h5 (default olson1998)")
+    p.add_argument("--points-per-bp", type=int, default=1, metavar="M", help="grid points per base pair (1)")
+    p.add_argument("--interpolation", default="trig", choices=("trig", "smooth", "step"),
+                   help="per-step values -> grid (docs/scenes.md; default trig)")
+    p.add_argument("--space", default="spectral", choices=("spectral", "fd4"),
+                   help="the solver's d/ds the rest state is an equilibrium of (spectral)")
+    p.add_argument("--box-A", type=float, default=None, metavar="B",
+                   help="end-to-end length along the helix axis, A (default n_bp x 3.38 A, the MD box)")
+    p.add_argument("--kick", type=float, default=0.0, metavar="A_V",
+                   help="transverse velocity amplitude, A/ps: lab velocity A_v sin(2 pi s / L) e_perp "
+                        "(the paper's kick, Sec 6.1), e_perp = d1(0) made normal to the helix axis (0: at rest)")
+    p.add_argument("--t-end-ps", type=float, default=600.0, help="scene length, ps (600, the paper's MD)")
+    p.add_argument("-o", "--output", required=True, metavar="DIR")
+
+
+def _sequence(args):
+    from dna_models.sequence import random_sequence, validate
+    if args.sequence:
+        return validate(args.sequence, "--sequence")
+    if args.random:
+        return random_sequence(args.random, seed=args.seed)
+    bj = Path(args.sequence_from_md) / "build.json"
+    if not bj.is_file():
+        raise InputError(f"--sequence-from-md {args.sequence_from_md}: no build.json there "
+                         "(a folder written by `dnarod build-md`)")
+    d = json.loads(bj.read_text())
+    if "sequence" not in d:
+        raise InputError(f"{bj}: key 'sequence' missing")
+    return validate(d["sequence"], f"{bj}: sequence")
+
+
+def run(args):
+    from dna_models.units import Units
+    from mdbridge.material.closed_rest import closed_rest_state, tension_torque_physical, _frames_on_grid
+    from mdbridge.material.gridfile import scene_text, write_grid_material, write_initial_file
+    from mdbridge.material.parameter_sets import step_material
+    from mdbridge.material.stepfile import write_steps
+    from mdbridge.material.steps_to_rod import grid_material, rod_material
+
+    u = Units.paper()
+    seq = _sequence(args)
+    if args.points_per_bp < 1:
+        raise InputError(f"--points-per-bp {args.points_per_bp}: must be >= 1")
+    out = Path(args.output)
+    out.mkdir(parents=True, exist_ok=True)
+    sm = step_material(seq, args.params, closed=True)
+    rm = rod_material(sm, units=u)
+    N = args.points_per_bp * rm.n_bp
+    g = grid_material(rm, N, args.interpolation)
+    L = rm.length
+    box = L if args.box_A is None else u.length_to_rod(args.box_A)
+    print(f"dna-rod: {rm.n_bp} bp, {args.params}, N = {N}; closed rest state ...", file=sys.stderr)
+    rest = closed_rest_state(g, L, box_length=box, space=args.space)
+    write_steps(out / "steps.h5", sm)
+    write_grid_material(out / "material.h5", g, source=sm.source,
+                        attrs={"sequence": seq, "interpolation": args.interpolation, "h_A": rm.h_A})
+    gamma = None
+    if args.kick:
+        R = _frames_on_grid(np.concatenate([rest.Gamma, rest.Omega], axis=1), L, 16)
+        a = rest.axis0
+        e = np.array([1.0, 0.0, 0.0]) - a[0] * a
+        e /= np.linalg.norm(e)
+        v = u.velocity_to_rod(args.kick) * np.sin(2 * np.pi * g["s"] / L)[:, None] * e[None, :]
+        gamma = np.einsum("jki,jk->ji", R, v)          # body frame: R^T v
+    write_initial_file(out / "rest.h5", g["s"], rest.Gamma, rest.Omega, gamma=gamma)
+    t_end = u.time_to_rod(args.t_end_ps)
+    (out / "scene.toml").write_text(scene_text(
+        L, N, "material.h5", "rest.h5", space=args.space, t_end=t_end, frames=int(args.t_end_ps) + 1,
+        comment=f"{rm.n_bp}-bp DNA, sequence {seq}\nparameters: {sm.source}\n"
+                f"t = 0: the closed, pre-stressed rest state" + (f", kicked with A_v = {args.kick} A/ps"
+                                                                    if args.kick else "")
+                + "\nwritten by `dnarod dna-rod` (docs/scenes.md, 'Sequence-dependent DNA')"))
+    T_pN, M_pNnm = tension_torque_physical(rest, u)
+    info = {"sequence": seq, "params": args.params, "source": sm.source, "n_bp": rm.n_bp, "points": N,
+            "length": L, "box_length": box, "h_A": rm.h_A, "interpolation": args.interpolation,
+            "space": args.space, "tension": rest.tension, "torque": rest.torque, "tension_pN": T_pN,
+            "torque_pN_nm": M_pNnm, "statics_residual": rest.statics_residual,
+            "closure_rotation_rad": rest.closure_rotation_rad,
+            "closure_length_error_A": u.length_to_A(rest.closure_length_error),
+            "elastic_energy": rest.energy, "elastic_energy_kT": rest.energy / u.kT_to_rod(sm.temperature_K),
+            "axis0": rest.axis0.tolist(), "kick_A_per_ps": args.kick}
+    (out / "rest.json").write_text(json.dumps(info, indent=1))
+    print(f"dna-rod: rest state tension {T_pN:.2f} pN, torque {M_pNnm:.3f} pN nm, statics residual "
+          f"{rest.statics_residual:.2e}, closure {rest.closure_rotation_rad:.2e} rad / "
+          f"{info['closure_length_error_A']:.2e} A", file=sys.stderr)
+    print(f"dna-rod: wrote {out}/ (steps.h5, material.h5, rest.h5, scene.toml, rest.json)")
+    return 0
