@@ -168,11 +168,18 @@ def _step_profile(values, n, N, offset):
     return out
 
 
-def _periodic_gaussian(N, L, sigma):
+def _gaussian_cell_weights(n, N, L, offset, sigma):
+    """W (N, n): mass of the periodic Gaussian of width sigma centred on s_j in cell k
+    ((k + offset - 1/2) h, (k + offset + 1/2) h). Positive, rows sum to 1."""
+    from scipy.special import ndtr
+    h = L / n
     s = np.arange(N) * L / N
-    d = np.minimum(s, L - s)
-    w = sum(np.exp(-0.5 * ((d + p * L) / sigma) ** 2) for p in (-2, -1, 0, 1, 2))
-    return w / w.sum()
+    a = (np.arange(n) + offset - 0.5) * h
+    W = np.zeros((N, n))
+    reach = int(np.ceil(8 * sigma / L)) + 1
+    for p in range(-reach, reach + 1):
+        W += ndtr((a[None, :] + h + p * L - s[:, None]) / sigma) - ndtr((a[None, :] + p * L - s[:, None]) / sigma)
+    return W / W.sum(axis=1, keepdims=True)
 
 
 def _on_grid(values, n, N, L, offset, interpolation, sigma):
@@ -181,11 +188,10 @@ def _on_grid(values, n, N, L, offset, interpolation, sigma):
     if interpolation == "trig":
         h = L / n
         out = trig_interpolate(flat, offset * h, h, np.arange(N) * L / N)
+    elif interpolation == "smooth":
+        out = _gaussian_cell_weights(n, N, L, offset, sigma) @ flat
     else:
         out = _step_profile(flat, n, N, offset)
-        if interpolation == "smooth":
-            w = _periodic_gaussian(N, L, sigma)
-            out = np.real(np.fft.ifft(np.fft.fft(out, axis=0) * np.fft.fft(w)[:, None], axis=0))
     return out.reshape((N,) + v.shape[1:])
 
 
@@ -205,8 +211,9 @@ def grid_material(rm: RodMaterial, N=None, interpolation="trig", sigma=None) -> 
     interpolation: "trig" (trigonometric interpolation of the per-step and
     per-base-pair values; of log K, log I, log rho for the positive ones),
     "smooth" (the piecewise-constant profile convolved with a periodic
-    Gaussian of width sigma, default h/2: a convex combination, so K and I
-    stay positive definite), "step" (piecewise constant: Gibbs oscillations
+    Gaussian of width sigma, default h/2, evaluated exactly at the grid
+    points: a convex combination, so K and I stay positive definite, and one
+    C-infinity field whatever N), "step" (piecewise constant: Gibbs oscillations
     under the spectral operator)."""
     if not rm.closed:
         raise InputError("the rod solver is periodic: only a closed (ligated) step file maps onto its grid "

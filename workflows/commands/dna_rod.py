@@ -48,6 +48,10 @@ def add_arguments(p):
                    help="per-step values -> grid (docs/scenes.md; default trig)")
     p.add_argument("--space", default="spectral", choices=("spectral", "fd4"),
                    help="the solver's d/ds the rest state is an equilibrium of (spectral)")
+    p.add_argument("--rest", default="equilibrium", choices=("equilibrium", "closed"),
+                   help="equilibrium: the solver's statics to round-off, closure to the discretisation "
+                        "error (stays at rest in rodsim); closed: closure to round-off, statics to the "
+                        "discretisation error (docs/scenes.md)")
     p.add_argument("--box-A", type=float, default=None, metavar="B",
                    help="end-to-end length along the helix axis, A (default n_bp x 3.38 A, the MD box)")
     p.add_argument("--kick", type=float, default=0.0, metavar="A_V",
@@ -94,7 +98,8 @@ def run(args):
     L = rm.length
     box = L if args.box_A is None else u.length_to_rod(args.box_A)
     print(f"dna-rod: {rm.n_bp} bp, {args.params}, N = {N}; closed rest state ...", file=sys.stderr)
-    rest = closed_rest_state(g, L, box_length=box, space=args.space)
+    rest = closed_rest_state(g, L, box_length=box, space=args.space,
+                             closure_weight=0.0 if args.rest == "equilibrium" else 1e3)
     write_steps(out / "steps.h5", sm)
     write_grid_material(out / "material.h5", g, source=sm.source,
                         attrs={"sequence": seq, "interpolation": args.interpolation, "h_A": rm.h_A})
@@ -117,7 +122,7 @@ def run(args):
     T_pN, M_pNnm = tension_torque_physical(rest, u)
     info = {"sequence": seq, "params": args.params, "source": sm.source, "n_bp": rm.n_bp, "points": N,
             "length": L, "box_length": box, "h_A": rm.h_A, "interpolation": args.interpolation,
-            "space": args.space, "tension": rest.tension, "torque": rest.torque, "tension_pN": T_pN,
+            "space": args.space, "rest": args.rest, "tension": rest.tension, "torque": rest.torque, "tension_pN": T_pN,
             "torque_pN_nm": M_pNnm, "statics_residual": rest.statics_residual,
             "closure_rotation_rad": rest.closure_rotation_rad,
             "closure_length_error_A": u.length_to_A(rest.closure_length_error),
