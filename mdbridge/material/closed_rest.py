@@ -110,26 +110,34 @@ def statics_residual(x, g, L, space):
 
 
 def _chain_product(A):
-    """Ordered product A[0] @ A[1] @ ... of (M, 4, 4) by pairwise reduction."""
-    while len(A) > 1:
-        if len(A) % 2:
-            A = np.concatenate([A, np.eye(4)[None]], axis=0)
-        A = A[0::2] @ A[1::2]
-    return A[0]
+    """Ordered product A[..., 0, :, :] @ A[..., 1, :, :] @ ... of (..., M, 4, 4), pairwise."""
+    while A.shape[-3] > 1:
+        if A.shape[-3] % 2:
+            A = np.concatenate([A, np.broadcast_to(np.eye(4), A.shape[:-3] + (1, 4, 4))], axis=-3)
+        A = A[..., 0::2, :, :] @ A[..., 1::2, :, :]
+    return A[..., 0, :, :]
+
+
+def _cell_matrix(N, L, refine):
+    """(M, N): grid values -> the trigonometric interpolant at the refine*N cell midpoints."""
+    M = refine * N
+    return trig_interpolate(np.eye(N), 0.0, L / N, (np.arange(M) + 0.5) * L / M)
+
+
+def _monodromy_cells(xm, h):
+    """Product of the SE(3) exponentials of the cell strains xm (..., M, 6): (R (..., 3, 3), d (..., 3))."""
+    R, d = step_exp(xm[..., 3:] * h, xm[..., :3] * h)
+    T = np.zeros(xm.shape[:-1] + (4, 4))
+    T[..., :3, :3], T[..., :3, 3], T[..., 3, 3] = R, d, 1.0
+    P = _chain_product(T)
+    return P[..., :3, :3], P[..., :3, 3]
 
 
 def monodromy(x, L, refine=16):
     """(R_total, d_total): frame at L relative to the frame at 0, of the trigonometric
     interpolant of the grid strains x (N, 6), by midpoint exponentials on refine*N cells."""
     N = x.shape[0]
-    M = refine * N
-    h = L / M
-    xm = trig_interpolate(x, 0.0, L / N, (np.arange(M) + 0.5) * h)
-    R, d = step_exp(xm[:, 3:] * h, xm[:, :3] * h)
-    T = np.zeros((M, 4, 4))
-    T[:, :3, :3], T[:, :3, 3], T[:, 3, 3] = R, d, 1.0
-    P = _chain_product(T)
-    return P[:3, :3], P[:3, 3]
+    return _monodromy_cells(_cell_matrix(N, L, refine) @ x, L / (refine * N))
 
 
 def closure_defect(x, L, box_length, refine=16):
@@ -174,13 +182,23 @@ def closed_rest_state(g, L, box_length=None, space="spectral", refine=8, tol=1e-
     def c(z):
         return closure_defect(z.reshape(N, 6), L, b, refine)
 
-    def c_jac(z, eps=1e-7):
+    B = _cell_matrix(N, L, refine)
+    hc = L / (refine * N)
+
+    def c_jac(z, eps=1e-5, batch=48):
+        """Closure defect and its central-difference Jacobian (4, 6N), perturbations batched."""
+        xm0 = B @ z.reshape(N, 6)
         c0 = c(z)
         Jc = np.empty((4, z.size))
-        for k in range(z.size):
-            zk = z.copy()
-            zk[k] += eps
-            Jc[:, k] = (c(zk) - c0) / eps
+        for k0 in range(0, z.size, batch):
+            ks = np.arange(k0, min(k0 + batch, z.size))
+            cks = []
+            for sign in (1.0, -1.0):
+                xm = np.repeat(xm0[None], len(ks), axis=0)
+                xm[np.arange(len(ks)), :, ks % 6] += sign * eps * B[:, ks // 6].T
+                R, d = _monodromy_cells(xm, hc)
+                cks.append(np.concatenate([rotation_log(R), (np.linalg.norm(d, axis=-1) - b)[:, None]], axis=1))
+            Jc[:, ks] = ((cks[0] - cks[1]) / (2 * eps)).T
         return c0, Jc
 
     # Minimise E subject to c = 0: the KKT conditions H (x - x0) = C^T lam, c(x) = 0,
@@ -193,7 +211,7 @@ def closed_rest_state(g, L, box_length=None, space="spectral", refine=8, tol=1e-
         lam = np.linalg.solve(Jc @ HC.T, -c0 - Jc @ (x0 - z))
         z_new = x0 + HC.T @ lam
         dz = np.max(np.abs(z_new - z))
-        if dz < 1e-7 and np.max(np.abs(c0)) < 1e-10:   # the polish below finishes
+        if dz < 1e-10 and np.max(np.abs(c0)) < 1e-12:
             z = z_new
             break
         z = z_new
