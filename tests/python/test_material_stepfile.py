@@ -94,3 +94,19 @@ def test_validate_in_memory():
     bad = StepMaterial(**{**sm.__dict__, "closed": False})      # 11 steps for an open 11-bp duplex
     with pytest.raises(InputError, match="expected 10 x 6"):
         bad.validate()
+
+
+def test_atomic_mass_from_chemical_formulas():
+    """mass = "atoms": the A-T and G-C pairs weigh what the CHARMM27 residue formulas
+    say (DA C10H11N5O5P, DT C10H12N2O7P, DG C10H11N5O6P, DC C9H11N3O6P: chain
+    residues with their 5' phosphate), and the inertia is positive definite."""
+    from mdbridge.material.parameter_sets import atomic_mass_inertia
+    w = {"C": 12.011, "H": 1.008, "N": 14.007, "O": 15.999, "P": 30.974}
+    f = lambda C, H, N, O: C * w["C"] + H * w["H"] + N * w["N"] + O * w["O"] + w["P"]
+    m, I = atomic_mass_inertia("ATGC")
+    at, gc = f(10, 11, 5, 5) + f(10, 12, 2, 7), f(10, 11, 5, 6) + f(9, 11, 3, 6)
+    assert m == pytest.approx([at, at, gc, gc], abs=1e-9)
+    assert np.linalg.eigvalsh(I)[:, 0].min() > 0
+    # polar moment about the helix axis within 15 % of the paper's I3 = 2 I h
+    from mdbridge.material.parameter_sets import paper_mass_inertia
+    assert I[0, 2, 2] == pytest.approx(paper_mass_inertia(1)[1][0, 2, 2], rel=0.15)

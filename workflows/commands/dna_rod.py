@@ -43,6 +43,9 @@ def add_arguments(p):
     p.add_argument("--seed", type=int, default=None, help="seed of --random (the build-md convention)")
     p.add_argument("--params", default="olson1998", metavar="SET",
                    help="paper | olson1998 | a per-step file STEPS.h5 (default olson1998)")
+    p.add_argument("--mass", default="paper", choices=("paper", "atoms"),
+                   help="mass and inertia per base pair: the paper's rho, I (Sec 2.1) or the all-atom "
+                        "B-DNA templates (sequence-dependent, no counterions); not for a step file")
     p.add_argument("--points-per-bp", type=int, default=1, metavar="M", help="grid points per base pair (1)")
     p.add_argument("--interpolation", default="trig", choices=("trig", "smooth", "step"),
                    help="per-step values -> grid (docs/scenes.md; default trig)")
@@ -91,7 +94,7 @@ def run(args):
         raise InputError(f"--points-per-bp {args.points_per_bp}: must be >= 1")
     out = Path(args.output)
     out.mkdir(parents=True, exist_ok=True)
-    sm = step_material(seq, args.params, closed=True)
+    sm = step_material(seq, args.params, closed=True, mass=args.mass)
     rm = rod_material(sm, units=u)
     N = args.points_per_bp * rm.n_bp
     g = grid_material(rm, N, args.interpolation)
