@@ -22,15 +22,23 @@ the monodromy is periodic), which the discretisation breaks only weakly. So
 the exact semi-discrete equilibrium and exact closure cannot both hold at a
 finite N; the two differ by the discretisation error. Two modes:
 
-* closure_weight = 0 (default, "equilibrium"): the constrained minimiser
-  (Lagrange-Newton: constraint linearised, quadratic energy minimised exactly)
-  is polished by Levenberg-Marquardt (scipy least_squares, analytic Jacobian)
+The constrained minimiser comes from its stationarity conditions, the
+continuum statics with the closure's multipliers as lab-frame force N and
+moment M: n = R^T N, m = R^T (M - r x N), x = x0 + K^-1 (n, m), shot along s
+for the 6 numbers (N, M) until R(L) = I, |r(L)| = b, N || r(L) (scipy
+least_squares). Then:
+
+* closure_weight = 0 (default, "equilibrium"): the minimiser is polished by Levenberg-Marquardt (scipy least_squares, analytic Jacobian)
   on the semi-discrete statics:
   an equilibrium of the solver's equations to round-off (it stays at rest),
   closed to the discretisation error (measured: ClosedRest.closure_*).
-* closure_weight > 0 ("closed"): the polish adds the closure (weight / ds):
-  closed to round-off, statics to the discretisation error (1e-6 at one point
-  per base pair, 3e-7 at two, for 21 bp under Olson 1998).
+  The exact semi-discrete root can sit far along the soft family (measured:
+  0.04 rad for 21 bp, 0.09 rad and 1.4 A for 80 bp), so this mode is for
+  checking the solver's rest, not for building MD.
+* closure_weight > 0 ("closed", the `dnarod dna-rod` default): the polish adds
+  the closure (weight / ds): closed to round-off, statics to the
+  discretisation error (1.8e-6 at one point per base pair, 2.9e-7 at two, for
+  21 bp under Olson 1998; 1.2e-5 for 80 bp).
 
 The residual stress: with N = R n and the closure direction b_hat, the tension
 is n . R^T b_hat and the torque about the axis m . R^T b_hat (both constant
@@ -46,6 +54,8 @@ from dna_models.errors import InputError
 from dna_models.units import Units
 from mdbridge.geometry.rotations import rotation_log
 from mdbridge.rodframes import step_exp, trig_interpolate
+
+from .composition import cell_matrix as _cell_matrix, compose_cells as _monodromy_cells
 
 
 def derivative(f, L, space):
@@ -109,30 +119,6 @@ def statics_residual(x, g, L, space):
                            derivative(m, L, space) + np.cross(O, m) + np.cross(G, n)], axis=1)
 
 
-def _chain_product(A):
-    """Ordered product A[..., 0, :, :] @ A[..., 1, :, :] @ ... of (..., M, 4, 4), pairwise."""
-    while A.shape[-3] > 1:
-        if A.shape[-3] % 2:
-            A = np.concatenate([A, np.broadcast_to(np.eye(4), A.shape[:-3] + (1, 4, 4))], axis=-3)
-        A = A[..., 0::2, :, :] @ A[..., 1::2, :, :]
-    return A[..., 0, :, :]
-
-
-def _cell_matrix(N, L, refine):
-    """(M, N): grid values -> the trigonometric interpolant at the refine*N cell midpoints."""
-    M = refine * N
-    return trig_interpolate(np.eye(N), 0.0, L / N, (np.arange(M) + 0.5) * L / M)
-
-
-def _monodromy_cells(xm, h):
-    """Product of the SE(3) exponentials of the cell strains xm (..., M, 6): (R (..., 3, 3), d (..., 3))."""
-    R, d = step_exp(xm[..., 3:] * h, xm[..., :3] * h)
-    T = np.zeros(xm.shape[:-1] + (4, 4))
-    T[..., :3, :3], T[..., :3, 3], T[..., 3, 3] = R, d, 1.0
-    P = _chain_product(T)
-    return P[..., :3, :3], P[..., :3, 3]
-
-
 def monodromy(x, L, refine=16):
     """(R_total, d_total): frame at L relative to the frame at 0, of the trigonometric
     interpolant of the grid strains x (N, 6), by midpoint exponentials on refine*N cells."""
@@ -162,6 +148,53 @@ class ClosedRest:
     space: str
 
 
+def _shooting_minimiser(g, L, b, refine):
+    """Grid strains (N, 6) of the closed minimiser by shooting (see closed_rest_state)."""
+    from scipy.optimize import least_squares
+    N = g["K"].shape[0]
+    x0 = np.concatenate([g["Gamma0"], g["Omega0"]], axis=1)
+    Cg = np.linalg.inv(g["K"])                               # compliance, SPD
+    M = refine * N
+    hc = L / M
+    t = (np.arange(M) + 0.5) / refine                        # cell midpoints in grid units
+    j0 = np.floor(t).astype(int) % N
+    w = (t - np.floor(t))[:, None]
+    j1 = (j0 + 1) % N
+    xc0 = (1 - w) * x0[j0] + w * x0[j1]                       # linear in s: convex, so the
+    Cc = (1 - w[..., None]) * Cg[j0] + w[..., None] * Cg[j1]  # compliance stays SPD
+
+    def strains(R, r, Nf, Mm, x0_, C_):
+        st = np.concatenate([R.T @ Nf, R.T @ (Mm - np.cross(r, Nf))])
+        return x0_ + C_ @ st
+
+    def shoot(p, grid=False):
+        Nf, Mm = p[:3], p[3:]
+        R, r = np.eye(3), np.zeros(3)
+        out = np.empty((N, 6)) if grid else None
+        for c in range(M):
+            if grid and c % refine == 0:
+                out[c // refine] = strains(R, r, Nf, Mm, x0[c // refine], Cg[c // refine])
+            # midpoint rule: predict the mid-cell frame with the start-of-cell strains
+            xs = strains(R, r, Nf, Mm, xc0[c], Cc[c])
+            Rh, dh = step_exp(0.5 * hc * xs[3:], 0.5 * hc * xs[:3])
+            xm = strains(R @ Rh, r + R @ dh, Nf, Mm, xc0[c], Cc[c])
+            Rc, dc = step_exp(hc * xm[3:], hc * xm[:3])
+            r = r + R @ dc
+            R = R @ Rc
+        return out if grid else (R, r)
+
+    def resid(p):
+        R, r = shoot(p)
+        Nf = p[:3]
+        return np.concatenate([rotation_log(R), np.cross(r, Nf) / b, [np.linalg.norm(r) - b]])
+
+    sol = least_squares(resid, np.zeros(6), method="lm", xtol=1e-15, ftol=1e-15, gtol=1e-15)
+    if np.max(np.abs(resid(sol.x))) > 1e-9:
+        raise InputError(f"closed rest state: shooting for the closed minimiser did not converge "
+                         f"(closure residual {np.max(np.abs(resid(sol.x))):.3g})")
+    return shoot(sol.x, grid=True)
+
+
 def closed_rest_state(g, L, box_length=None, space="spectral", refine=8, tol=1e-14, maxiter=100,
                       closure_weight=0.0, polish_iterations=200):
     """Closed, pre-stressed equilibrium of the grid material g (steps_to_rod.grid_material).
@@ -173,7 +206,6 @@ def closed_rest_state(g, L, box_length=None, space="spectral", refine=8, tol=1e-
     x0 = np.concatenate([g["Gamma0"], g["Omega0"]], axis=1).ravel()
     ds = L / N
     Kds = g["K"] * ds
-    Hinv = np.linalg.inv(Kds)                       # the energy's Hessian is block diagonal
 
     def energy(z):
         dx = z.reshape(N, 6) - x0.reshape(N, 6)
@@ -201,26 +233,13 @@ def closed_rest_state(g, L, box_length=None, space="spectral", refine=8, tol=1e-
             Jc[:, ks] = ((cks[0] - cks[1]) / (2 * eps)).T
         return c0, Jc
 
-    # Minimise E subject to c = 0: the KKT conditions H (x - x0) = C^T lam, c(x) = 0,
-    # solved by Newton on the constraint with the exact (quadratic) energy: at each
-    # iterate the constraint is linearised and the quadratic problem solved exactly.
-    z = x0.copy()
-    for it in range(maxiter):
-        c0, Jc = c_jac(z)
-        HC = np.einsum("jab,kjb->kja", Hinv, Jc.reshape(4, N, 6)).reshape(4, -1)   # H^-1 C^T, as rows
-        lam = np.linalg.solve(Jc @ HC.T, -c0 - Jc @ (x0 - z))
-        z_new = x0 + HC.T @ lam
-        dz = np.max(np.abs(z_new - z))
-        if dz < 1e-10 and np.max(np.abs(c0)) < 1e-12:
-            z = z_new
-            break
-        z = z_new
-    else:
-        raise InputError(f"closed rest state: the constrained energy minimisation did not converge in "
-                         f"{maxiter} iterations (closure defect {np.max(np.abs(c(z))):.3g})")
-    # Polish on the solver's statics: Newton with minimum-norm steps (lstsq), so the
-    # state moves only as far as the semi-discrete equations need and stays closed to
-    # their discretisation error. closure_weight > 0 adds the closure (scaled by 1/ds).
+    # The constrained minimiser: its stationarity conditions are the continuum
+    # statics with lab-frame force N and moment M (the multipliers of the closure):
+    # n(s) = R^T N, m(s) = R^T (M - r x N), x = x0 + K^-1 (n, m). Shooting in s
+    # for (N, M) (6 unknowns) with the closure R(L) = I, |r(L)| = b and N || r(L)
+    # (the axis is free), solved by least squares; the minimiser is unique near
+    # the intrinsic shape (E is strictly convex, the constraint smooth).
+    z = _shooting_minimiser(g, L, b, refine).ravel()
     from scipy.optimize import least_squares
     Dmat = derivative_matrix(N, L, space)
     w_c = closure_weight / ds

@@ -44,9 +44,12 @@ from dna_models.units import Units
 from mdbridge.geometry.steps import step_parameters, step_transform
 from mdbridge.rodframes import step_exp, step_log, trig_interpolate
 
+from .composition import cell_matrix, compose_stretches
+
 from .stepfile import StepMaterial
 
 INTERPOLATIONS = ("trig", "smooth", "step")
+SHAPES = ("exact", "interpolated")
 
 
 def _units(units):
@@ -195,6 +198,43 @@ def _on_grid(values, n, N, L, offset, interpolation, sigma):
     return out.reshape((N,) + v.shape[1:])
 
 
+def exact_shape_samples(rm: RodMaterial, refine=32, tol=1e-13, maxiter=30):
+    """(n_bp, 6) values of (Gamma0, Omega0) at the step midpoints s = (i + 1/2) h whose
+    trigonometric interpolant, composed over each step (mdbridge.material.composition), is exactly
+    that step's rigid motion: the rod read at its base pairs has the step parameters.
+    Newton on the 6 n_bp step residuals (SE(3) log of target^-1 composed motion),
+    from the interpolated per-step values; batched central-difference Jacobian."""
+    n, L, h = rm.n_bp, rm.length, rm.h
+    Rt, dt = step_exp(rm.Omega0 * h, rm.Gamma0 * h)
+    RtT = np.swapaxes(Rt, -1, -2)
+    B = trig_interpolate(np.eye(n), 0.5 * h, h, (np.arange(n * refine) + 0.5) * h / refine)
+    hc = h / refine
+
+    def resid(Y):                                   # Y (..., n, 6) -> (..., 6 n)
+        R, d = compose_stretches(np.einsum("cj,...jk->...ck", B, Y), hc, refine)
+        v, w = step_log(RtT @ R, np.einsum("...ij,...j->...i", RtT, d - dt))
+        return np.concatenate([w, v], axis=-1).reshape(Y.shape[:-2] + (6 * n,))
+
+    Y = np.concatenate([rm.Gamma0, rm.Omega0], axis=1)     # samples at the step midpoints
+    eps, batch = 1e-6, 24
+    for _ in range(maxiter):
+        r = resid(Y)
+        if np.max(np.abs(r)) < tol:
+            break
+        J = np.empty((6 * n, 6 * n))
+        for k0 in range(0, 6 * n, batch):
+            ks = np.arange(k0, min(k0 + batch, 6 * n))
+            Yp = np.repeat(Y[None], len(ks), axis=0)
+            Ym = Yp.copy()
+            Yp[np.arange(len(ks)), ks // 6, ks % 6] += eps
+            Ym[np.arange(len(ks)), ks // 6, ks % 6] -= eps
+            J[:, ks] = ((resid(Yp) - resid(Ym)) / (2 * eps)).T
+        Y = Y - np.linalg.solve(J, r).reshape(n, 6)
+    else:
+        raise InputError(f"exact intrinsic shape: Newton did not converge (residual {np.max(np.abs(r)):.3g})")
+    return Y
+
+
 def _spd_log(A):
     lam, V = np.linalg.eigh(A)
     return (V * np.log(lam)[..., None, :]) @ np.swapaxes(V, -1, -2)
@@ -205,7 +245,7 @@ def _spd_exp(A):
     return (V * np.exp(lam)[..., None, :]) @ np.swapaxes(V, -1, -2)
 
 
-def grid_material(rm: RodMaterial, N=None, interpolation="trig", sigma=None) -> dict:
+def grid_material(rm: RodMaterial, N=None, interpolation="trig", sigma=None, shape="interpolated") -> dict:
     """Per-grid-point K, I, rho, Gamma0, Omega0 (and s) on N = m n_bp points.
 
     interpolation: "trig" (trigonometric interpolation of the per-step and
@@ -223,6 +263,8 @@ def grid_material(rm: RodMaterial, N=None, interpolation="trig", sigma=None) -> 
     if N < n or N % n:
         raise InputError(f"grid points N = {N}: must be a positive multiple of n_bp = {n} "
                          "(base pair i sits on grid point i N / n_bp)")
+    if shape not in SHAPES:
+        raise InputError(f"shape {shape!r}: allowed {', '.join(SHAPES)}")
     if interpolation not in INTERPOLATIONS:
         raise InputError(f"interpolation {interpolation!r}: allowed {', '.join(INTERPOLATIONS)}")
     L = rm.length
@@ -240,6 +282,13 @@ def grid_material(rm: RodMaterial, N=None, interpolation="trig", sigma=None) -> 
          "K": back(_on_grid(pos(rm.K), n, N, L, 0.5, interpolation, sigma)),
          "I": back(_on_grid(pos(rm.I), n, N, L, 0.0, interpolation, sigma)),
          "rho": ex(_on_grid(lg(rm.rho), n, N, L, 0.0, interpolation, sigma))}
+    if shape == "exact":
+        Y = exact_shape_samples(rm)
+        if N == n and n % 2 == 0:
+            raise InputError(f"shape = 'exact' with an even n_bp = {n} needs N >= 2 n_bp: the grid at the "
+                             "base pairs cannot hold the interpolant's Nyquist mode")
+        shp = trig_interpolate(Y, 0.5 * rm.h, rm.h, g["s"])
+        g["Gamma0"], g["Omega0"] = shp[:, :3], shp[:, 3:]
     for name in ("K", "I"):
         A = g[name] = 0.5 * (g[name] + np.swapaxes(g[name], -1, -2))
         ev = np.linalg.eigvalsh(A)[:, 0]

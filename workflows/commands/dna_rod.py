@@ -51,10 +51,13 @@ def add_arguments(p):
                    help="per-step values -> grid (docs/scenes.md; default trig)")
     p.add_argument("--space", default="spectral", choices=("spectral", "fd4"),
                    help="the solver's d/ds the rest state is an equilibrium of (spectral)")
-    p.add_argument("--rest", default="equilibrium", choices=("equilibrium", "closed"),
-                   help="equilibrium: the solver's statics to round-off, closure to the discretisation "
-                        "error (stays at rest in rodsim); closed: closure to round-off, statics to the "
-                        "discretisation error (docs/scenes.md)")
+    p.add_argument("--rest", default="closed", choices=("closed", "equilibrium"),
+                   help="closed (default): closure to round-off, the solver's statics to the "
+                        "discretisation error; equilibrium: the statics to round-off (stays at rest in "
+                        "rodsim to 1e-10), closure only to the discretisation error (docs/scenes.md)")
+    p.add_argument("--shape", default="interpolated", choices=("interpolated", "exact"),
+                   help="intrinsic shape on the grid: interpolated per-step strains, or exact (the rod "
+                        "read at its base pairs has the step parameters; even n_bp needs --points-per-bp >= 2)")
     p.add_argument("--box-A", type=float, default=None, metavar="B",
                    help="end-to-end length along the helix axis, A (default n_bp x 3.38 A, the MD box)")
     p.add_argument("--kick", type=float, default=0.0, metavar="A_V",
@@ -97,7 +100,7 @@ def run(args):
     sm = step_material(seq, args.params, closed=True, mass=args.mass)
     rm = rod_material(sm, units=u)
     N = args.points_per_bp * rm.n_bp
-    g = grid_material(rm, N, args.interpolation)
+    g = grid_material(rm, N, args.interpolation, shape=args.shape)
     L = rm.length
     box = L if args.box_A is None else u.length_to_rod(args.box_A)
     print(f"dna-rod: {rm.n_bp} bp, {args.params}, N = {N}; closed rest state ...", file=sys.stderr)
@@ -124,7 +127,7 @@ def run(args):
                 + "\nwritten by `dnarod dna-rod` (docs/scenes.md, 'Sequence-dependent DNA')"))
     T_pN, M_pNnm = tension_torque_physical(rest, u)
     info = {"sequence": seq, "params": args.params, "source": sm.source, "n_bp": rm.n_bp, "points": N,
-            "length": L, "box_length": box, "h_A": rm.h_A, "interpolation": args.interpolation,
+            "length": L, "box_length": box, "h_A": rm.h_A, "interpolation": args.interpolation, "shape": args.shape,
             "space": args.space, "rest": args.rest, "tension": rest.tension, "torque": rest.torque, "tension_pN": T_pN,
             "torque_pN_nm": M_pNnm, "statics_residual": rest.statics_residual,
             "closure_rotation_rad": rest.closure_rotation_rad,
