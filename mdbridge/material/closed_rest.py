@@ -253,7 +253,10 @@ def closed_rest_state(g, L, box_length=None, space="spectral", refine=8, tol=1e-
         return np.vstack([J, w_c * c_jac(zz)[1]]) if w_c > 0 else J
 
     x = z.copy()
-    for _ in range(3):          # restarts: MINPACK's lm stops on its own tolerances
+    if w_c > 0:                 # closed: a least-squares optimum near the start
+        x = least_squares(fun, x, jac=jac, method="lm", xtol=1e-12, ftol=1e-12, gtol=1e-12,
+                          max_nfev=30).x
+    for _ in range(3 if w_c == 0 else 0):   # equilibrium: restarts, MINPACK stops on its own tolerances
         ls = least_squares(fun, x, jac=jac, method="lm", xtol=1e-15, ftol=1e-15, gtol=1e-15,
                            max_nfev=polish_iterations)
         x = ls.x
