@@ -97,7 +97,8 @@ def step_exp(v, w):
     return rotation_exp(v), np.einsum("...ij,...j->...i", _left_jacobian(v), np.asarray(w, dtype=float))
 
 
-def _skew(v):
+def skew(v):
+    """[v]x (..., 3, 3): skew(v) @ u = v x u."""
     K = np.zeros(v.shape[:-1] + (3, 3))
     K[..., 0, 1], K[..., 0, 2], K[..., 1, 2] = -v[..., 2], v[..., 1], -v[..., 0]
     K[..., 1, 0], K[..., 2, 0], K[..., 2, 1] = v[..., 2], -v[..., 1], v[..., 0]
@@ -111,7 +112,7 @@ def _left_jacobian(v):
     ts = np.where(small, 1.0, t)
     a = np.where(small, 0.5 - t * t / 24.0, (1.0 - np.cos(ts)) / ts**2)
     b = np.where(small, 1.0 / 6.0 - t * t / 120.0, (ts - np.sin(ts)) / ts**3)
-    K = _skew(v)
+    K = skew(v)
     return np.eye(3) + a[..., None, None] * K + b[..., None, None] * (K @ K)
 
 
@@ -122,7 +123,7 @@ def _inverse_left_jacobian(v):
     ts = np.where(small, 1.0, t)
     coef = np.where(small, 1.0 / 12.0 + t * t / 720.0,
                     1.0 / ts**2 - (1.0 + np.cos(ts)) / (2.0 * ts * np.sin(ts)))
-    K = _skew(v)
+    K = skew(v)
     return np.eye(3) - 0.5 * K + coef[..., None, None] * (K @ K)
 
 

@@ -53,7 +53,7 @@ import numpy as np
 from dna_models.errors import InputError
 from dna_models.units import Units
 from mdbridge.geometry.rotations import rotation_log
-from mdbridge.rodframes import step_exp, trig_interpolate
+from mdbridge.rodframes import skew, step_exp, trig_interpolate
 
 from .composition import cell_matrix as _cell_matrix, compose_cells as _monodromy_cells
 
@@ -78,13 +78,6 @@ def derivative_matrix(N, L, space):
     return derivative(np.eye(N), L, space)
 
 
-def _cross_matrix(v):
-    Z = np.zeros(v.shape[:-1] + (3, 3))
-    Z[..., 0, 1], Z[..., 0, 2], Z[..., 1, 2] = -v[..., 2], v[..., 1], -v[..., 0]
-    Z[..., 1, 0], Z[..., 2, 0], Z[..., 2, 1] = v[..., 2], -v[..., 1], v[..., 0]
-    return Z
-
-
 def statics_jacobian(x, g, L, space, Dmat=None):
     """d(statics_residual)/dx as (6N, 6N): block (j, i) = D_ji K_i + delta_ij B_j."""
     N = x.shape[0]
@@ -92,7 +85,7 @@ def statics_jacobian(x, g, L, space, Dmat=None):
     K = g["K"]
     n, m = stress(x, g)
     G, O = x[:, :3], x[:, 3:]
-    XO, Xn, Xm, XG = _cross_matrix(O), _cross_matrix(n), _cross_matrix(m), _cross_matrix(G)
+    XO, Xn, Xm, XG = skew(O), skew(n), skew(m), skew(G)
     B = np.zeros((N, 6, 6))
     B[:, :3, :] = XO @ K[:, :3, :]
     B[:, :3, 3:] -= Xn
