@@ -140,6 +140,9 @@ def step_material(sequence: str | None, params: str, closed: bool = True, mass: 
         return olson1998_steps(_need(sequence, params), closed, mass=mass)
     if not Path(params).is_file():
         raise InputError(f"parameter set {params!r}: not 'paper', 'olson1998' or an existing per-step file")
+    if mass != "paper":
+        raise InputError(f"parameter set {params!r} is a per-step file: it carries its own mass and inertia "
+                         f"(mass model {mass!r} applies to 'paper' and 'olson1998' only)")
     sm = read_steps(params)
     if sequence is not None and validate(sequence) != sm.sequence:
         raise InputError(f"step file '{params}': its sequence ({sm.n_bp} bp, {sm.sequence[:12]}...) differs "
