@@ -246,9 +246,9 @@ def closed_rest_state(g, L, box_length=None, space="spectral", refine=8, tol=1e-
         return np.vstack([J, w_c * c_jac(zz)[1]]) if w_c > 0 else J
 
     x = z.copy()
-    if w_c > 0:                 # closed: a least-squares optimum near the start
-        x = least_squares(fun, x, jac=jac, method="lm", xtol=1e-12, ftol=1e-12, gtol=1e-12,
-                          max_nfev=30).x
+    if w_c > 0:                 # closed: Gauss-Newton to the least-squares optimum near the start
+        for _ in range(4):
+            x = x + np.linalg.lstsq(jac(x), -fun(x), rcond=1e-13)[0]
     for _ in range(3 if w_c == 0 else 0):   # equilibrium: restarts, MINPACK stops on its own tolerances
         ls = least_squares(fun, x, jac=jac, method="lm", xtol=1e-15, ftol=1e-15, gtol=1e-15,
                            max_nfev=polish_iterations)
