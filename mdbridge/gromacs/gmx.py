@@ -1,8 +1,10 @@
 """Find the user's `gmx` and run it; GROMACS failures become ExternalToolError.
 
 Order of precedence: an explicit path (--gmx), the environment variable
-DNAROD_GMX, then `gmx` on PATH. Debian's GROMACS is built for SSE4.1 only, so
-a user with an optimised build must be able to point dnarod at it.
+DNAROD_GMX, then the project's own GROMACS built for this machine by
+scripts/build_gromacs.sh (in $DNAROD_GROMACS_PREFIX, default <checkout>/.local/gromacs),
+then `gmx` on PATH. Debian's GROMACS is built for SSE4.1 only, so a user with
+an optimised build must be able to point dnarod at it.
 """
 from __future__ import annotations
 
@@ -21,6 +23,20 @@ INSTALL_HINT = ("install GROMACS (Debian/Ubuntu: `sudo apt-get install gromacs`,
                 "the environment variable DNAROD_GMX=/path/to/gmx")
 
 
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def built_gmx_prefix() -> Path:
+    """Where scripts/build_gromacs.sh installs (the same rule as that script)."""
+    return Path(os.environ.get("DNAROD_GROMACS_PREFIX") or ROOT / ".local" / "gromacs")
+
+
+def built_gmx(double: bool = False) -> str | None:
+    """The project's machine-specific build, if scripts/build_gromacs.sh made one."""
+    exe = built_gmx_prefix() / "bin" / ("gmx_d" if double else "gmx")
+    return str(exe) if exe.is_file() and os.access(exe, os.X_OK) else None
+
+
 def find_gmx(explicit: str | None = None) -> str:
     """Path of the gmx executable to use, or ExternalToolError saying how to get one."""
     for source, cand in (("--gmx", explicit), ("DNAROD_GMX", os.environ.get("DNAROD_GMX"))):
@@ -30,7 +46,7 @@ def find_gmx(explicit: str | None = None) -> str:
                 raise ExternalToolError(f"gmx given by {source} ({cand!r}) is not an executable "
                                         f"file; {INSTALL_HINT}")
             return path
-    path = shutil.which("gmx")
+    path = built_gmx() or shutil.which("gmx")
     if path is None:
         raise ExternalToolError(f"GROMACS `gmx` not found on PATH; {INSTALL_HINT}")
     return path
@@ -115,17 +131,18 @@ def run_gmx(gmx: str, args: list[str], cwd: Path, *, stdin: str | None = None,
     return proc
 
 
-def run_gmx_with_progress(gmx: str, args: list[str], cwd: Path, *, total_steps: int | None,
-                          log_name: str, stream=sys.stderr) -> None:
-    """Run gmx (mdrun) showing its step counter; ExternalToolError on failure.
+def run_gmx_with_progress(gmx: str, args: list[str], cwd: Path, *, log_name: str,
+                          on_step=None, append_log: bool = False) -> None:
+    """Run gmx (mdrun -v) calling on_step(step) for each of its step reports;
+    ExternalToolError on failure.
 
-    mdrun reports "step N, will finish ..." on stderr with carriage returns;
-    we read it as it comes and redraw one progress line."""
+    mdrun reports "step N, will finish ..." on stderr with carriage returns; we
+    read it as it comes. The whole output goes to cwd/LOG_NAME (appended to it
+    with append_log, e.g. when a run continues from its checkpoint)."""
     cwd = Path(cwd)
     cmd = [gmx, *args]
     log = cwd / log_name
     chunks: list[str] = []
-    show = stream is not None and hasattr(stream, "isatty") and stream.isatty()
     with subprocess.Popen(cmd, cwd=cwd, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
                           stderr=subprocess.STDOUT, text=True, bufsize=1) as proc:
         buf = ""
@@ -137,20 +154,15 @@ def run_gmx_with_progress(gmx: str, args: list[str], cwd: Path, *, total_steps: 
             chunks.append(c)
             if c in "\r\n":
                 m = re.match(r"\s*(?:imb F\s+\S+\s+)?step\s+(\d+)", buf)
-                if m and show:
-                    step = int(m.group(1))
-                    frac = f" / {total_steps} ({100.0 * step / total_steps:5.1f} %)" \
-                        if total_steps else ""
-                    stream.write(f"\r  mdrun: step {step}{frac}   ")
-                    stream.flush()
+                if m and on_step is not None:
+                    on_step(int(m.group(1)))
                 buf = ""
             else:
                 buf += c
         rc = proc.wait()
-    if show:
-        stream.write("\n")
     text = "".join(chunks)
-    log.write_text(f"$ {' '.join(cmd)}\n{text}")
+    with open(log, "a" if append_log else "w") as f:
+        f.write(f"$ {' '.join(cmd)}\n{text}")
     if rc != 0:
         raise ExternalToolError(f"`gmx {args[0]}` failed ({exit_text(rc)}) in {cwd}; full output in "
                                 f"{log}:\n" + error_block(text))

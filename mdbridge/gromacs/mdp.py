@@ -19,6 +19,14 @@ class MdSettings:
     tau_t_ps: float = 1.0
     output_ps: float = 1.0          # coordinates (xtc) and energies every output_ps
     epsilon_r: float = 1.0
+    # "paper": plain cut-offs as the paper states them (Coulomb shifted = reaction-field
+    # with eps_rf = 1, vdW potential-shift, rlist 1.1 nm); the force jumps at the cut-off.
+    # "smooth": reaction-field with eps_rf = 0 (infinity) and vdW force-switch from
+    # SWITCH_NM to the cut-off, rlist 1.2 nm: potential AND force vanish at the cut-off,
+    # which is what makes NVE conserve energy (docs/md.md, energy conservation table).
+    cutoffs: str = "paper"
+    lincs_order: int = 4            # GROMACS defaults; 8/2 tested in docs/md.md
+    lincs_iter: int = 1
 
     def steps_per(self, ps: float) -> int:
         return max(1, int(round(ps / self.dt_ps)))
@@ -27,21 +35,52 @@ class MdSettings:
         return asdict(self)
 
 
+CUTOFFS = ("paper", "smooth")
+SWITCH_NM = 0.8                     # vdW force-switch start of the "smooth" cut-offs
+SMOOTH_RLIST_NM = 1.2
+
+
+def rlist_nm(s: MdSettings) -> float:
+    return SMOOTH_RLIST_NM if s.cutoffs == "smooth" else s.cutoff_nm + 0.1
+
+
+def _cutoff_lines(s: MdSettings) -> list[str]:
+    if s.cutoffs == "paper":
+        return [
+            "; plain cut-off Coulomb (paper: 10 A cut-off, no long-range electrostatics).",
+            "; Under Verlet this is reaction-field with epsilon-rf = 1, i.e. shifted Coulomb;",
+            "; PME is impossible anyway: the duplex carries net charge and there are no ions.",
+            "coulombtype             = Cut-off",
+            f"rcoulomb                = {s.cutoff_nm}",
+            f"epsilon-r               = {s.epsilon_r}",
+            "vdwtype                 = Cut-off",
+            "vdw-modifier            = Potential-shift",
+            f"rvdw                    = {s.cutoff_nm}",
+        ]
+    if s.cutoffs == "smooth":
+        return [
+            "; the paper's 10 A cut-off with potential AND force going to zero at it:",
+            "; reaction-field with epsilon-rf = 0 (infinite: conducting beyond rc) and a",
+            "; force-switched vdW; a force jump at rc heats NVE (docs/md.md)",
+            "coulombtype             = Reaction-field",
+            f"rcoulomb                = {s.cutoff_nm}",
+            f"epsilon-r               = {s.epsilon_r}",
+            "epsilon-rf              = 0",
+            "vdwtype                 = Cut-off",
+            "vdw-modifier            = Force-switch",
+            f"rvdw-switch             = {SWITCH_NM}",
+            f"rvdw                    = {s.cutoff_nm}",
+        ]
+    raise ValueError(f"cutoffs = {s.cutoffs!r}; allowed: {', '.join(CUTOFFS)}")
+
+
 def _common(s: MdSettings) -> list[str]:
     return [
         "; vacuum, periodic in x, y, z; the strands are bonded to their own periodic image",
         "pbc                     = xyz",
         "periodic-molecules      = yes",
         "cutoff-scheme           = Verlet",
-        "; plain cut-off Coulomb (paper: 10 A cut-off, no long-range electrostatics).",
-        "; Under Verlet this is reaction-field with epsilon-rf = 1, i.e. shifted Coulomb;",
-        "; PME is impossible anyway: the duplex carries net charge and there are no ions.",
-        "coulombtype             = Cut-off",
-        f"rcoulomb                = {s.cutoff_nm}",
-        f"epsilon-r               = {s.epsilon_r}",
-        "vdwtype                 = Cut-off",
-        "vdw-modifier            = Potential-shift",
-        f"rvdw                    = {s.cutoff_nm}",
+    ] + _cutoff_lines(s) + [
         "nstlist                 = 10",
     ]
 
@@ -61,6 +100,8 @@ def render_md(s: MdSettings) -> str:
         f"continuation            = {'yes' if s.constraints == 'none' else 'no'}",
         f"constraints             = {s.constraints}",
         "constraint-algorithm    = lincs",
+        f"lincs-order             = {s.lincs_order}",
+        f"lincs-iter              = {s.lincs_iter}",
         "; centre-of-mass translation removed (GROMACS warns that rounding otherwise builds",
         "; it up); the rod's planar wave carries no net momentum, build.json reports what",
         "; the rod field's COM velocity is, i.e. what this removes at step 0",
@@ -76,7 +117,7 @@ def render_md(s: MdSettings) -> str:
         # A fixed 0.1 nm pair-list buffer: GROMACS would size the buffer from the
         # initial temperature, which is ~0 K for a build at 0 K that then heats up.
         "verlet-buffer-tolerance = -1",
-        f"rlist                   = {s.cutoff_nm + 0.1}",
+        f"rlist                   = {rlist_nm(s)}",
     ] + _common(s)
     if s.thermostat:
         lines += ["tcoupl                  = V-rescale", "tc-grps                 = System",

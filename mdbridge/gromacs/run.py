@@ -1,13 +1,24 @@
-"""Run the MD of a build-md directory: grompp, then mdrun with progress.
+"""Run the MD of a build-md directory: grompp, then mdrun, resumable.
 
-A half-finished MD must never look finished: mdrun writes md.part.* and
-confout.part.gro, which are renamed to md.xtc, md.edr, md.log, confout.gro
-only after mdrun exits cleanly, and the marker md.done (JSON) is written
-after them. checks.json follows (written whole or not at all). Anything that
-reads MD results should require md.done.
+A half-finished MD must never look finished: grompp writes md.part.tpr and
+mdrun writes md.part.{xtc,edr,log,cpt} and confout.part.gro, which become
+md.tpr, md.xtc, md.edr, md.log, md.cpt, confout.gro only after mdrun exits
+cleanly; the marker md.done (JSON) is written after them, checks.json
+follows (written whole or not at all). Anything that reads MD results should
+require md.done.
+
+An interrupted run (killed, crashed, out of wall time) continues from its last
+checkpoint: mdrun writes md.part.cpt every `checkpoint_min` minutes of wall
+time, and the next run_md of the same request (md.run.json: the md_run.mdp,
+conf.gro and topol.top it was made from, and the gmx) runs `mdrun -cpi
+md.part.cpt -append`. GROMACS then truncates md.part.xtc/.edr/.log to the
+checkpoint's step and appends, so every frame is written exactly once. The
+part files are never declared as Snakemake outputs, so Snakemake's clean-up of
+an incomplete job leaves them for the rerun (workflows/Snakefile, md_run).
 """
 from __future__ import annotations
 
+import hashlib
 import json
 import re
 import sys
@@ -20,8 +31,10 @@ from .gmx import find_gmx, gmx_version, run_gmx, run_gmx_with_progress
 from .mdp import read_mdp_value
 
 PARTS = {"md.part.xtc": "md.xtc", "md.part.edr": "md.edr", "md.part.log": "md.log",
-         "confout.part.gro": "confout.gro", "md.part.cpt": "md.cpt"}
-FINAL = ("md.tpr", "md.xtc", "md.edr", "md.log", "confout.gro", "md.done", "checks.json")
+         "confout.part.gro": "confout.gro", "md.part.cpt": "md.cpt", "md.part.tpr": "md.tpr"}
+FINAL = ("md.tpr", "md.xtc", "md.edr", "md.log", "confout.gro", "md.cpt", "md.done", "checks.json")
+STATE = ("md.run.json", "md.part_prev.cpt", "md.part.trr")
+CHECKPOINT_MIN = 2.0   # wall-clock minutes between checkpoints: a kill loses at most this
 
 
 def _set_keys(mdp_text: str, values: dict) -> str:
@@ -67,16 +80,51 @@ def mdrun_diagnosis(output: str, log: str) -> str:
     return "\n".join(out)
 
 
+def _request(d: Path, mdp_text: str, gmx_path: str, steps: int) -> dict:
+    """What identifies a run: a checkpoint continues only the same request."""
+    h = hashlib.sha256()
+    for name in ("conf.gro", "topol.top"):
+        h.update((d / name).read_bytes())
+    for itp in sorted(d.glob("*.itp")):
+        h.update(itp.name.encode() + itp.read_bytes())
+    h.update(mdp_text.encode())
+    return {"inputs_sha256": h.hexdigest(), "steps": steps, "gmx": gmx_path}
+
+
+def _resumable(d: Path, request: dict) -> bool:
+    try:
+        old = json.loads((d / "md.run.json").read_text())
+    except (OSError, ValueError):
+        return False
+    return old == request and (d / "md.part.cpt").is_file() and (d / "md.part.tpr").is_file()
+
+
+def _checkpoint_step(d: Path) -> int | None:
+    """The step of md.part.cpt, from mdrun's log (the last 'Writing checkpoint, step N')."""
+    log = d / "md.part.log"
+    if not log.is_file():
+        return None
+    steps = re.findall(r"Writing checkpoint, step (\d+)", log.read_text(errors="replace"))
+    return int(steps[-1]) if steps else None
+
+
 def run_md(directory: Path, *, ps: float | None = None, steps: int | None = None,
            gmx: str | None = None, threads: int | None = None, output_ps: float | None = None,
-           checks: bool = True, stream=sys.stderr) -> dict:
-    """grompp + mdrun in DIRECTORY (a build-md output). Returns the md.done record."""
+           checks: bool = True, checkpoint_min: float = CHECKPOINT_MIN, reprod: bool = False,
+           fresh: bool = False, progress=None, stream=sys.stderr) -> dict:
+    """grompp + mdrun in DIRECTORY (a build-md output). Returns the md.done record.
+
+    Continues an interrupted run of the same request from its checkpoint unless
+    FRESH. PROGRESS, if given, is called as progress(ps_done, ps_total) while
+    mdrun runs (workflows/progress.py draws it)."""
     d = Path(directory)
     for need in ("conf.gro", "topol.top", "md.mdp", "build.json"):
         if not (d / need).is_file():
             raise InputError(f"{d}: {need} missing; run `dnarod build-md SCENE -o {d}` first")
     if ps is not None and steps is not None:
         raise InputError("give --ps or --steps, not both")
+    if not checkpoint_min > 0:
+        raise InputError(f"--checkpoint-minutes {checkpoint_min}: must be > 0")
     gmx_path = find_gmx(gmx)
     build = json.loads((d / "build.json").read_text())
     mdp = (d / "md.mdp").read_text()
@@ -101,36 +149,56 @@ def run_md(directory: Path, *, ps: float | None = None, steps: int | None = None
         every = max(1, int(round(output_ps / dt)))
         values.update({"nstxout-compressed": every, "nstenergy": every, "nstlog": every,
                        "nstcalcenergy": min(every, 100)})
-    for f in FINAL + tuple(PARTS):
-        (d / f).unlink(missing_ok=True)
-    (d / "md_run.mdp").write_text(_set_keys(mdp, values))
-
-    run_gmx(gmx_path, ["grompp", "-f", "md_run.mdp", "-c", "conf.gro", "-p", "topol.top",
-                       "-o", "md.tpr", "-po", "mdout.mdp", "-maxwarn", "0"], d,
-            log_name="gmx_grompp_md.log")
-    args = ["mdrun", "-v", "-s", "md.tpr", "-x", "md.part.xtc", "-e", "md.part.edr",
+    run_mdp = _set_keys(mdp, values)
+    request = _request(d, run_mdp, gmx_path, steps)
+    resume = not fresh and _resumable(d, request)
+    if resume:
+        for f in FINAL:      # a finished earlier run of something else is not this run
+            (d / f).unlink(missing_ok=True)
+        step0 = _checkpoint_step(d)
+        if stream is not None:
+            stream.write(f"run-md: continuing from the checkpoint md.part.cpt"
+                         + (f" (step {step0}, {step0 * dt:g} ps)" if step0 is not None else "") + "\n")
+    else:
+        for f in FINAL + tuple(PARTS) + STATE:
+            (d / f).unlink(missing_ok=True)
+        (d / "md_run.mdp").write_text(run_mdp)
+        run_gmx(gmx_path, ["grompp", "-f", "md_run.mdp", "-c", "conf.gro", "-p", "topol.top",
+                           "-o", "md.part.tpr", "-po", "mdout.mdp", "-maxwarn", "0"], d,
+                log_name="gmx_grompp_md.log")
+        (d / "md.run.json").write_text(json.dumps(request, indent=1))
+    args = ["mdrun", "-v", "-s", "md.part.tpr", "-x", "md.part.xtc", "-e", "md.part.edr",
             "-g", "md.part.log", "-c", "confout.part.gro", "-cpo", "md.part.cpt",
-            "-o", "md.part.trr"]
+            "-o", "md.part.trr", "-cpt", f"{checkpoint_min:g}"]
+    if resume:
+        args += ["-cpi", "md.part.cpt", "-append"]
+    if reprod:
+        args += ["-reprod"]
     if threads:
         args += ["-nt", str(int(threads))]
+    on_step = (lambda k: progress(k * dt, run_ps)) if progress is not None else None
     t0 = time.time()
     try:
-        run_gmx_with_progress(gmx_path, args, d, total_steps=steps, log_name="gmx_mdrun_md.log",
-                              stream=stream)
+        run_gmx_with_progress(gmx_path, args, d, log_name="gmx_mdrun_md.log", on_step=on_step,
+                              append_log=resume)
     except ExternalToolError as e:
         output = (d / "gmx_mdrun_md.log").read_text(errors="replace")
         log = (d / "md.part.log").read_text(errors="replace") if (d / "md.part.log").exists() else ""
         raise ExternalToolError(f"{e}\n{mdrun_diagnosis(output, log)}\nNo MD result was kept "
-                                f"(no md.done; partial files md.part.* in {d}).") from None
+                                f"(no md.done; partial files md.part.* in {d}; rerunning the "
+                                "same command continues from the last checkpoint).") from None
     wall = time.time() - t0
     for src, dst in PARTS.items():
         if (d / src).exists():
             (d / src).replace(d / dst)
-    (d / "md.part.trr").unlink(missing_ok=True)
+    for f in STATE:
+        (d / f).unlink(missing_ok=True)
     log = (d / "md.log").read_text() if (d / "md.log").exists() else ""
-    m = re.search(r"Performance:\s+(\S+)\s+(\S+)", log)
+    m = re.findall(r"Performance:\s+(\S+)\s+(\S+)", log)
     record = {"steps": steps, "dt_ps": dt, "length_ps": run_ps, "wall_s": round(wall, 2),
-              "ns_per_day": float(m.group(1)) if m else None, "threads": threads,
+              "ns_per_day": float(m[-1][0]) if m else None, "threads": threads,
+              "resumed_from_checkpoint": resume, "checkpoint_min": checkpoint_min,
+              "reprod": reprod,
               "gmx": {"path": gmx_path, "version": gmx_version(gmx_path)}}
     # written after every MD output is in place: its presence means the MD is complete
     tmp = d / "md.done.part"

@@ -10,8 +10,14 @@ confout.gro, then DIR/checks.json (junction O3'-P lengths, NVE energy drift,
 Watson-Crick pairs intact over time, t = 0 frames vs the rod, side-wall image
 distance). md.done is written last: without it the run is unfinished.
 
-gmx: --gmx PATH, else $DNAROD_GMX, else `gmx` on PATH (Debian's build is
-SSE4.1-only; an optimised build of your own is faster).
+Resumable: mdrun writes a checkpoint every --checkpoint-minutes (2) of wall
+time; running the same command again after an interruption (kill, crash, wall
+time limit) continues from it (mdrun -cpi -append), every frame written once.
+--fresh starts from step 0 instead. Progress (ps done, ns/day, time left) is
+shown on a terminal and written as a plain line every minute into a log.
+
+gmx: --gmx PATH, else $DNAROD_GMX, else the build of scripts/build_gromacs.sh
+if it exists, else `gmx` on PATH (Debian's build is SSE4.1-only).
 
 Examples:
   dnarod run-md md21 --ps 5
@@ -29,6 +35,13 @@ def add_arguments(p):
     p.add_argument("--output-ps", type=float, default=None,
                    help="interval of coordinates/energies, ps (default: md.mdp's, 1 ps)")
     p.add_argument("--no-checks", action="store_true", help="skip checks.json")
+    p.add_argument("--checkpoint-minutes", type=float, default=None, metavar="MIN",
+                   help="wall-clock minutes between mdrun checkpoints (2): at most this much "
+                        "work is lost when the run is killed")
+    p.add_argument("--fresh", action="store_true",
+                   help="start from step 0 even if an interrupted run left a checkpoint")
+    p.add_argument("--reprod", action="store_true",
+                   help="mdrun -reprod: the same inputs, gmx and threads give the same bits")
 
 
 def run(args):
@@ -38,9 +51,24 @@ def run(args):
     # MDAnalysis 2.4 (Debian) imports the deprecated xdrlib: noise for a user
     warnings.filterwarnings("ignore", message="'xdrlib' is deprecated")
 
-    from mdbridge.gromacs.run import run_md
-    rec = run_md(args.directory, ps=args.ps, steps=args.steps, gmx=args.gmx, threads=args.threads,
-                 output_ps=args.output_ps, checks=not args.no_checks)
+    from mdbridge.gromacs.run import CHECKPOINT_MIN, run_md
+    from workflows.progress import Progress, md_rate
+    bar: list[Progress] = []
+
+    def progress(done_ps, total_ps):
+        if not bar:
+            bar.append(Progress("run-md", total_ps, "ps", rate=md_rate))
+        bar[0].update(round(done_ps, 6))
+
+    try:
+        rec = run_md(args.directory, ps=args.ps, steps=args.steps, gmx=args.gmx,
+                     threads=args.threads, output_ps=args.output_ps, checks=not args.no_checks,
+                     checkpoint_min=(CHECKPOINT_MIN if args.checkpoint_minutes is None
+                                     else args.checkpoint_minutes),
+                     reprod=args.reprod, fresh=args.fresh, progress=progress)
+    finally:
+        if bar:
+            bar[0].close()
     print(f"run-md: {rec['steps']} steps ({rec['length_ps']:g} ps) in {rec['wall_s']:.1f} s"
           + (f", {rec['ns_per_day']:g} ns/day" if rec.get("ns_per_day") else ""), file=sys.stderr)
     if not args.no_checks:

@@ -1,0 +1,172 @@
+"""A killed MD continues from its checkpoint to the same trajectory (issue 12, item 1).
+
+The truth is an uninterrupted run of the same inputs with the same gmx, thread
+count and mdrun -reprod: the interrupted-and-resumed run must give the same
+frame times, each frame once, the same energies at every output time, and
+the same final state (full-precision coordinates and velocities from the last
+checkpoint). GROMACS documents -reprod as "the same result for the same
+input, binary and hardware", which this test shows holds across a restart.
+The kill is a SIGKILL of gmx mdrun itself (no chance to write a last
+checkpoint), after at least one timed checkpoint, so mdrun must truncate its
+output files back to the checkpoint before appending.
+"""
+import json
+import os
+import shutil
+import signal
+import subprocess
+import threading
+import time
+from pathlib import Path
+
+import MDAnalysis as mda
+import numpy as np
+import pytest
+
+from dna_models.errors import ExternalToolError
+from mdbridge.gromacs.checks import read_energies
+from mdbridge.gromacs.mdp import MdSettings
+from mdbridge.gromacs.run import run_md
+from test_gromacs_build import gmx, make  # noqa: F401  (shared fixture and 21-bp build)
+
+STEPS = 2000          # 2 ps at 1 fs
+OUT_PS = 0.02         # 101 frames
+RUN = dict(steps=STEPS, threads=2, output_ps=OUT_PS, reprod=True, checks=False, stream=None)
+
+
+@pytest.fixture(scope="module")
+def built(gmx, tmp_path_factory):
+    d = tmp_path_factory.mktemp("resume_build")
+    make(d, T=300.0, seed=11, gmx=gmx, minimize=True, settings=MdSettings(nsteps=STEPS))
+    return d
+
+
+def copy_build(src: Path, dst: Path) -> Path:
+    shutil.copytree(src, dst)
+    return dst
+
+
+def mdrun_children():
+    """PIDs of `gmx mdrun` processes whose parent is this test process."""
+    me, out = os.getpid(), []
+    for p in Path("/proc").iterdir():
+        if not p.name.isdigit():
+            continue
+        try:
+            stat = (p / "stat").read_text()
+            cmd = (p / "cmdline").read_bytes().split(b"\0")
+        except OSError:
+            continue
+        ppid = int(stat.rsplit(")", 1)[1].split()[1])
+        if ppid == me and b"mdrun" in cmd:
+            out.append(int(p.name))
+    return out
+
+
+def final_state(d: Path, gmx):
+    """Full-precision x and v of the run's last checkpoint (md.cpt), via trjconv."""
+    subprocess.run([gmx, "trjconv", "-f", "md.cpt", "-o", "final.trr"], cwd=d, input="0\n",
+                   capture_output=True, text=True, check=True)
+    u = mda.Universe(str(d / "confout.gro"), str(d / "final.trr"))
+    ts = u.trajectory[-1]
+    return ts.time, ts.positions.copy(), ts.velocities.copy()
+
+
+def frames(d: Path):
+    u = mda.Universe(str(d / "confout.gro"), str(d / "md.xtc"))
+    t, x = [], []
+    for ts in u.trajectory:
+        t.append(ts.time)
+        x.append(ts.positions.copy())
+    return np.array(t), np.array(x)
+
+
+@pytest.fixture(scope="module")
+def reference(built, gmx, tmp_path_factory):
+    d = copy_build(built, tmp_path_factory.mktemp("ref") / "md")
+    run_md(d, gmx=gmx, **RUN)
+    return d
+
+
+@pytest.fixture(scope="module")
+def resumed(built, gmx, tmp_path_factory):
+    d = copy_build(built, tmp_path_factory.mktemp("killed") / "md")
+    err: list[BaseException] = []
+
+    def first_run():
+        try:
+            run_md(d, gmx=gmx, checkpoint_min=0.005, **RUN)   # a checkpoint every 0.3 s
+        except ExternalToolError as e:
+            err.append(e)
+
+    th = threading.Thread(target=first_run)
+    th.start()
+    deadline = time.time() + 600
+    while not (d / "md.part.cpt").exists():
+        assert th.is_alive() and time.time() < deadline, "mdrun ended before its first checkpoint"
+        time.sleep(0.05)
+    time.sleep(1.0)           # frames beyond the checkpoint: they must be truncated away
+    pids = mdrun_children()
+    assert len(pids) == 1 and not (d / "md.done").exists(), "mdrun finished before the kill"
+    os.kill(pids[0], signal.SIGKILL)
+    th.join()
+    assert err and "signal 9" in str(err[0]), err
+    assert not (d / "md.done").exists() and not (d / "md.xtc").exists()
+    log = (d / "md.part.log").read_text()
+    ckpt = [int(s) for s in __import__("re").findall(r"Writing checkpoint, step (\d+)", log)]
+    assert ckpt and 0 < ckpt[-1] < STEPS
+    rec = run_md(d, gmx=gmx, **RUN)
+    return d, rec, ckpt[-1]
+
+
+def test_resumed_run_continues_and_is_marked(resumed):
+    d, rec, ckpt = resumed
+    assert rec["resumed_from_checkpoint"] is True
+    assert (d / "md.done").is_file() and not list(d.glob("*.part.*"))
+    assert not (d / "md.run.json").exists()
+
+
+def test_every_frame_exactly_once_and_equal_to_the_uninterrupted_run(resumed, reference):
+    d, _, _ = resumed
+    t, x = frames(d)
+    t_ref, x_ref = frames(reference)
+    n = STEPS // round(OUT_PS * 1000) + 1
+    assert len(t) == n and len(t_ref) == n
+    assert np.allclose(t, OUT_PS * np.arange(n), atol=1e-6, rtol=0)
+    assert np.array_equal(t, t_ref)
+    assert np.array_equal(x, x_ref)                      # xtc: 1e-4 nm grid, bitwise
+
+
+def test_energy_file_continuous_and_equal(resumed, reference, gmx):
+    d, _, _ = resumed
+    e, e_ref = read_energies(d, gmx), read_energies(reference, gmx)
+    t = e["time"]
+    assert np.allclose(np.diff(t), OUT_PS, atol=1e-6) and t[0] == 0.0
+    assert len(t) == len(e_ref["time"])
+    for k in ("Potential", "Kinetic En.", "Total Energy"):
+        assert np.array_equal(e[k], e_ref[k]), k
+
+
+def test_final_state_bitwise_equal(resumed, reference, gmx):
+    d, _, _ = resumed
+    t, x, v = final_state(d, gmx)
+    t_ref, x_ref, v_ref = final_state(reference, gmx)
+    assert t == t_ref == pytest.approx(STEPS * 0.001)
+    assert np.array_equal(x, x_ref) and np.array_equal(v, v_ref)
+
+
+def test_control_a_fresh_run_from_the_checkpoint_time_differs(built, reference, gmx, tmp_path):
+    """Control: the comparison can fail. A run whose thermal velocities differ (another
+    seed) ends elsewhere; and --fresh ignores a checkpoint."""
+    d = copy_build(built, tmp_path / "md")
+    g = (d / "conf.gro").read_text().splitlines()
+    # perturb one velocity component of atom 1 in its last digit
+    ln = g[2]
+    v = float(ln[44:52]) + 0.0001
+    g[2] = ln[:44] + f"{v:8.4f}" + ln[52:]
+    (d / "conf.gro").write_text("\n".join(g) + "\n")
+    run_md(d, gmx=gmx, **RUN)
+    _, x, _ = final_state(d, gmx)
+    _, x_ref, _ = final_state(reference, gmx)
+    assert not np.array_equal(x, x_ref)
+    assert json.loads((d / "md.done").read_text())["resumed_from_checkpoint"] is False
