@@ -6,7 +6,7 @@ BUILD_DIR is a `dnarod build-md` directory (docs/md.md uses the 158-bp default
 build: `dnarod build-md workflows/scenes/dna158.toml -o b158 --seed 1
 --constraints h-bonds --dt 0.001 --minimize`). Each setting runs in its own copy
 BUILD_DIR.drift/NAME from the same conf.gro (same coordinates and velocities),
-for --ps of NVE with energies every 0.1 ps; the drift is the one definition of
+for --ps of NVE with energies every --output-ps (0.1 ps); the drift is the one definition of
 mdbridge/gromacs/checks.py (fit_drift: slope from 10 % of the run to its end).
 Results are appended as JSON lines to bench/results/md_drift.jsonl and printed
 as a Markdown table. Run it alone on the machine (ns/day is wall-clock).
@@ -29,6 +29,7 @@ SMOOTH = {"coulombtype": "Reaction-field", "epsilon-rf": 0, "vdw-modifier": "For
           "rvdw-switch": SWITCH_NM, "rlist": SMOOTH_RLIST_NM}
 LINCS = {"lincs-order": 8, "lincs-iter": 2}
 HALF = {"dt": 0.0005}
+DT2 = {"dt": 0.002}
 NOCON = {"constraints": "none", "continuation": "yes"}
 
 # name: (mdp keys changed relative to the build's md.mdp, precision)
@@ -42,13 +43,16 @@ VARIANTS = {
     "smooth_lincs8x2": ({**SMOOTH, **LINCS}, "mixed"),
     "smooth_dt0.5": ({**SMOOTH, **HALF}, "mixed"),
     "smooth_noconstr": ({**SMOOTH, **NOCON}, "mixed"),
+    "smooth_dt2": ({**SMOOTH, **DT2}, "mixed"),
+    "smooth_dt2_lincs8x2": ({**SMOOTH, **DT2, **LINCS}, "mixed"),
     "paper_noconstr": (NOCON, "mixed"),
 }
 
 INPUTS = ("conf.gro", "topol.top", "build.json")
 
 
-def run_variant(build: Path, name: str, ps: float, gmx: str, gmx_d: str, threads: int) -> dict:
+def run_variant(build: Path, name: str, ps: float, gmx: str, gmx_d: str, threads: int,
+                output_ps: float = 0.1) -> dict:
     keys, precision = VARIANTS[name]
     d = build.parent / (build.name + ".drift") / name
     if d.exists():
@@ -60,7 +64,7 @@ def run_variant(build: Path, name: str, ps: float, gmx: str, gmx_d: str, threads
     (d / "md.mdp").write_text(_set_keys((build / "md.mdp").read_text(), keys))
     exe = gmx_d if precision == "double" else gmx
     t0 = time.time()
-    rec = run_md(d, ps=ps, gmx=exe, threads=threads, output_ps=0.1, checks=False, stream=None)
+    rec = run_md(d, ps=ps, gmx=exe, threads=threads, output_ps=output_ps, checks=False, stream=None)
     n_atoms = json.loads((d / "build.json").read_text())["n_atoms"]
     e = energy_drift(d, exe, n_atoms)
     return {"name": name, "mdp_changes": keys, "precision": precision, "gmx": exe,
@@ -81,11 +85,12 @@ def main(argv=None) -> int:
     ap.add_argument("--gmx", default="gmx")
     ap.add_argument("--gmx-d", default="gmx_d")
     ap.add_argument("--threads", type=int, default=2)
+    ap.add_argument("--output-ps", type=float, default=0.1, help="energy output interval, ps")
     ap.add_argument("--out", type=Path, default=Path(__file__).parent / "results" / "md_drift.jsonl")
     a = ap.parse_args(argv)
     rows = []
     for name in a.only or list(VARIANTS):
-        r = run_variant(a.build.resolve(), name, a.ps, a.gmx, a.gmx_d, a.threads)
+        r = run_variant(a.build.resolve(), name, a.ps, a.gmx, a.gmx_d, a.threads, a.output_ps)
         rows.append(r)
         with open(a.out, "a") as f:
             f.write(json.dumps(r) + "\n")

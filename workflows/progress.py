@@ -54,13 +54,17 @@ def last_progress(path) -> dict | None:
 
 class Progress:
     def __init__(self, label: str, total: float, unit: str = "", *, stream=sys.stderr,
-                 rate=None, every_s: float = 60.0, clock=time.monotonic):
+                 rate=None, every_s: float = 60.0, redraw: bool | None = None,
+                 clock=time.monotonic):
         self.label, self.total, self.unit = label, float(total), unit
         self.stream = stream
         self.rate = rate or (lambda per_s: f"{per_s:.3g} {unit}/s")
         self.every_s = every_s
         self.clock = clock
-        self.tty = bool(stream is not None and hasattr(stream, "isatty") and stream.isatty())
+        # redraw in place on a terminal unless told otherwise (several concurrent
+        # progress lines, e.g. `dnarod compare`, use plain lines on a terminal too)
+        self.tty = bool(stream is not None and hasattr(stream, "isatty") and stream.isatty()) \
+            if redraw is None else redraw
         self._first: tuple[float, float] | None = None   # (time, done) of the first update
         self._last_plain = -float("inf")
         self._drawn = False
@@ -77,7 +81,7 @@ class Progress:
                 out += f", {self.rate(per_s)}, {duration((self.total - self.done) / per_s)} left"
         return out
 
-    def update(self, done: float) -> None:
+    def update(self, done: float, *, force: bool = False) -> None:
         self.done = float(done)
         now = self.clock()
         if self._first is None:
@@ -88,7 +92,7 @@ class Progress:
             self.stream.write("\r\033[K" + self.text())
             self.stream.flush()
             self._drawn = True
-        elif now - self._last_plain >= self.every_s:
+        elif force or now - self._last_plain >= self.every_s:
             self._last_plain = now
             self.stream.write(self.text() + "\n")
             self.stream.flush()

@@ -197,6 +197,9 @@ def write_checks(directory: Path, *, gmx: str) -> dict:
                          "final_fraction_intact": float(intact[-1]),
                          "min_fraction_intact": float(intact.min())},
         "frames_t0_vs_rod": build.get("frames_t0_vs_rod"),
+        # which start every number of this run comes from (equilibrate.py)
+        "protocol": build.get("protocol", "paper"),
+        "equilibration": build.get("equilibration"),
         "side_image": {"min_distance_A": float(min(side)), "cutoff_A": cutoff_A,
                        "ok": bool(min(side) > cutoff_A),
                        "per_frame_A": [float(x) for x in side]},

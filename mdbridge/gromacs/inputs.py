@@ -29,6 +29,7 @@ from .clashes import CLASH_A, closest_contact
 from .gmx import find_gmx, gmx_version, run_gmx
 from .gro import Gro, read_gro, write_gro
 from .junction import junction_report
+from .equilibrate import PROTOCOLS, equilibrate
 from .mdp import MdSettings, render_em, render_md
 from .topology import parse_itp, run_pdb2gmx, write_pdb2gmx_input
 from .velocities import (base_pair_of_residue, kinetic_temperature, rigid_body_velocities,
@@ -141,15 +142,27 @@ def build_inputs(outdir: Path, structure, rod: RodInitial, box: BoxPlan, *, sequ
                  forcefield: str = "charmm27", electrostatics: str = "paper",
                  temperature_K: float = 300.0, seed: int = 0, settings: MdSettings | None = None,
                  minimize: bool = False, gmx: str | None = None, threads: int = 1,
-                 meta: dict | None = None) -> dict:
+                 protocol: str = "paper", equilibrate_ps: float = 20.0,
+                 axial_pressure: bool = False, meta: dict | None = None) -> dict:
     """Write every MD input into OUTDIR and return the content of build.json.
-    gmx: as find_gmx (the given path, else $DNAROD_GMX, else PATH)."""
+    gmx: as find_gmx (the given path, else $DNAROD_GMX, else the project's build, else PATH).
+
+    protocol "paper": thermal + rod velocities on the (minimised) build;
+    "equilibrated": a thermostatted stage of equilibrate_ps first (equilibrate.py),
+    optionally with the axis-only barostat, then rod velocities added."""
     gmx = find_gmx(gmx)
     outdir = Path(outdir)
     outdir.mkdir(parents=True, exist_ok=True)
     for stale in ("build.json", "md.done", "checks.json"):
         (outdir / stale).unlink(missing_ok=True)
     settings = settings or MdSettings()
+    if protocol not in PROTOCOLS:
+        raise InputError(f"protocol {protocol!r}: allowed {', '.join(PROTOCOLS)}")
+    if protocol == "equilibrated" and not (temperature_K > 0 and equilibrate_ps > 0):
+        raise InputError("the equilibrated protocol needs --temperature > 0 and "
+                         f"--equilibrate-ps > 0 (got {temperature_K} K, {equilibrate_ps} ps)")
+    if axial_pressure and protocol != "equilibrated":
+        raise InputError("--axial-pressure acts in the equilibration stage: use --protocol equilibrated")
     n = rod.n_bp
     if len(sequence) != n:
         raise InputError(f"sequence has {len(sequence)} bases but the rod has {n} base pairs")
@@ -213,11 +226,28 @@ def build_inputs(outdir: Path, structure, rod: RodInitial, box: BoxPlan, *, sequ
                           "500 kJ/mol/nm; check closest_nonbonded_contact in build.json", stacklevel=2)
         x_nm = x_em
 
-    # 5. velocities on the final coordinates
+    # 5. equilibration stage (protocol "equilibrated"), then velocities on the final
+    #    coordinates: thermal (fresh, or the equilibrated ones) + the rod's field
+    eq = None
+    if protocol == "equilibrated":
+        write_gro(outdir / "eq_in.gro", Gro("dnarod: before equilibration", g.resid, g.resname,
+                                            g.name, x_nm, thermal_velocities(masses, temperature_K,
+                                                                             seed), box_nm))
+        eq = equilibrate(outdir, gmx, settings, ps=equilibrate_ps, temperature_K=temperature_K,
+                         axis=box.axis, axial_pressure=axial_pressure, threads=threads)
+        g_eq = read_gro(outdir / "eq.gro")
+        box_nm = g_eq.box
+        x_nm = _unwrap_against(g_eq.x, x_nm, box_nm)
+        v_th = g_eq.v
+        if not eq["stationary"]:
+            warnings.warn(f"{outdir}/eq.edr: temperature or potential energy still trends over the "
+                          f"second half of the {equilibrate_ps:g}-ps equilibration (build.json: "
+                          "equilibration); use a longer --equilibrate-ps", stacklevel=2)
+    else:
+        v_th = thermal_velocities(masses, temperature_K, seed)
     bp = base_pair_of_residue(g.resid, n)
     v_rod = rigid_body_velocities(x_nm * NM, bp, rod.origins_A + shift, rod.gamma_lab_A_ps,
                                   rod.omega_lab_rad_ps)
-    v_th = thermal_velocities(masses, temperature_K, seed)
     v = v_th + v_rod
     conf = Gro(f"dnarod periodic duplex {n} bp, {forcefield}, T={temperature_K} K, seed={seed}",
                g.resid, g.resname, g.name, x_nm, v, box_nm)
@@ -261,8 +291,9 @@ def build_inputs(outdir: Path, structure, rod: RodInitial, box: BoxPlan, *, sequ
         "frames_t0_vs_rod": frames_t0,
         "closest_nonbonded_contact": contact,
         "velocities": {
-            "rule": "v = thermal (Maxwell-Boltzmann, COM removed, rescaled to exactly T with "
-                    "3N-3 dof) + gamma_lab(s_i) + omega_lab(s_i) x (x - r(s_i)) for every atom "
+            "rule": ("v = equilibrated (end of the v-rescale stage, eq.gro)" if eq else
+                     "v = thermal (Maxwell-Boltzmann, COM removed, rescaled to exactly T with "
+                     "3N-3 dof)") + " + gamma_lab(s_i) + omega_lab(s_i) x (x - r(s_i)) for every atom "
                     "of both nucleotides of base pair i",
             "thermal_temperature_K": float(kinetic_temperature(masses, v_th, 3 * len(masses) - 3))
             if temperature_K > 0 else 0.0,
@@ -273,6 +304,10 @@ def build_inputs(outdir: Path, structure, rod: RodInitial, box: BoxPlan, *, sequ
             "rod_com_velocity_nm_ps": ((masses[:, None] * v_rod).sum(axis=0) / masses.sum()).tolist(),
         },
         "minimization": em,
+        "protocol": protocol,
+        "protocol_doc": "equilibrated: v-rescale stage at T, then rod velocities added to the "
+                        "equilibrated ones, then NVE; paper: no equilibration (paper Sec 6.2)",
+        "equilibration": eq,
         "residue_to_base_pair": "strand I residue k -> pair k; strand II residue r -> pair 2n+1-r "
                                 "(1-based, 3DNA numbering)",
         "gmx": {"path": gmx, "version": gmx_version(gmx)},

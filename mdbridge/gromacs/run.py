@@ -157,7 +157,7 @@ def run_md(directory: Path, *, ps: float | None = None, steps: int | None = None
             (d / f).unlink(missing_ok=True)
         step0 = _checkpoint_step(d)
         if stream is not None:
-            stream.write(f"run-md: continuing from the checkpoint md.part.cpt"
+            stream.write("run-md: continuing from the checkpoint md.part.cpt"
                          + (f" (step {step0}, {step0 * dt:g} ps)" if step0 is not None else "") + "\n")
     else:
         for f in FINAL + tuple(PARTS) + STATE:

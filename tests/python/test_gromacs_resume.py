@@ -12,6 +12,7 @@ output files back to the checkpoint before appending.
 """
 import json
 import os
+import re
 import shutil
 import signal
 import subprocess
@@ -113,7 +114,7 @@ def resumed(built, gmx, tmp_path_factory):
     assert err and "signal 9" in str(err[0]), err
     assert not (d / "md.done").exists() and not (d / "md.xtc").exists()
     log = (d / "md.part.log").read_text()
-    ckpt = [int(s) for s in __import__("re").findall(r"Writing checkpoint, step (\d+)", log)]
+    ckpt = [int(s) for s in re.findall(r"Writing checkpoint, step (\d+)", log)]
     assert ckpt and 0 < ckpt[-1] < STEPS
     rec = run_md(d, gmx=gmx, **RUN)
     return d, rec, ckpt[-1]

@@ -66,6 +66,16 @@ def add_arguments(p):
     p.add_argument("--constraints", choices=("none", "h-bonds"), default="none")
     p.add_argument("--thermostat", action="store_true",
                    help="v-rescale at --temperature instead of NVE (the paper is NVE)")
+    p.add_argument("--protocol", choices=("equilibrated", "paper"), default=None,
+                   help="equilibrated (default when --temperature > 0): a v-rescale stage at "
+                        "--temperature of --equilibrate-ps before the rod's velocities are added; "
+                        "paper: no equilibration, as in the paper (default at 0 K)")
+    p.add_argument("--equilibrate-ps", type=float, default=20.0, metavar="PS",
+                   help="length of the equilibration stage, ps (20; build.json records whether "
+                        "temperature and potential energy were stationary)")
+    p.add_argument("--axial-pressure", action="store_true",
+                   help="equilibrate with pressure coupling along the helix axis only (ref 0 bar): "
+                        "the box length becomes the duplex's zero-tension length (build.json)")
     p.add_argument("--minimize", action="store_true",
                    help="restrained steepest descent (base heavy atoms held) before velocities")
     p.add_argument("--margin", type=float, default=10.0,
@@ -105,6 +115,7 @@ def run(args):
                          "dt <= 0.001 ps; use --constraints h-bonds for 0.002")
     settings = MdSettings(dt_ps=dt, constraints=args.constraints, thermostat=args.thermostat,
                           temperature_K=args.temperature, nsteps=int(round(args.ps / dt)))
+    protocol = args.protocol or ("equilibrated" if args.temperature > 0 else "paper")
     u = Units.paper()
     scene = load_scene(args.scene)
     bp, turns = scene_bp_turns(md_scene(scene, md_ps=0, bp=args.bp, turns=args.turns,
@@ -138,6 +149,8 @@ def run(args):
                         forcefield=args.forcefield, electrostatics=args.electrostatics,
                         temperature_K=args.temperature, seed=seed, settings=settings,
                         minimize=args.minimize, gmx=gmx, threads=args.threads,
+                        protocol=protocol, equilibrate_ps=args.equilibrate_ps,
+                        axial_pressure=args.axial_pressure,
                         meta={"scene": str(Path(args.scene).resolve()), "turns": turns,
                               "rod_run": str(Path(args.rod).resolve()) if args.rod else "run by build-md",
                               "twist_deg": 360.0 * turns / bp, "md_length_ps": args.ps,
@@ -153,5 +166,13 @@ def run(args):
         print(f"build-md: minimisation {'converged' if m.get('converged') else 'NOT converged'}; "
               f"base-pair frames moved {m['frames_moved']['max_origin_A']:.3f} A / "
               f"{m['frames_moved']['max_angle_deg']:.2f} deg", file=sys.stderr)
+    if info.get("equilibration"):
+        q = info["equilibration"]
+        zt = q.get("axial_pressure")
+        print(f"build-md: equilibrated {q['ps']:g} ps at {args.temperature:g} K: T "
+              f"{q['temperature_K']['mean_second_half']:.1f} K, stationary: {q['stationary']}"
+              + (f"; zero-tension length {zt['zero_tension_length_nm']:.3f} +- "
+                 f"{zt['zero_tension_length_se_nm']:.3f} nm (built {zt['box_length_start_nm']:.3f})"
+                 if zt else ""), file=sys.stderr)
     print(f"build-md: wrote {args.output}/ (conf.gro, topol.top, md.mdp, em.mdp, build.json)")
     return 0

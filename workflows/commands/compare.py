@@ -44,6 +44,38 @@ def add_arguments(p):
     p.add_argument("snakemake_args", nargs="*", help="extra Snakemake options, after `--`")
 
 
+def _run_showing_md_progress(cmd, env, out: Path, poll_s: float = 5.0) -> int:
+    """Run Snakemake; meanwhile show the progress of every running MD job, read from
+    the plain progress lines `dnarod run-md` writes into md/*/run-md.log
+    (workflows/progress.py): every 15 s on a terminal, every minute in a log."""
+    import time
+
+    from workflows.progress import Progress, last_progress, md_rate
+    every = 15.0 if sys.stderr.isatty() else 60.0
+    shown: dict[str, Progress] = {}
+    proc = subprocess.Popen(cmd, env=env)
+    while True:
+        try:
+            rc = proc.wait(timeout=poll_s)
+            break
+        except subprocess.TimeoutExpired:
+            pass
+        for log in sorted(out.glob("md/*/run-md.log")):
+            if (log.parent / "md.done").exists():
+                shown.pop(log.parent.name, None)
+                continue
+            p = last_progress(log)
+            if p is None:
+                continue
+            bar = shown.get(log.parent.name)
+            if bar is None:
+                bar = shown[log.parent.name] = Progress(f"compare: md/{log.parent.name}",
+                                                        float(p["total"]), p["unit"], rate=md_rate,
+                                                        every_s=every, redraw=False)
+            bar.update(float(p["done"]))
+    return rc
+
+
 def run(args) -> int:
     from workflows.configuration import load
     cfg = Path(args.config)
@@ -60,7 +92,7 @@ def run(args) -> int:
     env = dict(os.environ)
     env["PYTHONPATH"] = os.pathsep.join([str(ROOT), str(Path(bin_dir).parent / "python")]
                                         + ([env["PYTHONPATH"]] if env.get("PYTHONPATH") else []))
-    rc = subprocess.call(cmd, env=env)
+    rc = _run_showing_md_progress(cmd, env, out)
     if rc != 0:
         raise ExternalToolError(f"the workflow stopped (snakemake exit {rc}); the failing step's log is "
                                 f"named above (under {out}); rerun the same command to resume")

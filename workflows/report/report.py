@@ -18,6 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
+from mdbridge.gromacs.checks import DRIFT_TARGET_KJ_MOL_NS_ATOM as DRIFT_TARGET
 from mdbridge.jsonio import write_json
 
 PAPER = {"rod_wave_speed_A_per_ps": 1.4, "md_wave_speed_A_per_ps": 2.2, "md_run_ps": 600.0,
@@ -131,6 +132,12 @@ def results_json(cfg: dict, data: dict) -> dict:
         "md_wave_speed_err_A_per_ps": md_err,
         "md_wave_speed_check_A_per_ps": _combine([_check(m) for m in md_runs],
                                                  [0.0] * len(md_runs))[0] if md_runs else float("nan"),
+        # the worst |drift| of the headline MD runs; target: DRIFT_TARGET (checks.py)
+        "md_energy_drift_kJ_mol_per_ns_per_atom": max(
+            (_num(m.get("energy_drift_kJ_mol_per_ns_per_atom")) for m in md_runs), key=abs,
+            default=float("nan")),
+        "md_energy_drift_target_kJ_mol_per_ns_per_atom": DRIFT_TARGET,
+        "md_protocols": sorted({m.get("protocol", "paper") for m in md_runs}),
         "rod_planarity": _num(rod_j and rod_j["planarity"]),
         "md_planarity": float(np.mean([_num(m["planarity"]) for m in md_runs])) if md_runs else float("nan"),
         "md_bp_intact_fraction": float(np.mean([m["bp_intact_fraction_final"] for m in md_runs]))
@@ -143,6 +150,11 @@ def results_json(cfg: dict, data: dict) -> dict:
         "definitions": {
             "wave_speed": "NLS fit of forward+backward travelling waves to the k = 2 pi/L mode of u(s,t); "
                           "error: max(covariance, block bootstrap); *_check: phase velocity of the mode",
+            "md_energy_drift": "least-squares slope of the conserved energy from 10 % of the NVE "
+                               "run to its end, per atom (mdbridge/gromacs/checks.py fit_drift); "
+                               "worst headline run",
+            "md_protocols": "equilibrated: v-rescale stage before the kick; paper: none "
+                            "(mdbridge/gromacs/equilibrate.py)",
             "planarity": "RMS out-of-plane / RMS in-plane displacement over the run (0 = planar)",
             "md_bp_intact_fraction": "fraction of base pairs with N1-N3 < 3.5 A (minimum image), "
                                      "last frame, mean over seeds",
@@ -288,12 +300,24 @@ def _f(x, nd=3):
     return "n/a" if not math.isfinite(x) else f"{x:.{nd}g}"
 
 
+def _drift_html(x) -> str:
+    """The drift, marked when it exceeds the target (docs/md.md, energy conservation)."""
+    if x is None or not math.isfinite(float(x)):
+        return "n/a"
+    if abs(float(x)) > DRIFT_TARGET:
+        return (f'<span style="color:#b00"><b>{_f(x, 2)}</b> (over the target {DRIFT_TARGET:g}: '
+                "energy not conserved well enough)</span>")
+    return f"{_f(x, 2)} (target {DRIFT_TARGET:g})"
+
+
 def write_html(cfg: dict, res: dict, figs: dict, path: Path):
     rows = [
         (f"rod {html.escape(res.get('rod_quantity') or 'wave speed')} [A/ps] ({html.escape(str(res.get('rod_regime')))})", f"{_f(res['rod_wave_speed_A_per_ps'])} &plusmn; {_f(res['rod_wave_speed_err_A_per_ps'], 2)}"
          f" (check {_f(res['rod_wave_speed_check_A_per_ps'])}; Eq 39: {_f(res['rod_dispersion_speed_A_per_ps'])})", "1.4"),
         (f"MD {html.escape(res.get('md_quantity') or 'wave speed')} [A/ps] ({html.escape(str(res.get('md_regime')))})", f"{_f(res['md_wave_speed_A_per_ps'])} &plusmn; {_f(res['md_wave_speed_err_A_per_ps'], 2)}"
          f" (check {_f(res['md_wave_speed_check_A_per_ps'])})", "2.2 (by eye)"),
+        ("MD energy drift [kJ/mol/ns per atom]", _drift_html(res["md_energy_drift_kJ_mol_per_ns_per_atom"])
+         + f" (protocol: {html.escape(', '.join(res['md_protocols']) or 'n/a')})", "not reported"),
         ("rod planarity (out/in RMS)", _f(res["rod_planarity"]), "planar"),
         ("MD planarity (out/in RMS)", _f(res["md_planarity"]), "planar (A_v = 1), non-planar (A_v = 5)"),
         ("MD base pairs intact, last frame", _f(res["md_bp_intact_fraction"]), "not reported"),
@@ -309,7 +333,9 @@ def write_html(cfg: dict, res: dict, figs: dict, path: Path):
         f"<td>{_f(j['wave_speed_A_per_ps'])} &plusmn; {_f(j['wave_speed_err_A_per_ps'], 2)}"
         f"{' (' + html.escape(j['wave_fit']['reason']) + ')' if j.get('wave_fit', {}).get('reason') else ''}</td>"
         f"<td>{_f(_check(j))}{'' if j.get('wave_check', {}).get('reliable', True) else ' (' + html.escape(j['wave_check'].get('reason', '')) + ')'}</td><td>{_f(j['planarity'])}</td>"
-        f"<td>{_f(j.get('bp_intact_fraction_final', ''))}</td><td>{_f(j['t_end_ps'])}"
+        f"<td>{_f(j.get('bp_intact_fraction_final', ''))}</td>"
+        f"<td>{_drift_html(j.get('energy_drift_kJ_mol_per_ns_per_atom')) if j['kind'] == 'md' else ''}</td>"
+        f"<td>{_f(j['t_end_ps'])}"
         f"{'' if j.get('complete', True) else ' (stopped: ' + html.escape(j.get('stopped', '')) + ')'}</td></tr>"
         for j in res["runs"]["rod"] + res["runs"]["md"] + res["runs"]["sweep"])
     from workflows.report.comparison import html_table
@@ -336,7 +362,7 @@ Estimators and definitions: docs/analysis.md.</p>{note}
 {matched_html}
 <h2>All runs</h2>
 <table><tr><th>kind</th><th>A_v [A/ps]</th><th>seed</th><th>speed [A/ps]</th><th>check</th>
-<th>planarity</th><th>bp intact</th><th>t_end [ps]</th></tr>{runs}</table>
+<th>planarity</th><th>bp intact</th><th>energy drift [kJ/mol/ns/atom]</th><th>t_end [ps]</th></tr>{runs}</table>
 <h2>Figures</h2>{imgs}
 </body></html>
 """)

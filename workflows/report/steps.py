@@ -145,8 +145,13 @@ def analyse_md(scene_path, md_dir, prefix, n_boot=200):
     checks = md_dir / "checks.json"
     if checks.is_file():
         c = json.loads(checks.read_text())
-        s["gromacs_checks"] = {k: c.get(k) for k in ("junction_ok", "energy", "side_image")
-                               if k in c}
+        s["gromacs_checks"] = {k: c.get(k) for k in ("junction_ok", "energy", "side_image",
+                                                     "protocol", "equilibration") if k in c}
+        e = c.get("energy", {})
+        # the one drift definition (mdbridge/gromacs/checks.py fit_drift), next to the speed
+        s["energy_drift_kJ_mol_per_ns_per_atom"] = e.get("drift_kJ_mol_per_ns_per_atom")
+        s["energy_drift_within_target"] = e.get("drift_within_target")
+        s["protocol"] = c.get("protocol", "paper")
         if "side_image" in s["gromacs_checks"] and isinstance(s["gromacs_checks"]["side_image"], dict):
             s["gromacs_checks"]["side_image"].pop("per_frame_A", None)
         wc = c.get("watson_crick", {})

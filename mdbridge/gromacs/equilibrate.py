@@ -1,0 +1,123 @@
+"""The equilibration stage before the kick: thermostatted MD at the target temperature.
+
+Protocols (build.json "protocol", copied into checks.json):
+- "equilibrated" (default): after the restrained minimisation, MD with the
+  v-rescale thermostat at T (tau 0.1 ps) from Maxwell-Boltzmann velocities, for
+  `ps`; then the rod's velocity field is added to the equilibrated velocities
+  and the NVE run starts from there (inputs.build_inputs).
+- "paper": no equilibration (paper Sec 6.2): the minimised build with fresh
+  thermal velocities plus the rod field; the NVE temperature then falls as
+  kinetic energy flows into the potential energy of the built structure.
+
+With `axial_pressure`, the same stage also couples the pressure along the helix
+axis only (Parrinello-Rahman, anisotropic, compressibility zero across the
+axis, reference pressure 0): the box length along the axis then relaxes to the
+length at which the periodic, ligated duplex carries no tension, the duplex's
+zero-tension length (mean over the second half of the stage).
+
+Stationarity test (stated in build.json "equilibration.stationary"): over the
+second half of the stage, the linear trend of the temperature and of the
+potential energy, times the half's length, is smaller than twice the standard
+error of the half's mean (block averages of 1-ps blocks), for both.
+"""
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from .gmx import run_gmx
+from .mdp import MdSettings, render_md
+
+PROTOCOLS = ("equilibrated", "paper")
+TAU_T_PS = 0.1
+TAU_P_PS = 2.0
+# Compressibility of the box along the axis: the box is mostly vacuum, so its
+# "compressibility" is the duplex's stretch compliance over the box cross-section,
+# A / S ~ 85 nm^2 / 1000 pN ~ 1e-2 bar^-1 for the 158-bp box; the barostat's
+# oscillation period is tau-p only when this is about right (the mean is unaffected).
+AXIAL_COMPRESSIBILITY_PER_BAR = 1e-2
+BLOCK_PS = 1.0
+# The barostat makes the box length oscillate (period ~ a few tau-p), so the error of
+# its mean uses blocks longer than that period.
+LENGTH_BLOCK_PS = 5.0
+
+
+def render_equilibration(s: MdSettings, *, ps: float, temperature_K: float, axis: int,
+                         axial_pressure: bool) -> str:
+    eq = MdSettings(**{**s.as_dict(), "thermostat": True, "temperature_K": temperature_K,
+                       "tau_t_ps": TAU_T_PS, "output_ps": 0.1})
+    eq.nsteps = eq.steps_per(ps)
+    text = render_md(eq).replace("; dnarod md.mdp:", "; dnarod eq.mdp (equilibration stage):")
+    # eq_in.gro carries Maxwell-Boltzmann velocities at T drawn by velocities.py with the
+    # build's seed (gen-vel = no, as in md.mdp); constrain the start if there are constraints
+    text = text.replace("continuation            = yes", "continuation            = no")
+    if axial_pressure:
+        comp = ["0"] * 6                     # xx yy zz xy xz yz
+        comp[axis] = f"{AXIAL_COMPRESSIBILITY_PER_BAR:g}"
+        text = text.replace("pcoupl                  = no", "\n".join([
+            "; pressure along the helix axis only: the zero-tension length of the duplex",
+            "pcoupl                  = Parrinello-Rahman",
+            "pcoupltype              = anisotropic",
+            f"tau-p                   = {TAU_P_PS}",
+            f"compressibility         = {' '.join(comp)}",
+            "ref-p                   = 0 0 0 0 0 0",
+            "refcoord-scaling        = no"]))
+    return text
+
+
+def _block_se(t, y, block_ps=BLOCK_PS) -> float:
+    edges = np.arange(t[0], t[-1] + 1e-9, block_ps)
+    means = [y[(t >= a) & (t < a + block_ps)].mean() for a in edges
+             if ((t >= a) & (t < a + block_ps)).sum() > 0]
+    if len(means) < 2:
+        return float(np.std(y) / np.sqrt(max(len(y), 1)))
+    return float(np.std(means, ddof=1) / np.sqrt(len(means)))
+
+
+def stationarity(t, y) -> dict:
+    """The stated test on the second half of a series (see module doc)."""
+    t, y = np.asarray(t, float), np.asarray(y, float)
+    h = t >= t[0] + 0.5 * (t[-1] - t[0])
+    slope = float(np.polyfit(t[h], y[h], 1)[0])
+    change = slope * float(t[h][-1] - t[h][0])
+    se = _block_se(t[h], y[h])
+    return {"mean_second_half": float(y[h].mean()), "trend_over_second_half": change,
+            "standard_error_of_mean": se, "stationary": bool(abs(change) < 2.0 * se)}
+
+
+def equilibrate(outdir: Path, gmx: str, settings: MdSettings, *, ps: float, temperature_K: float,
+                axis: int, axial_pressure: bool, threads: int) -> dict:
+    """Run the stage on OUTDIR/eq_in.gro (coordinates, thermal velocities, box); leaves
+    eq.gro (x, v, box).
+    Returns the build.json record."""
+    from .checks import read_energies
+    d = Path(outdir)
+    (d / "eq.mdp").write_text(render_equilibration(settings, ps=ps, temperature_K=temperature_K,
+                                                   axis=axis, axial_pressure=axial_pressure))
+    run_gmx(gmx, ["grompp", "-f", "eq.mdp", "-c", "eq_in.gro", "-p", "topol.top", "-o", "eq.tpr",
+                  "-po", "eq_out.mdp", "-maxwarn", "0"], d, log_name="gmx_grompp_eq.log")
+    run_gmx(gmx, ["mdrun", "-deffnm", "eq", "-nt", str(threads)], d, log_name="gmx_mdrun_eq.log")
+    e = read_energies(d, gmx, edr="eq.edr")
+    t = e["time"]
+    rec = {"ps": ps, "thermostat": f"v-rescale, tau-t {TAU_T_PS} ps, ref-t {temperature_K} K",
+           "temperature_K": stationarity(t, e["Temperature"]),
+           "potential_kJ_mol": stationarity(t, e["Potential"]),
+           "test": "over the second half of the stage, |linear trend x half length| < 2 x "
+                   "standard error of the mean (1-ps block averages), for T and E_pot"}
+    rec["stationary"] = rec["temperature_K"]["stationary"] and rec["potential_kJ_mol"]["stationary"]
+    if axial_pressure:
+        key = "Box-" + "XYZ"[axis]
+        L = e[key]
+        h = t >= t[0] + 0.5 * (t[-1] - t[0])
+        rec["axial_pressure"] = {
+            "barostat": f"Parrinello-Rahman, anisotropic, compressibility "
+                        f"{AXIAL_COMPRESSIBILITY_PER_BAR:g} /bar along axis {'xyz'[axis]} and 0 "
+                        f"across, ref-p 0, tau-p {TAU_P_PS} ps",
+            "box_length_start_nm": float(L[0]),
+            "zero_tension_length_nm": float(L[h].mean()),
+            "zero_tension_length_se_nm": _block_se(t[h], L[h], LENGTH_BLOCK_PS),
+            "zero_tension_length_se_doc": f"standard error from {LENGTH_BLOCK_PS:g}-ps block "
+                                          "means over the second half (>= the barostat's period)",
+            "box_length_stationarity": stationarity(t, L)}
+    return rec
