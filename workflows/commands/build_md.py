@@ -39,6 +39,7 @@ Examples:
 
 def add_arguments(p):
     from mdbridge.gromacs.charges import ELECTROSTATICS
+    from mdbridge.gromacs.mdp import CUTOFFS
     from mdbridge.gromacs.topology import FORCEFIELDS
     p.add_argument("scene", metavar="SCENE.toml", help="rod scene with [initial] kind = \"dna_planar\"")
     p.add_argument("-o", "--output", required=True, metavar="DIR", help="directory to write")
@@ -64,6 +65,12 @@ def add_arguments(p):
     p.add_argument("--dt", type=float, default=None,
                    help="time step, ps (0.001 without constraints; 0.002 with --constraints h-bonds)")
     p.add_argument("--constraints", choices=("none", "h-bonds"), default="none")
+    p.add_argument("--cutoffs", choices=CUTOFFS, default="smooth",
+                   help="smooth (default): reaction-field eps_rf = 0 and vdW force-switch 0.8-1.0 nm, "
+                        "potential and force zero at the 1.0-nm cut-off (energy-conserving); paper: "
+                        "plain cut-offs, force jumps at 1.0 nm (docs/md.md, energy conservation)")
+    p.add_argument("--lincs-order", type=int, default=4, help="LINCS expansion order (4)")
+    p.add_argument("--lincs-iter", type=int, default=1, help="LINCS iterations (1)")
     p.add_argument("--thermostat", action="store_true",
                    help="v-rescale at --temperature instead of NVE (the paper is NVE)")
     p.add_argument("--protocol", choices=("equilibrated", "paper"), default=None,
@@ -114,6 +121,8 @@ def run(args):
         raise InputError(f"--dt {dt}: without constraints the X-H bonds (period ~10 fs) need "
                          "dt <= 0.001 ps; use --constraints h-bonds for 0.002")
     settings = MdSettings(dt_ps=dt, constraints=args.constraints, thermostat=args.thermostat,
+                          cutoffs=args.cutoffs, lincs_order=args.lincs_order,
+                          lincs_iter=args.lincs_iter,
                           temperature_K=args.temperature, nsteps=int(round(args.ps / dt)))
     protocol = args.protocol or ("equilibrated" if args.temperature > 0 else "paper")
     u = Units.paper()

@@ -143,7 +143,8 @@ def results_json(cfg: dict, data: dict) -> dict:
         "md_bp_intact_fraction": float(np.mean([m["bp_intact_fraction_final"] for m in md_runs]))
         if md_runs else float("nan"),
         "rod_run_ps": float(cfg["rod"]["run_ps"]),
-        "md_run_ps": float(cfg["md"]["run_ps"]) if md_runs else 0.0,
+        "md_run_ps": float({float(k): v for k, v in (cfg["md"].get("run_ps_per_A_v") or {}).items()}
+                           .get(head, cfg["md"]["run_ps"])) if md_runs else 0.0,
         "seeds": seeds,
         "A_v_A_per_ps": [float(a) for a in cfg["A_v_A_per_ps"]],
         "paper": PAPER,
