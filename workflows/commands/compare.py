@@ -20,11 +20,14 @@ Run the comparison of paper Sec 6 as one resumable Snakemake workflow
 
 plus a rod-only sweep of the wave speed over the velocity amplitude A_v. Runs that
 are already done are not repeated (rerun the same command after an interruption);
-independent runs go in parallel up to --cores.
+independent runs go in parallel up to --cores. An interrupted MD continues from
+its last checkpoint; the progress of every running MD (ps, ns/day, time left) is
+printed while the workflow runs.
 
 Configuration (YAML): workflows/config/default.yaml documents every key. Shipped:
-  default.yaml  the 158-bp scene, A_v = 0, 1, 5 A/ps, 100 ps of MD (~20 min, 2 cores)
-  paper.yaml    the paper's 600 ps of MD, three seeds
+  default.yaml  the 158-bp scene: A_v = 1 A/ps with 600 ps of MD (a wave period) and an
+                A_v = 0 equilibrium run of 150 ps (estimated ~55 min with setup, 2 cores)
+  paper.yaml    the paper's 600 ps of MD for A_v = 0, 1, 5, three seeds (~19 h, 2 cores)
   tiny.yaml     21 bp, a few ps (CI)
 
 Examples:
