@@ -31,20 +31,28 @@ from .mdp import MdSettings, render_md
 
 PROTOCOLS = ("equilibrated", "paper")
 TAU_T_PS = 0.1
-TAU_P_PS = 2.0
+TAU_P_PS = 5.0
 # Compressibility of the box along the axis: the box is mostly vacuum, so its
-# "compressibility" is the duplex's stretch compliance over the box cross-section,
-# A / S ~ 85 nm^2 / 1000 pN ~ 1e-2 bar^-1 for the 158-bp box; the barostat's
-# oscillation period is tau-p only when this is about right (the mean is unaffected).
-AXIAL_COMPRESSIBILITY_PER_BAR = 1e-2
+# "compressibility" is the duplex's stretch compliance times the box cross-section,
+# A / S with a stretch modulus S ~ 1000 pN: 1e-4 bar^-1 per nm^2 of cross-section
+# (8.5e-3 /bar for the 5.0 x 17.0 nm^2 158-bp box). Half of that is set: a too soft
+# barostat (too large a value) made the 21-bp box swing from 7 to 12 nm and heat to
+# 1,300 K; a stiffer one only slows the approach (the mean is unaffected).
+COMPRESSIBILITY_PER_BAR_PER_NM2 = 0.5e-4
 BLOCK_PS = 1.0
 # The barostat makes the box length oscillate (period ~ a few tau-p), so the error of
 # its mean uses blocks longer than that period.
 LENGTH_BLOCK_PS = 5.0
 
 
+def axial_compressibility(box_nm, axis: int) -> float:
+    """The barostat's compressibility along the axis for this box (see above), 1/bar."""
+    across = [float(box_nm[k]) for k in range(3) if k != axis]
+    return COMPRESSIBILITY_PER_BAR_PER_NM2 * across[0] * across[1]
+
+
 def render_equilibration(s: MdSettings, *, ps: float, temperature_K: float, axis: int,
-                         axial_pressure: bool) -> str:
+                         axial_pressure: bool, box_nm=(1.0, 1.0, 1.0)) -> str:
     eq = MdSettings(**{**s.as_dict(), "thermostat": True, "temperature_K": temperature_K,
                        "tau_t_ps": TAU_T_PS, "output_ps": 0.1})
     eq.nsteps = eq.steps_per(ps)
@@ -54,7 +62,7 @@ def render_equilibration(s: MdSettings, *, ps: float, temperature_K: float, axis
     text = text.replace("continuation            = yes", "continuation            = no")
     if axial_pressure:
         comp = ["0"] * 6                     # xx yy zz xy xz yz
-        comp[axis] = f"{AXIAL_COMPRESSIBILITY_PER_BAR:g}"
+        comp[axis] = f"{axial_compressibility(box_nm, axis):.3g}"
         text = text.replace("pcoupl                  = no", "\n".join([
             "; pressure along the helix axis only: the zero-tension length of the duplex",
             "pcoupl                  = Parrinello-Rahman",
@@ -91,14 +99,15 @@ def stationarity(t, y) -> dict:
 
 
 def equilibrate(outdir: Path, gmx: str, settings: MdSettings, *, ps: float, temperature_K: float,
-                axis: int, axial_pressure: bool, threads: int) -> dict:
+                axis: int, axial_pressure: bool, threads: int, box_nm=(1.0, 1.0, 1.0)) -> dict:
     """Run the stage on OUTDIR/eq_in.gro (coordinates, thermal velocities, box); leaves
     eq.gro (x, v, box).
     Returns the build.json record."""
     from .checks import read_energies
     d = Path(outdir)
     (d / "eq.mdp").write_text(render_equilibration(settings, ps=ps, temperature_K=temperature_K,
-                                                   axis=axis, axial_pressure=axial_pressure))
+                                                   axis=axis, axial_pressure=axial_pressure,
+                                                   box_nm=box_nm))
     run_gmx(gmx, ["grompp", "-f", "eq.mdp", "-c", "eq_in.gro", "-p", "topol.top", "-o", "eq.tpr",
                   "-po", "eq_out.mdp", "-maxwarn", "0"], d, log_name="gmx_grompp_eq.log")
     run_gmx(gmx, ["mdrun", "-deffnm", "eq", "-nt", str(threads)], d, log_name="gmx_mdrun_eq.log")
@@ -116,7 +125,7 @@ def equilibrate(outdir: Path, gmx: str, settings: MdSettings, *, ps: float, temp
         h = t >= t[0] + 0.5 * (t[-1] - t[0])
         rec["axial_pressure"] = {
             "barostat": f"Parrinello-Rahman, anisotropic, compressibility "
-                        f"{AXIAL_COMPRESSIBILITY_PER_BAR:g} /bar along axis {'xyz'[axis]} and 0 "
+                        f"{axial_compressibility(box_nm, axis):.3g} /bar along axis {'xyz'[axis]} and 0 "
                         f"across, ref-p 0, tau-p {TAU_P_PS} ps",
             "box_length_start_nm": float(L[0]),
             "zero_tension_length_nm": float(L[h].mean()),

@@ -234,7 +234,8 @@ def build_inputs(outdir: Path, structure, rod: RodInitial, box: BoxPlan, *, sequ
                                             g.name, x_nm, thermal_velocities(masses, temperature_K,
                                                                              seed), box_nm))
         eq = equilibrate(outdir, gmx, settings, ps=equilibrate_ps, temperature_K=temperature_K,
-                         axis=box.axis, axial_pressure=axial_pressure, threads=threads)
+                         axis=box.axis, axial_pressure=axial_pressure, threads=threads,
+                         box_nm=box_nm)
         g_eq = read_gro(outdir / "eq.gro")
         box_nm = g_eq.box
         x_nm = _unwrap_against(g_eq.x, x_nm, box_nm)
