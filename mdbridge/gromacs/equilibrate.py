@@ -40,8 +40,9 @@ TAU_P_PS = 5.0
 # 1,300 K; a stiffer one only slows the approach (the mean is unaffected).
 COMPRESSIBILITY_PER_BAR_PER_NM2 = 0.5e-4
 BLOCK_PS = 1.0
-# The barostat makes the box length oscillate (period ~ a few tau-p), so the error of
-# its mean uses blocks longer than that period.
+# The barostat makes the box length oscillate (measured: period ~20 ps for the 21-bp
+# box with tau-p 5 ps), so the error of its mean uses 5-ps blocks and understates the
+# error unless the second half holds several periods; the range is recorded too.
 LENGTH_BLOCK_PS = 5.0
 
 
@@ -131,6 +132,9 @@ def equilibrate(outdir: Path, gmx: str, settings: MdSettings, *, ps: float, temp
             "zero_tension_length_nm": float(L[h].mean()),
             "zero_tension_length_se_nm": _block_se(t[h], L[h], LENGTH_BLOCK_PS),
             "zero_tension_length_se_doc": f"standard error from {LENGTH_BLOCK_PS:g}-ps block "
-                                          "means over the second half (>= the barostat's period)",
+                                          "means over the second half; understated unless the "
+                                          "half holds several barostat periods (see the range)",
+            # the barostat's swing: the mean is trustworthy only over whole periods of it
+            "box_length_range_second_half_nm": [float(L[h].min()), float(L[h].max())],
             "box_length_stationarity": stationarity(t, L)}
     return rec
