@@ -30,8 +30,8 @@ from mdbridge.gromacs.mdp import MdSettings
 from mdbridge.gromacs.run import run_md
 from test_gromacs_build import gmx, make  # noqa: F401  (shared fixture and 21-bp build)
 
-STEPS = 2000          # 2 ps at 1 fs
-OUT_PS = 0.02         # 101 frames
+STEPS = 3000          # 3 ps at 1 fs: ~3 s on an idle core, so the kill lands mid-run
+OUT_PS = 0.03         # 101 frames
 RUN = dict(steps=STEPS, threads=2, output_ps=OUT_PS, reprod=True, checks=False, stream=None)
 
 
@@ -106,7 +106,7 @@ def resumed(built, gmx, tmp_path_factory):
     while not (d / "md.part.cpt").exists():
         assert th.is_alive() and time.time() < deadline, "mdrun ended before its first checkpoint"
         time.sleep(0.05)
-    time.sleep(1.0)           # frames beyond the checkpoint: they must be truncated away
+    time.sleep(0.5)           # frames beyond the checkpoint: they must be truncated away
     pids = mdrun_children()
     assert len(pids) == 1 and not (d / "md.done").exists(), "mdrun finished before the kill"
     os.kill(pids[0], signal.SIGKILL)
