@@ -7,33 +7,49 @@
 namespace rodcore {
 
 std::map<std::string, double> EnergyParts::as_map() const {
-  return {{"kinetic_translational", kinetic_translational},
-          {"kinetic_rotational", kinetic_rotational},
-          {"shear", shear},
-          {"extension", extension},
-          {"bend", bend},
-          {"twist", twist}};
+  std::map<std::string, double> out{{"kinetic_translational", kinetic_translational},
+                                    {"kinetic_rotational", kinetic_rotational},
+                                    {"shear", shear},
+                                    {"extension", extension},
+                                    {"bend", bend},
+                                    {"twist", twist}};
+  if (coupled) out["coupling"] = coupling;
+  return out;
 }
 
-EnergyParts energy_parts(const double* y, std::size_t N, double h, const Material& m,
+EnergyParts energy_parts(const double* y, std::size_t N, double h, const MaterialField& m,
                          const std::vector<double>& Gamma0, const std::vector<double>& Omega0) {
   EnergyParts e;
-  auto sq = [](double x) { return x * x; };
   const double* G0 = Gamma0.data();
   const double* O0 = Omega0.data();
+  double K[36], I[9];
+  m.K_at(0, K);
+  m.I_at(0, I);
+  const bool per_point = m.kind == MaterialKind::per_point;
+  for (int r = 0; r < 6; ++r)
+    for (int c = r + 1; c < 6; ++c) e.coupled = e.coupled || (per_point ? true : K[r * 6 + c] != 0.0);
   for (std::size_t i = 0; i < N; ++i) {
-    const double g1 = y[0 * N + i], g2 = y[1 * N + i], g3 = y[2 * N + i];
-    const double w1 = y[3 * N + i], w2 = y[4 * N + i], w3 = y[5 * N + i];
-    const double dG1 = y[6 * N + i] - G0[i], dG2 = y[7 * N + i] - G0[N + i],
-                 dG3 = y[8 * N + i] - G0[2 * N + i];
-    const double dO1 = y[9 * N + i] - O0[i], dO2 = y[10 * N + i] - O0[N + i],
-                 dO3 = y[11 * N + i] - O0[2 * N + i];
-    e.kinetic_translational += sq(g1) + sq(g2) + sq(g3);
-    e.kinetic_rotational += m.I[0] * sq(w1) + m.I[1] * sq(w2) + m.I[2] * sq(w3);
-    e.shear += m.C[0] * sq(dG1) + m.C[1] * sq(dG2);
-    e.extension += m.C[2] * sq(dG3);
-    e.bend += m.D[0] * sq(dO1) + m.D[1] * sq(dO2);
-    e.twist += m.D[2] * sq(dO3);
+    if (per_point) {
+      m.K_at(i, K);
+      m.I_at(i, I);
+    }
+    const double rho = m.rho_at(i);
+    const double g[3] = {y[0 * N + i], y[1 * N + i], y[2 * N + i]};
+    const double w[3] = {y[3 * N + i], y[4 * N + i], y[5 * N + i]};
+    double d[6];
+    for (int c = 0; c < 3; ++c) {
+      d[c] = y[(6 + c) * N + i] - G0[c * N + i];
+      d[3 + c] = y[(9 + c) * N + i] - O0[c * N + i];
+    }
+    e.kinetic_translational += rho * (g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) e.kinetic_rotational += I[r * 3 + c] * (w[r] * w[c]);
+    e.shear += K[0] * (d[0] * d[0]) + K[7] * (d[1] * d[1]);
+    e.extension += K[14] * (d[2] * d[2]);
+    e.bend += K[21] * (d[3] * d[3]) + K[28] * (d[4] * d[4]);
+    e.twist += K[35] * (d[5] * d[5]);
+    for (int r = 0; r < 6; ++r)
+      for (int c = r + 1; c < 6; ++c) e.coupling += 2.0 * K[r * 6 + c] * d[r] * d[c];
   }
   const double f = 0.5 * h;
   e.kinetic_translational *= f;
@@ -42,7 +58,13 @@ EnergyParts energy_parts(const double* y, std::size_t N, double h, const Materia
   e.extension *= f;
   e.bend *= f;
   e.twist *= f;
+  e.coupling *= f;
   return e;
+}
+
+EnergyParts energy_parts(const double* y, std::size_t N, double h, const Material& m,
+                         const std::vector<double>& Gamma0, const std::vector<double>& Omega0) {
+  return energy_parts(y, N, h, resolve_material(m, N), Gamma0, Omega0);
 }
 
 long first_non_finite(const double* y, std::size_t n) {

@@ -10,6 +10,11 @@ bool planar_reduction_allowed(const Rod& rod) {
          rod.Omega0[2] == 0.0;
 }
 
+std::string planar_material_coupling(const MaterialField& mf, Planar p) {
+  // Strain indices (Gamma1..3, Omega1..3 = 0..5) kept, and the omega axis.
+  return p == Planar::omega2 ? planar_coupling(mf, {0, 2, 4}, 1) : planar_coupling(mf, {1, 2, 3}, 0);
+}
+
 const std::array<int, 6>& planar_rows(Planar p) { return p == Planar::omega2 ? kPlanarRows : kPlanarRows1; }
 const std::array<int, 6>& planar_zero_rows(Planar p) {
   return p == Planar::omega2 ? kPlanarZeroRows : kPlanarZeroRows1;

@@ -11,6 +11,7 @@
 #include "rodcore/error.hpp"
 #include "rodcore/guards.hpp"
 #include "rodcore/integrators.hpp"
+#include "rodcore/material.hpp"
 #include "rodcore/operators.hpp"
 #include "rodcore/reconstruction.hpp"
 #include "rodcore/reduced_planar.hpp"
@@ -129,15 +130,8 @@ struct Simulation::Impl {
   int j = 0;  // next output frame
   bool energy_every_frame = false;
 
-  double wave_speed() const {
-    const Material& m = scene.material;
-    double c = 1.0;
-    for (int i = 0; i < 3; ++i) {
-      c = std::max(c, std::sqrt(std::max(0.0, m.C[i])));
-      c = std::max(c, std::sqrt(std::max(0.0, m.D[i]) / m.I[i]));
-    }
-    return c;
-  }
+  // Largest characteristic speed (material.hpp), at least 1 as before.
+  double wave_speed() const { return std::max(1.0, max_wave_speed(rhs->material_field())); }
 
   double frame_time(int k) const {
     const int frames = scene.output.frames;
@@ -238,11 +232,17 @@ Simulation::Simulation(const Scene& scene, InitialState initial) : impl_(std::ma
     d.reduce_note = "full system (solver.reduce = \"off\")";
   } else if (!planar_reduction_allowed(sc.rod)) {
     d.reduce_note = "full system: the intrinsic shape is not uniform Gamma0 = (0, 0, G03), Omega0 = 0";
-  } else if ((d.planar = planar_polarisation(d.state.data(), d.N))) {
+  } else if (d.rhs->material_field().kind == MaterialKind::per_point) {
+    d.reduce_note = "full system: the reduced planar system is implemented for a uniform material only";
+  } else if (const auto p = planar_polarisation(d.state.data(), d.N); !p) {
+    d.reduce_note = "full system: the initial state is not exactly planar";
+  } else if (const std::string why = planar_material_coupling(d.rhs->material_field(), *p); !why.empty()) {
+    d.reduce_note = std::string("full system: the material does not keep the ") + planar_name(*p) +
+                    " polarisation invariant (" + why + ")";
+  } else {
+    d.planar = p;
     d.reduce_note = std::string("reduced planar system (") + planar_name(*d.planar) +
                     " polarisation, 6 of 12 rows; paper Sec 4.1)";
-  } else {
-    d.reduce_note = "full system: the initial state is not exactly planar";
   }
   // Make sure the integrator kind is known now (InputError), not in run().
   bool known = false;
@@ -269,9 +269,12 @@ void Simulation::resume_from(const Checkpoint& c) {
   if (c.method != d.scene.solver.time)
     throw InputError(d.scene.source + ": the checkpoint was made with solver.time = \"" + c.method +
                      "\", the scene asks for \"" + d.scene.solver.time + "\"");
-  if (!c.reduced.empty() && !planar_reduction_allowed(d.scene.rod))
+  if (!c.reduced.empty() &&
+      (!planar_reduction_allowed(d.scene.rod) || d.rhs->material_field().kind == MaterialKind::per_point ||
+       !planar_material_coupling(d.rhs->material_field(), c.reduced == "omega2" ? Planar::omega2 : Planar::omega1)
+            .empty()))
     throw InputError(d.scene.source + ": the checkpoint holds the reduced planar system (" + c.reduced +
-                     "), which this scene's intrinsic shape does not allow");
+                     "), which this scene's intrinsic shape or material does not allow");
   const std::size_t need = d.y0.size() - (c.reduced.empty() ? 0 : 6 * d.N);
   if (c.integrator.y.size() != need)
     throw InputError(d.scene.source + ": the checkpoint holds " + std::to_string(c.integrator.y.size()) +
@@ -294,14 +297,14 @@ double Simulation::frame_time(int index) const { return impl_->frame_time(index)
 
 double Simulation::energy() const {
   const Impl& d = *impl_;
-  return rodcore::energy_parts(d.state.data(), d.N, d.scene.rod.length / static_cast<double>(d.N), d.scene.material,
+  return rodcore::energy_parts(d.state.data(), d.N, d.scene.rod.length / static_cast<double>(d.N), d.rhs->material_field(),
                       d.rhs->Gamma0(), d.rhs->Omega0())
       .total();
 }
 
 std::map<std::string, double> Simulation::energy_parts() const {
   const Impl& d = *impl_;
-  return rodcore::energy_parts(d.state.data(), d.N, d.scene.rod.length / static_cast<double>(d.N), d.scene.material,
+  return rodcore::energy_parts(d.state.data(), d.N, d.scene.rod.length / static_cast<double>(d.N), d.rhs->material_field(),
                                d.rhs->Gamma0(), d.rhs->Omega0())
       .as_map();
 }
@@ -315,13 +318,16 @@ void Simulation::Impl::start(const Simulation& self) {
 
   // Explicit fixed step: RK4 is stable on the imaginary axis up to
   // |lambda dt| = 2 sqrt 2 ~ 2.83; we allow 2.8 (1 % margin). For a uniform
-  // intrinsic shape lambda is exact: the spectral radius of the system
-  // linearised about the rest state over every wavenumber the operator
-  // resolves (stability.hpp). For an s-varying shape only the wave-speed
-  // estimate c_max k_max is available (it leaves out the lower-order terms,
-  // which raised the true radius by up to 1.6x on the DNA rod).
+  // intrinsic shape and a uniform material (any K, I, rho) lambda is exact:
+  // the spectral radius of the system linearised about the rest state over
+  // every wavenumber the operator resolves (stability.hpp). For an s-varying
+  // shape or a per-point material only the estimate c_max k_max is available
+  // (c_max the largest characteristic speed over the points, material.hpp; it
+  // leaves out the lower-order terms, which raised the true radius by up to
+  // 1.6x on the DNA rod).
   if (sc.solver.time == "rk4") {
-    const bool uniform = sc.rod.Gamma0_s.empty() && sc.rod.Omega0_s.empty();
+    const bool uniform = sc.rod.Gamma0_s.empty() && sc.rod.Omega0_s.empty() &&
+                         rhs->material_field().kind != MaterialKind::per_point;
     const double lambda = uniform ? linear_spectral_radius(*rhs) : wave_speed() * op->max_wavenumber();
     const double dt_cfl = 2.8 / lambda;
     if (sc.solver.dt > dt_cfl)
@@ -391,7 +397,7 @@ void Simulation::Impl::deliver(const Simulation& self, int index, double tf, con
   // that the summary's drift (then end-to-end) and the overflow check of
   // the initial fields stay (O(N) each; docs/numerics.md).
   if (energy_every_frame || index == 0 || index == sc.output.frames - 1) {
-    const EnergyParts parts = rodcore::energy_parts(y, N, sc.rod.length / static_cast<double>(N), sc.material,
+    const EnergyParts parts = rodcore::energy_parts(y, N, sc.rod.length / static_cast<double>(N), rhs->material_field(),
                                            rhs->Gamma0(), rhs->Omega0());
     const double E = parts.total();
     if (index == 0) E0 = E;

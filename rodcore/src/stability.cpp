@@ -12,6 +12,9 @@ namespace rodcore {
 
 double linear_spectral_radius(const RodRHS& rhs) {
   const std::size_t N = rhs.N();
+  if (rhs.material_field().kind == MaterialKind::per_point)
+    throw InputError("linear_spectral_radius: needs a uniform material (a per-point material gives no "
+                     "constant-coefficient linearisation)");
   const auto& G0 = rhs.Gamma0();
   const auto& O0 = rhs.Omega0();
   for (std::size_t i = 1; i < N; ++i)

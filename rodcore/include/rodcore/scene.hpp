@@ -12,10 +12,25 @@
 
 namespace rodcore {
 
-struct Material {  // dimensionless diagonals (Eqs 7-9, 15); default: the paper's DNA
+// The rod's material, dimensionless (Eqs 7-9, 15; docs/numerics.md, "General
+// material"). Stored energy W = 1/2 e.K e with e = (Gamma - Gamma0, Omega -
+// Omega0), kinetic energy 1/2 rho |gamma|^2 + 1/2 omega.I omega. Three forms,
+// the most specific one that is given wins (material.hpp turns any of them
+// into the per-kernel form and validates it):
+//   * the paper's diagonals C, D, I and rho (default: the paper's DNA);
+//   * a uniform 6 x 6 K (rows/cols Gamma1..3, Omega1..3) and/or a 3 x 3 I;
+//   * per grid point (material_file): K, I and rho at every point.
+struct Material {
   Vec3 C{dna_units::C_star[0], dna_units::C_star[1], dna_units::C_star[2]};
   Vec3 D{dna_units::D_star[0], dna_units::D_star[1], dna_units::D_star[2]};
   Vec3 I{dna_units::I_star[0], dna_units::I_star[1], dna_units::I_star[2]};
+  double rho = 1.0;
+  std::vector<double> K;       // 36 values row-major (uniform), or empty: diag(C, D)
+  std::vector<double> I_full;  // 9 values row-major (uniform), or empty: diag(I)
+  // Per grid point, or empty: K_s N*36 ([i*36 + 6 r + c]), I_s N*9, rho_s N.
+  std::vector<double> K_s, I_s, rho_s;
+  std::string file;  // the material file these came from (for records), or empty
+  bool file_has_shape = false;  // the file also gave rod.Gamma0_s / Omega0_s
 };
 
 struct Rod {

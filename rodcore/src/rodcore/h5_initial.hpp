@@ -6,12 +6,16 @@
 //   fields/omega    (N x 3)
 //   fields/Gamma    (N x 3)
 //   fields/Omega    (N x 3)
-// and for the intrinsic shape: datasets Gamma0, Omega0 (N x 3).
+// and for the intrinsic shape: datasets Gamma0, Omega0 (N x 3); and the
+// per-point material file (attribute format = "dnarod-material/1"):
+//   K (N x 6 x 6), I (N x 3 x 3), rho (N) [, Gamma0, Omega0 (N x 3)].
 // Every problem is an InputError naming the file, the dataset and, for bad
 // numbers, the index.
 #pragma once
 #include <string>
 #include <vector>
+
+#include "rodcore/scene.hpp"
 
 namespace rodcore {
 
@@ -24,6 +28,15 @@ void read_initial_fields(const std::string& path, const std::vector<double>& s,
 // 3 N values ([c * N + i]), the layout of Rod::Gamma0_s / Rod::Omega0_s.
 void read_intrinsic_shape(const std::string& path, int N, std::vector<double>& Gamma0_s,
                           std::vector<double>& Omega0_s);
+
+inline constexpr const char* kMaterialFormat = "dnarod-material/1";
+
+// Reads a material file for N = rod.points into m.K_s, m.I_s, m.rho_s (layout
+// of Material) and m.file, validating every point (material.hpp); its
+// optional intrinsic shape into Gamma0_s, Omega0_s (component-major, left
+// empty when the file has none).
+void read_material_file(const std::string& path, int N, Material& m, std::vector<double>& Gamma0_s,
+                        std::vector<double>& Omega0_s);
 
 // Writes `s` and the four fields of `y` (12 N, state layout) in the format
 // read_initial_fields reads. Used by the Python module (initial= arrays) and

@@ -3,7 +3,8 @@
 // diagonal C, D, I, a state whose only non-zero components are
 //   gamma1, gamma3, omega2, Gamma1, Gamma3, Omega2
 // stays in that set (every term of Eqs 11-14 that feeds the other six rows is
-// a product containing one of them). The other polarisation, bending about
+// a product containing one of them). A coupled material keeps it only if K and
+// I do not couple the kept components to the others (planar_material_coupling). The other polarisation, bending about
 // d1 instead of d2 (gamma2, gamma3, omega1, Gamma2, Gamma3, Omega1 non-zero),
 // is invariant for the same reason. Integrating only those six rows halves
 // the state; the physics is NOT re-implemented: PlanarRHS calls
@@ -15,8 +16,10 @@
 #include <array>
 #include <cstddef>
 #include <optional>
+#include <string>
 #include <vector>
 
+#include "rodcore/material.hpp"
 #include "rodcore/rhs.hpp"
 #include "rodcore/scene.hpp"
 #include "rodcore/state.hpp"
@@ -44,6 +47,14 @@ const std::array<int, 6>& planar_zero_rows(Planar p);
 // The rod allows the reduction: uniform intrinsic shape Gamma0 = (0, 0, G03),
 // Omega0 = (0, 0, 0).
 bool planar_reduction_allowed(const Rod& rod);
+
+// Empty if the (uniform) material keeps polarisation p invariant, else why
+// not. For omega2 the kept strains are Gamma1, Gamma3, Omega2: a K entry that
+// couples one of them to Gamma2, Omega1 or Omega3 gives the zero rows a
+// source (e.g. n2 = K21 Gamma1 != 0 drives gamma2), and so does an I with
+// I21 or I23 != 0 (omega x I omega and I^-1 leave the omega2 axis). The omega1
+// polarisation likewise with the roles of the axes 1 and 2 exchanged.
+std::string planar_material_coupling(const MaterialField& mf, Planar p);
 
 // Every component of the six zero rows of y (12 N values) is exactly 0.
 bool in_planar_subspace(const double* y, std::size_t N, Planar p = Planar::omega2);

@@ -21,7 +21,8 @@ namespace rodcore {
 // max |eigenvalue| of the linearisation about the uniform rest state, over
 // 0 <= k <= op.max_wavenumber() (sampled densely, endpoints included; the
 // continuous range contains every discrete mode, so the bound is safe).
-// Throws InputError if the intrinsic shape varies along s.
+// Any uniform material (coupled K, full I, rho). Throws InputError if the
+// intrinsic shape varies along s or the material is per point.
 double linear_spectral_radius(const RodRHS& rhs);
 
 }  // namespace rodcore

@@ -7,6 +7,7 @@
 
 #include "h5_handle.hpp"
 #include "rodcore/error.hpp"
+#include "rodcore/material.hpp"
 #include "rodcore/state.hpp"
 
 namespace rodcore {
@@ -60,8 +61,15 @@ std::vector<double> read_dataset(hid_t file, const std::string& path, const std:
   for (std::size_t k = 0; k < n; ++k) {
     if (!std::isfinite(v[k])) {
       std::ostringstream where;  // (ostringstream: GCC 12 warns falsely on "[" + to_string)
-      if (expected.size() == 2) where << '[' << k / 3 << ", " << k % 3 << ']';
-      else where << '[' << k << ']';
+      std::vector<std::size_t> idx(expected.size());
+      std::size_t rest = k;
+      for (std::size_t d = expected.size(); d-- > 0;) {
+        idx[d] = rest % expected[d];
+        rest /= expected[d];
+      }
+      where << '[';
+      for (std::size_t d = 0; d < idx.size(); ++d) where << (d ? ", " : "") << idx[d];
+      where << ']';
       throw InputError("file '" + path + "': dataset '" + name + "' has a non-finite value (" +
                        fmt_double(v[k]) + ") at index " + where.str());
     }
@@ -110,6 +118,62 @@ void read_intrinsic_shape(const std::string& path, int N, std::vector<double>& G
     for (std::size_t i = 0; i < n; ++i)
       for (int c = 0; c < 3; ++c) (*dst)[c * n + i] = v[3 * i + c];
   }
+}
+
+namespace {
+
+// The string attribute `name` of the file's root group, or empty if absent.
+std::string string_attribute(hid_t file, const std::string& name) {
+  if (H5Aexists(file, name.c_str()) <= 0) return {};
+  auto a = h5::attribute(H5Aopen(file, name.c_str(), H5P_DEFAULT));
+  auto t = h5::type(H5Aget_type(a));
+  if (!a.valid() || H5Tget_class(t) != H5T_STRING) return "(not a string)";
+  if (H5Tis_variable_str(t) > 0) {
+    char* buf = nullptr;
+    auto mem = h5::type(H5Tcopy(H5T_C_S1));
+    H5Tset_size(mem, H5T_VARIABLE);
+    if (H5Aread(a, mem, &buf) < 0 || !buf) return "(unreadable)";
+    std::string out(buf);
+    H5free_memory(buf);
+    return out;
+  }
+  std::string out(H5Tget_size(t), '\0');
+  if (H5Aread(a, t, out.data()) < 0) return "(unreadable)";
+  return out.substr(0, out.find('\0'));
+}
+
+}  // namespace
+
+void read_material_file(const std::string& path, int N, Material& m, std::vector<double>& Gamma0_s,
+                        std::vector<double>& Omega0_s) {
+  h5::QuietErrors quiet;
+  const auto n = static_cast<std::size_t>(N);
+  auto f = open_for_reading(path, "material");
+  const std::string format = string_attribute(f, "format");
+  if (format != kMaterialFormat)
+    throw InputError("file '" + path + "': attribute 'format' is " +
+                     (format.empty() ? std::string("missing") : "\"" + format + "\"") + "; allowed: \"" +
+                     kMaterialFormat + "\" (a per-point rod material file, docs/scenes.md)");
+  const std::string Ns = std::to_string(n);
+  m.K_s = read_dataset(f, path, "K", {n, 6, 6}, Ns + " x 6 x 6 (N x 6 x 6 with N = rod.points)");
+  m.I_s = read_dataset(f, path, "I", {n, 3, 3}, Ns + " x 3 x 3 (N x 3 x 3 with N = rod.points)");
+  m.rho_s = read_dataset(f, path, "rho", {n}, Ns + " values (N = rod.points)");
+  m.file = path;
+  Gamma0_s.clear();
+  Omega0_s.clear();
+  for (auto [name, dst] : {std::pair{"Gamma0", &Gamma0_s}, std::pair{"Omega0", &Omega0_s}}) {
+    if (!h5::exists(f, name)) continue;
+    auto v = read_dataset(f, path, name, {n, 3}, nx3(n));
+    dst->assign(3 * n, 0.0);
+    for (std::size_t i = 0; i < n; ++i)
+      for (int c = 0; c < 3; ++c) (*dst)[c * n + i] = v[3 * i + c];
+  }
+  if (Gamma0_s.empty() != Omega0_s.empty())
+    throw InputError("file '" + path + "': has dataset '" + (Gamma0_s.empty() ? "Omega0" : "Gamma0") +
+                     "' but not '" + (Gamma0_s.empty() ? "Gamma0" : "Omega0") +
+                     "'; the intrinsic shape needs both (N x 3 each) or neither");
+  // Validate now, so that the error names this file and the point.
+  (void)resolve_material(m, n);
 }
 
 void write_initial_fields(const std::string& path, const std::vector<double>& s,

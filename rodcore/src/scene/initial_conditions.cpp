@@ -8,6 +8,7 @@
 #include "rodcore/analytic.hpp"
 #include "rodcore/dna_units.hpp"
 #include "rodcore/error.hpp"
+#include "rodcore/material.hpp"
 #include "rodcore/h5_initial.hpp"
 #include "rodcore/rhs.hpp"
 #include "rodcore/state.hpp"
@@ -55,6 +56,8 @@ void require_straight_paper_rod(const Scene& sc, const std::string& kind, bool u
   if (r.Omega0[0] != 0.0 || r.Omega0[1] != 0.0)
     fail("needs rod.Omega0 = [0, 0, Omega03] (a straight, possibly twisted rod)");
   if (untwisted && r.Omega0[2] != 0.0) fail("needs an untwisted rod: rod.Omega0 = [0, 0, 0]");
+  if (material_kind(m) != MaterialKind::diagonal || m.rho != 1.0)
+    fail("is the paper's solution for a diagonal material (material.C, D, I) with material.rho = 1");
   if (m.C[0] != 1.0 || m.C[1] != 1.0)
     fail("is the paper's solution for material.C = [1, 1, C3] (dimensionless shear modulus 1)");
   if (m.I[0] != 1.0 || m.I[1] != 1.0) fail("is the paper's solution for material.I = [1, 1, I3]");
@@ -219,6 +222,9 @@ std::vector<InitialKind> build_kinds() {
             sc.rod.Gamma0[1] != 0.0)
           throw InputError(sc.source + ": initial.kind = \"shear_oscillation\" on a twisted rod needs "
                            "rod.Gamma0 = [0, 0, G03] and rod.Omega0 = [0, 0, O3]");
+        if (material_kind(m) != MaterialKind::diagonal)
+          throw InputError(sc.source + ": initial.kind = \"shear_oscillation\" on a twisted rod needs a "
+                           "diagonal material (material.C, D, I)");
         if (m.C[0] != m.C[1] || m.I[0] != m.I[1])
           throw InputError(sc.source + ": initial.kind = \"shear_oscillation\" on a twisted rod needs "
                            "material.C[0] = C[1] and material.I[0] = I[1] (an isotropic cross-section)");

@@ -17,6 +17,7 @@
 #include "rodcore/error.hpp"
 #include "rodcore/h5_initial.hpp"
 #include "rodcore/initial_conditions.hpp"
+#include "rodcore/material.hpp"
 
 namespace fs = std::filesystem;
 
@@ -244,6 +245,26 @@ class Section {
     uniform = vec3_of(k, *n, Range{});
   }
 
+  // An n x n matrix written as n arrays of n numbers, row-major into `out`.
+  std::vector<double> matrix_of(const std::string& k, const toml::node& node, int n, const std::string& allowed) const {
+    auto a = node.as_array();
+    const std::string dim = std::to_string(n) + " x " + std::to_string(n);
+    if (!a || a->size() != static_cast<std::size_t>(n))
+      fail(k, &node, "found " + describe(node) + "; allowed: " + allowed);
+    std::vector<double> out(static_cast<std::size_t>(n * n));
+    for (int r = 0; r < n; ++r) {
+      auto row = a->get(r)->as_array();
+      if (!row || row->size() != static_cast<std::size_t>(n))
+        fail(k + "[" + std::to_string(r) + "]", a->get(r),
+             "found " + describe(*a->get(r)) + "; allowed: an array of " + std::to_string(n) + " numbers (row " +
+                 std::to_string(r) + " of a " + dim + " matrix)");
+      for (int c = 0; c < n; ++c)
+        out[r * n + c] = number_of(k + "[" + std::to_string(r) + "][" + std::to_string(c) + "]", *row->get(c),
+                                   Range{}, "a finite number");
+    }
+    return out;
+  }
+
   std::string path(const std::string& k, const std::string& what) {
     auto n = get(k);
     if (!n) return {};
@@ -351,13 +372,58 @@ Scene build_scene(toml::table& table, Context& ctx) {
     rod.fail("intrinsic_file", rod.get("intrinsic_file"),
              "give either rod.intrinsic_file or rod.Gamma0/rod.Omega0, not both");
 
-  // [material]
+  // [material]: the paper's diagonals C, D, I, or a full K (6 x 6) and I
+  // (3 x 3), and rho; or a per-point material file (material.hpp).
   Section mat = section("material");
-  for (const char* k : {"C", "D", "I"})
+  for (const char* k : {"C", "D", "I", "K", "rho", "material_file"})
     if (mat.has(k)) set_keys.insert(k);
+  for (const char* k : {"C", "D"})
+    if (mat.has(k) && mat.has("K"))
+      mat.fail(k, mat.get(k), "give either material.K (the full 6 x 6 stiffness) or material.C/material.D (its "
+                              "diagonal shorthand), not both");
   mat.vec3("C", sc.material.C, positive());
   mat.vec3("D", sc.material.D, positive());
-  mat.vec3("I", sc.material.I, positive());
+  if (auto n = mat.get("K")) {
+    sc.material.K = mat.matrix_of("K", *n, 6,
+                                  "a symmetric positive-definite 6 x 6 matrix (6 arrays of 6 numbers), rows and "
+                                  "columns Gamma1, Gamma2, Gamma3, Omega1, Omega2, Omega3");
+    check_stiffness(sc.material.K.data(), ctx.where(mat.key("K"), n));
+  }
+  if (auto n = mat.get("I")) {
+    auto a = n->as_array();
+    if (a && !a->empty() && a->get(0)->is_array()) {
+      sc.material.I_full = mat.matrix_of("I", *n, 3, "3 numbers > 0 (a diagonal I) or a symmetric positive-definite "
+                                                     "3 x 3 matrix (3 arrays of 3 numbers)");
+      check_inertia(sc.material.I_full.data(), ctx.where(mat.key("I"), n));
+    } else {
+      sc.material.I = mat.vec3_of("I", *n, positive());
+    }
+  }
+  mat.number("rho", sc.material.rho, positive());
+  std::string material_file = mat.path("material_file", "material file");
+  if (!material_file.empty())
+    for (const char* k : {"C", "D", "I", "K", "rho"})
+      if (mat.has(k))
+        mat.fail(k, mat.get(k), "give either material.material_file (K, I, rho at every grid point) or "
+                                "material." + std::string(k) + ", not both");
+  // A diagonal K or I is the paper's shorthand: store it as C, D / I, so
+  // everything that reads C, D, I (the analytic kinds, records) sees it.
+  auto off_diagonal_zero = [](const std::vector<double>& A, int n) {
+    for (int k = 0; k < n * n; ++k)
+      if (k / n != k % n && A[k] != 0.0) return false;
+    return true;
+  };
+  if (sc.material.K.size() == 36 && off_diagonal_zero(sc.material.K, 6)) {
+    for (int c = 0; c < 3; ++c) {
+      sc.material.C[c] = sc.material.K[c * 7];
+      sc.material.D[c] = sc.material.K[(c + 3) * 7];
+    }
+    sc.material.K.clear();
+  }
+  if (sc.material.I_full.size() == 9 && off_diagonal_zero(sc.material.I_full, 3)) {
+    for (int c = 0; c < 3; ++c) sc.material.I[c] = sc.material.I_full[c * 4];
+    sc.material.I_full.clear();
+  }
 
   // [solver]
   Section sol = section("solver");
@@ -475,6 +541,24 @@ Scene build_scene(toml::table& table, Context& ctx) {
       rod.fail("intrinsic_file", table["rod"]["intrinsic_file"].node(), e.what());
     }
   }
+  if (!material_file.empty()) {
+    std::vector<double> G0, O0;
+    try {
+      read_material_file(material_file, sc.rod.points, sc.material, G0, O0);
+    } catch (const InputError& e) {
+      mat.fail("material_file", table["material"]["material_file"].node(), e.what());
+    }
+    if (!G0.empty() || !O0.empty()) {
+      for (const char* k : {"Gamma0", "Omega0", "intrinsic_file"})
+        if (rod.has(k))
+          rod.fail(k, table["rod"][k].node(), "the material file '" + material_file +
+                                                  "' holds the intrinsic shape (datasets Gamma0, Omega0): give it "
+                                                  "there or in [rod], not both");
+      if (!G0.empty()) sc.rod.Gamma0_s = std::move(G0);
+      if (!O0.empty()) sc.rod.Omega0_s = std::move(O0);
+      sc.material.file_has_shape = true;
+    }
+  }
   if (sc.initial.kind == "file") {
     // Read it once now so that a bad file is reported as a scene problem.
     std::vector<double> s(sc.rod.points), y;
@@ -563,10 +647,30 @@ std::string scene_to_toml(const Scene& sc) {
   const Rod& r = sc.rod;
   o << "# Resolved scene (every key, defaults filled) from " << sc.source << "\n";
   o << "[rod]\nlength = " << toml_num(r.length) << "\npoints = " << r.points << "\n";
-  o << "Gamma0 = " << (r.Gamma0_s.empty() ? toml_vec(r.Gamma0) : toml_profile(r.Gamma0_s, r.points)) << "\n";
-  o << "Omega0 = " << (r.Omega0_s.empty() ? toml_vec(r.Omega0) : toml_profile(r.Omega0_s, r.points)) << "\n";
-  o << "\n[material]\nC = " << toml_vec(sc.material.C) << "\nD = " << toml_vec(sc.material.D)
-    << "\nI = " << toml_vec(sc.material.I) << "\n";
+  const Material& m = sc.material;
+  if (m.file_has_shape) {
+    o << "# Gamma0, Omega0: from material.material_file\n";
+  } else {
+    o << "Gamma0 = " << (r.Gamma0_s.empty() ? toml_vec(r.Gamma0) : toml_profile(r.Gamma0_s, r.points)) << "\n";
+    o << "Omega0 = " << (r.Omega0_s.empty() ? toml_vec(r.Omega0) : toml_profile(r.Omega0_s, r.points)) << "\n";
+  }
+  auto matrix = [](const std::vector<double>& A, int n) {
+    std::string t = "[";
+    for (int r = 0; r < n; ++r) {
+      t += r ? ", [" : "[";
+      for (int c = 0; c < n; ++c) t += (c ? ", " : "") + toml_num(A[r * n + c]);
+      t += "]";
+    }
+    return t + "]";
+  };
+  o << "\n[material]\n";
+  if (!m.file.empty()) {
+    o << "material_file = " << toml_str(m.file) << "\n";
+  } else {
+    if (m.K.empty()) o << "C = " << toml_vec(m.C) << "\nD = " << toml_vec(m.D) << "\n";
+    else o << "K = " << matrix(m.K, 6) << "\n";
+    o << "I = " << (m.I_full.empty() ? toml_vec(m.I) : matrix(m.I_full, 3)) << "\nrho = " << toml_num(m.rho) << "\n";
+  }
   o << "\n[initial]\nkind = " << toml_str(sc.initial.kind) << "\n";
   for (const auto& [k, v] : sc.initial.numbers) o << k << " = " << toml_num(v) << "\n";
   for (const auto& [k, v] : sc.initial.strings) o << k << " = " << toml_str(v) << "\n";
