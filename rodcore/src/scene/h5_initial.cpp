@@ -132,6 +132,7 @@ std::string string_attribute(hid_t file, const std::string& name) {
     char* buf = nullptr;
     auto mem = h5::type(H5Tcopy(H5T_C_S1));
     H5Tset_size(mem, H5T_VARIABLE);
+    H5Tset_cset(mem, H5Tget_cset(t));  // h5py writes UTF-8
     if (H5Aread(a, mem, &buf) < 0 || !buf) return "(unreadable)";
     std::string out(buf);
     H5free_memory(buf);
