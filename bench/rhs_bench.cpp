@@ -1,5 +1,7 @@
 // Cost of the right-hand side (Eqs 11-14) and of one adaptive step, per grid
-// point, for both spatial operators, N = 32 .. 131072.
+// point, for both spatial operators, N = 32 .. 131072; and the RHS by
+// material kind (MaterialRHS, N = 158, 1000, 1024; bench/material.py runs it
+// against the base build and writes docs/performance.md's table).
 //
 //   rodbench --benchmark_filter=RHS     (items_per_second = grid-point updates/s)
 //
@@ -10,6 +12,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <string>
 #include <vector>
 
 #include "rodcore/analytic.hpp"
@@ -147,6 +150,49 @@ void PlanarRun(benchmark::State& state, const char* space, bool reduced) {
   state.counters["N"] = static_cast<double>(N);
 }
 
+// RHS cost by material kind (material.hpp), same state as RHS above:
+// "diagonal" the paper's diag(C, D), diagonal I (must cost what RHS costs);
+// "coupled" a uniform full K (every entry non-zero) and non-diagonal I;
+// "per_point" K, I, rho at every point (a smooth variation of "coupled").
+rodcore::Material bench_material(const std::string& kind, std::size_t N) {
+  rodcore::Material m;
+  if (kind == "diagonal") return m;
+  std::vector<double> K(36), I = {1.0, 0.1, 0.05, 0.1, 1.2, 0.08, 0.05, 0.08, 2.0};
+  const double d[6] = {1.0, 1.0, 1.19, 1.21, 1.21, 2.02};
+  for (int r = 0; r < 6; ++r)
+    for (int c = 0; c < 6; ++c) K[r * 6 + c] = r == c ? d[r] : 0.03 + 0.01 * (r + c);
+  if (kind == "coupled") {
+    m.K = K;
+    m.I_full = I;
+    return m;
+  }
+  for (std::size_t i = 0; i < N; ++i) {
+    const double w = 1.0 + 0.1 * std::sin(2.0 * std::numbers::pi * static_cast<double>(i) / static_cast<double>(N));
+    for (double k : K) m.K_s.push_back(w * k);
+    for (double v : I) m.I_s.push_back(w * v);
+    m.rho_s.push_back(w);
+  }
+  return m;
+}
+
+void MaterialRHS(benchmark::State& state, const char* space, const char* kind) {
+  const auto N = static_cast<std::size_t>(state.range(0));
+  Setup s(space, N);
+  const rodcore::Material mat = bench_material(kind, N);
+  rodcore::RodRHS rhs(s.rod, mat, *s.op);
+  for (auto _ : state) {
+    rhs(s.y.data(), s.f.data());
+    benchmark::DoNotOptimize(s.f.data());
+    benchmark::ClobberMemory();
+  }
+  state.SetItemsProcessed(static_cast<int64_t>(state.iterations()) * static_cast<int64_t>(N));
+  state.counters["N"] = static_cast<double>(N);
+}
+
+void material_sizes(benchmark::internal::Benchmark* b) {
+  for (long n : {158L, 1000L, 1024L}) b->Arg(n);
+}
+
 void sizes(benchmark::internal::Benchmark* b) {
   for (long n = 32; n <= 131072; n *= 2) b->Arg(n);
   b->Arg(158);
@@ -158,6 +204,12 @@ void sizes(benchmark::internal::Benchmark* b) {
 
 BENCHMARK_CAPTURE(RHS, fd4, "fd4")->Apply(sizes);
 BENCHMARK_CAPTURE(RHS, spectral, "spectral")->Apply(sizes);
+BENCHMARK_CAPTURE(MaterialRHS, fd4_diagonal, "fd4", "diagonal")->Apply(material_sizes);
+BENCHMARK_CAPTURE(MaterialRHS, fd4_coupled, "fd4", "coupled")->Apply(material_sizes);
+BENCHMARK_CAPTURE(MaterialRHS, fd4_per_point, "fd4", "per_point")->Apply(material_sizes);
+BENCHMARK_CAPTURE(MaterialRHS, spectral_diagonal, "spectral", "diagonal")->Apply(material_sizes);
+BENCHMARK_CAPTURE(MaterialRHS, spectral_coupled, "spectral", "coupled")->Apply(material_sizes);
+BENCHMARK_CAPTURE(MaterialRHS, spectral_per_point, "spectral", "per_point")->Apply(material_sizes);
 BENCHMARK_CAPTURE(Derivative, fd4, "fd4")->Apply(sizes);
 BENCHMARK_CAPTURE(Derivative, spectral, "spectral")->Apply(sizes);
 BENCHMARK_CAPTURE(Step, fd4, "fd4")->Apply(sizes);

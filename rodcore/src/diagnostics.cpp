@@ -42,8 +42,12 @@ EnergyParts energy_parts(const double* y, std::size_t N, double h, const Materia
       d[3 + c] = y[(9 + c) * N + i] - O0[c * N + i];
     }
     e.kinetic_translational += rho * (g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+    // Summed per point first: for a diagonal I the same sum as the paper's
+    // I1 w1^2 + I2 w2^2 + I3 w3^2 (adding the zero terms is exact).
+    double kr = 0.0;
     for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 3; ++c) e.kinetic_rotational += I[r * 3 + c] * (w[r] * w[c]);
+      for (int c = 0; c < 3; ++c) kr += I[r * 3 + c] * (w[r] * w[c]);
+    e.kinetic_rotational += kr;
     e.shear += K[0] * (d[0] * d[0]) + K[7] * (d[1] * d[1]);
     e.extension += K[14] * (d[2] * d[2]);
     e.bend += K[21] * (d[3] * d[3]) + K[28] * (d[4] * d[4]);

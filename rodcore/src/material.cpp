@@ -80,12 +80,13 @@ void check_inertia(double* I9, const std::string& where) {
 
 MaterialKind material_kind(const Material& m) {
   if (!m.K_s.empty()) return MaterialKind::per_point;
-  if (m.K.empty() && m.I_full.empty()) return MaterialKind::diagonal;
+  if (m.K.empty() && m.I_full.empty()) return m.rho == 1.0 ? MaterialKind::diagonal : MaterialKind::uniform;
   std::array<double, 36> K{};
   std::array<double, 9> I{};
   if (m.K.size() == 36) std::copy(m.K.begin(), m.K.end(), K.begin());
   if (m.I_full.size() == 9) std::copy(m.I_full.begin(), m.I_full.end(), I.begin());
-  return (m.K.empty() || is_diagonal(K.data(), 6)) && (m.I_full.empty() || is_diagonal(I.data(), 3))
+  return (m.K.empty() || is_diagonal(K.data(), 6)) && (m.I_full.empty() || is_diagonal(I.data(), 3)) &&
+                 m.rho == 1.0
              ? MaterialKind::diagonal
              : MaterialKind::uniform;
 }
@@ -165,7 +166,10 @@ MaterialField resolve_material(const Material& m, std::size_t N) {
   }
   f.Iinv = inverse3(f.I.data());
   f.rho = m.rho;
-  f.kind = is_diagonal(f.K.data(), 6) && is_diagonal(f.I.data(), 3) ? MaterialKind::diagonal : MaterialKind::uniform;
+  // The paper's kernel has no 1/rho (rho = 1 in its units); rho != 1 runs the
+  // coupled kernel, which has.
+  f.kind = is_diagonal(f.K.data(), 6) && is_diagonal(f.I.data(), 3) && m.rho == 1.0 ? MaterialKind::diagonal
+                                                                                     : MaterialKind::uniform;
   return f;
 }
 

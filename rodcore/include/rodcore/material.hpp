@@ -8,8 +8,8 @@
 // A scene's Material (scene.hpp) is validated and turned into the form the
 // RHS kernel reads (MaterialField) here, once. The kind decides which
 // compile-time specialisation of the one kernel runs (rhs.cpp):
-//   diagonal   K = diag(C, D) and I diagonal, uniform: the paper's Eqs 11-14;
-//   uniform    any other uniform K and I;
+//   diagonal   K = diag(C, D), I diagonal, rho = 1, uniform: the paper's Eqs 11-14;
+//   uniform    any other uniform K, I, rho;
 //   per_point  K, I, rho given at every grid point.
 #pragma once
 #include <array>

@@ -95,6 +95,12 @@ void write_scene_attributes(hid_t f, const Scene& sc) {
   attr(f, "material.C", sc.material.C);
   attr(f, "material.D", sc.material.D);
   attr(f, "material.I", sc.material.I);
+  attr(f, "material.rho", sc.material.rho);
+  // The general material (material.hpp): a full K / I row-major (36 / 9
+  // values), or the per-point file (its path; the data stay in that file).
+  if (!sc.material.K.empty()) attr_doubles(f, "material.K", sc.material.K.data(), 36);
+  if (!sc.material.I_full.empty()) attr_doubles(f, "material.I_full", sc.material.I_full.data(), 9);
+  if (!sc.material.file.empty()) attr(f, "material.material_file", sc.material.file);
   attr(f, "solver.space", sc.solver.space);
   attr_int(f, "solver.dealias", sc.solver.dealias);
   attr(f, "solver.time", sc.solver.time);
