@@ -173,23 +173,22 @@ MaterialField resolve_material(const Material& m, std::size_t N) {
   return f;
 }
 
-void MaterialField::K_at(std::size_t i, double* K36) const {
-  if (kind != MaterialKind::per_point) {
-    std::copy(K.begin(), K.end(), K36);
-    return;
-  }
-  for (int r = 0; r < 6; ++r)
-    for (int c = 0; c < 6; ++c) K36[r * 6 + c] = K_s[sym6(r, c) * N + i];
+namespace {
+
+// Full n x n matrix at point i: the uniform one, or unpacked from the
+// per-point upper-triangle rows (`index` = sym6 or sym3).
+template <int n, std::size_t m>
+void matrix_at(const MaterialField& f, const std::array<double, m>& uniform, const std::vector<double>& rows,
+               int (*index)(int, int), std::size_t i, double* out) {
+  for (int r = 0; r < n; ++r)
+    for (int c = 0; c < n; ++c)
+      out[r * n + c] = f.kind == MaterialKind::per_point ? rows[index(r, c) * f.N + i] : uniform[r * n + c];
 }
 
-void MaterialField::I_at(std::size_t i, double* I9) const {
-  if (kind != MaterialKind::per_point) {
-    std::copy(I.begin(), I.end(), I9);
-    return;
-  }
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 3; ++c) I9[r * 3 + c] = I_s[sym3(r, c) * N + i];
-}
+}  // namespace
+
+void MaterialField::K_at(std::size_t i, double* K36) const { matrix_at<6>(*this, K, K_s, sym6, i, K36); }
+void MaterialField::I_at(std::size_t i, double* I9) const { matrix_at<3>(*this, I, I_s, sym3, i, I9); }
 
 double MaterialField::rho_at(std::size_t i) const { return kind == MaterialKind::per_point ? rho_s[i] : rho; }
 
