@@ -23,6 +23,9 @@ echo "== reduced planar system vs full"
 "$PYTHON" "$DNAROD_ROOT/bench/reduced.py" --build "$DNAROD_BUILD" --out "$OUT" $QUICK
 echo "== output cost, rod vs MD, cost per point"
 "$PYTHON" "$DNAROD_ROOT/bench/costs.py" --build "$DNAROD_BUILD" --rhs-json "$OUT/rhs_bench.json" --out "$OUT" $QUICK
+echo "== RHS cost by material kind (diagonal, coupled, per point); BENCH_BASE_BUILD=dir also times a base build"
+"$PYTHON" "$DNAROD_ROOT/bench/material.py" --build "$DNAROD_BUILD" --out "$OUT" \
+  ${BENCH_BASE_BUILD:+--base-build "$BENCH_BASE_BUILD"} --rounds "$([[ -n "$QUICK" ]] && echo 1 || echo 5)"
 echo "== coarse-graining a 600-frame 158-bp trajectory (issue 14 budget: 30 s)"
 "$PYTHON" "$DNAROD_ROOT/bench/coarsegrain.py" --out "$OUT"
 echo "== done: $OUT"
