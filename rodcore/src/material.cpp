@@ -4,19 +4,14 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
-#include <sstream>
 
 #include "rodcore/error.hpp"
+#include "rodcore/guards.hpp"
 
 namespace rodcore {
 namespace {
 
-std::string num(double v) {
-  std::ostringstream o;
-  o.precision(10);
-  o << v;
-  return o.str();
-}
+std::string num(double v) { return message_number(v); }
 
 const char* kStrainNames[6] = {"Gamma1", "Gamma2", "Gamma3", "Omega1", "Omega2", "Omega3"};
 
