@@ -28,14 +28,14 @@ FIELDS = ("gamma", "omega", "Gamma", "Omega")
 
 def _rodcore():
     """The compiled module. The source folder rodcore/ imports as an empty namespace
-    package when the module is not on the path, so test for `run`, not the import."""
+    package when the module is not installed, so test for `run`, not the import."""
     try:
         import rodcore  # type: ignore
     except ImportError:
         rodcore = None
     if not hasattr(rodcore, "run"):
-        raise DnarodError("the rodcore Python module is not built or not on the path: run "
-                          "`bash scripts/build.sh` (it goes to build/python/) and use build/bin/dnarod")
+        raise DnarodError("the compiled rodcore Python module is not installed: run "
+                          "`bash scripts/build.sh` (it builds and installs it)")
     return rodcore
 
 

@@ -90,10 +90,7 @@ def run(args) -> int:
            "--configfile", str(cfg.resolve()), "--config", f"bin_dir={bin_dir}",
            "--directory", str(out), "--cores", str(args.cores), "--printshellcmds",
            "--rerun-incomplete", "--keep-going"] + list(args.snakemake_args)
-    env = dict(os.environ)
-    env["PYTHONPATH"] = os.pathsep.join([str(ROOT), str(Path(bin_dir).parent / "python")]
-                                        + ([env["PYTHONPATH"]] if env.get("PYTHONPATH") else []))
-    rc = _run_showing_md_progress(cmd, env, out)
+    rc = _run_showing_md_progress(cmd, dict(os.environ), out)
     if rc != 0:
         raise ExternalToolError(f"the workflow stopped (snakemake exit {rc}); the failing step's log is "
                                 f"named above (under {out}); rerun the same command to resume")
