@@ -89,7 +89,6 @@ fields = ["internal", "centerline", "directors"]
 def test_modulus_fit_recovers_eq39_stiffness(tmp_path):
     """At small amplitude the rod's speed is Eq 39's: asking the fit for the speed Eq 39
     gives at 3x the paper's bend stiffness must return a scale of 3."""
-    pytest.importorskip("rodcore", reason="rodcore Python module not built (scripts/build.sh)")
     from mdbridge.analysis.modulus import fit_modulus
     u = Units.paper()
     scene = tmp_path / "s.toml"
