@@ -10,8 +10,8 @@ import warnings
 # MDAnalysis 2.4 (Debian) imports the deprecated xdrlib; the warning is noise for users.
 warnings.filterwarnings("ignore", message=".*xdrlib.*", category=DeprecationWarning)
 
-from dna_models.errors import DnarodError
-from workflows import commands
+from dna_models.errors import DnarodError  # noqa: E402  (after the warning filter)
+from workflows import commands  # noqa: E402
 
 
 def _subcommand_modules():

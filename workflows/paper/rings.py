@@ -44,6 +44,7 @@ def rotating_ring(quick: bool = False) -> dict:
     Gamma3 = (C3 * G03 + np.sqrt((C3 * G03) ** 2 + 4 * C3 * g3 ** 2)) / (2 * C3)
     R = Gamma3 * L / (2 * np.pi)
     run = run_scene(sc)
+    assert run.centerline is not None and run.directors is not None and run.energy is not None
     c = run.centerline
     centre = c.mean(axis=1, keepdims=True)
     radius = np.linalg.norm(c - centre, axis=2)

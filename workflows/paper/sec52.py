@@ -46,7 +46,7 @@ def energy_components(outdir: Path | None = None, quick: bool = False, k=2.0, ep
     run = untwisted_run(k, eps, "plus", t_end, 41 if quick else 201, 32 if quick else 64)
     E = run.energy
     short = run.time <= 3.6 + 1e-9  # the span of the paper's Fig 6 run
-    out = {}
+    out: dict[str, dict] = {}
     for p in PARTS:
         e = run.energy_parts[p]
         ref = e[0]
@@ -63,7 +63,8 @@ def energy_components(outdir: Path | None = None, quick: bool = False, k=2.0, ep
             "max_rel_diff_of_large_components": max(out[p]["max_rel_diff"] for p in
                                                     ("kinetic_translational", "kinetic_rotational", "shear", "bend")),
             "max_rel_diff_of_large_components_t_le_3.6": max(
-                out[p]["max_rel_diff_t_le_3.6"] for p in ("kinetic_translational", "kinetic_rotational", "shear", "bend")),
+                out[p]["max_rel_diff_t_le_3.6"]
+                for p in ("kinetic_translational", "kinetic_rotational", "shear", "bend")),
             "max_diff_over_total_energy_any_component": max(out[p]["max_diff_over_total_energy"] for p in PARTS),
             "max_diff_over_total_energy_any_component_t_le_3.6": max(
                 out[p]["max_diff_over_total_energy_t_le_3.6"] for p in PARTS),

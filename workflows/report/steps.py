@@ -160,7 +160,8 @@ def analyse_md(scene_path, md_dir, prefix, n_boot=200):
     build = md_dir / "build.json"
     if build.is_file():
         b = json.loads(build.read_text())
-        s["seed"] = b.get("seed", b.get("velocities", {}).get("seed") if isinstance(b.get("velocities"), dict) else None)
+        vel = b.get("velocities")
+        s["seed"] = b.get("seed", vel.get("seed") if isinstance(vel, dict) else None)
     _write(prefix, a, s, {"intact_times_ps": t_int, "intact_fraction": intact})
     return s
 
