@@ -1,7 +1,7 @@
 """Coarse-graining against ensembles with a known answer (issue 14).
 
 Truth: step parameters drawn from Gaussians with known per-step means and coupled
-6x6 stiffness K (Olson et al. 1998's own tables, tests/data/cg/), as an AR(1) series
+6x6 stiffness K (Olson et al. 1998's own tables, tests/data/olson1998/), as an AR(1) series
 in time, so the bootstrap must handle correlated frames. One test goes through atoms:
 builder -> PDB + TRR with Maxwell-Boltzmann velocities -> `dnarod coarse-grain`.
 """
