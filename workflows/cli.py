@@ -11,14 +11,14 @@ import warnings
 warnings.filterwarnings("ignore", message=".*xdrlib.*", category=DeprecationWarning)
 
 from dna_models.errors import DnarodError  # noqa: E402  (after the warning filter)
-from workflows import commands  # noqa: E402
+from dnarod import commands  # noqa: E402
 
 
 def _subcommand_modules():
     for info in sorted(pkgutil.iter_modules(commands.__path__), key=lambda m: m.name):
         if info.name.startswith("_"):
             continue
-        yield importlib.import_module(f"workflows.commands.{info.name}")
+        yield importlib.import_module(f"dnarod.commands.{info.name}")
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -54,7 +54,7 @@ def test_rod_frames_are_ideal_bdna_and_close_through_the_box():
 def test_build_dna_scene_command_with_a_stand_in_rodcore(tmp_path, capsys, monkeypatch):
     """The command's glue (scene reading, n_bp from initial.bp, the t = 0 run,
     --periodic box from the rod) with rodcore.run answering the analytic rod."""
-    from workflows.cli import main
+    from dnarod.cli import main
     seen = {}
 
     def run(scene):

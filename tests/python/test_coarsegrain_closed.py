@@ -15,7 +15,7 @@ import pytest
 from mdbridge.builder.duplex import build_duplex
 from mdbridge.builder.frames import ideal_frames
 from mdbridge.geometry.rotations import rotation_exp
-from workflows.cli import main
+from dnarod.cli import main
 
 
 def _ring_trajectory(tmp_path, n_bp=20, T=400, seed=0):

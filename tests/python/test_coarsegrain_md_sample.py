@@ -15,7 +15,7 @@ import pytest
 
 from cg_truth import DATA
 from mdbridge.geometry.x3dna import read_bp_step_par
-from workflows.cli import main
+from dnarod.cli import main
 
 TOL3 = 0.0005 + 2e-4   # 3 printed decimals + float32 coordinates (test_geometry_3dna.py)
 

@@ -14,7 +14,7 @@ import pytest
 from cg_truth import UPPER, allowed_beyond_3sigma, per_step, z_scores
 from mdbridge.coarsegrain import CoarseGrain, StepEnsemble
 from mdbridge.coarsegrain.synthetic import ar1_steps, write_trajectory
-from workflows.cli import main
+from dnarod.cli import main
 
 
 def _fraction_beyond(z):

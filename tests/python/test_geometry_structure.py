@@ -123,7 +123,7 @@ def test_no_dna():
 
 def _dnarod(*args):
     """`dnarod helical-params` through the installed toolkit, run from outside the checkout."""
-    return subprocess.run([sys.executable, "-m", "workflows.cli", "helical-params", *args],
+    return subprocess.run([sys.executable, "-m", "dnarod.cli", "helical-params", *args],
                           capture_output=True, text=True, cwd="/")
 
 

@@ -249,7 +249,7 @@ def test_cli_build_md_from_the_dna21_scene_then_run_md(gmx, tmp_path, capsys):
     """The real chain: scene -> rodcore -> builder -> GROMACS. The scene is the paper's
     Table 1 with A = 0 and A_v = 1 A/ps, so at 0 K every atom of base pair i must move
     with (0, 0, sin(2 pi i / 21)) A/ps in the lab: a formula, not the rod's output."""
-    from workflows.cli import main
+    from dnarod.cli import main
     scene = Path(__file__).resolve().parents[2] / "workflows" / "scenes" / "dna21.toml"
     out = tmp_path / "md21"
     assert main(["build-md", str(scene), "-o", str(out), "--ps", "0.2", "--temperature", "0",

@@ -7,8 +7,8 @@ import math
 import numpy as np
 import pytest
 
-from workflows.cli import main
-from workflows.paper import theory
+from dnarod.cli import main
+from dnarod.paper import theory
 
 
 def _csv(capsys, argv):

@@ -4,9 +4,9 @@ amplitudes of the exact (Eq 24) and asymptotic (Eqs 40-43) fields that the solve
 import numpy as np
 import pytest
 
-from workflows.paper import theory
+from dnarod.paper import theory
 from mdbridge.rodrun import run_scene
-from workflows.paper.rod import scene, straight_rod
+from dnarod.paper.rod import scene, straight_rod
 
 D1 = 1.21
 

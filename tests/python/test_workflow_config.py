@@ -11,7 +11,7 @@ import pytest
 import yaml
 
 from dna_models.errors import InputError
-from workflows.configuration import SCHEMA_PATH, load, schema, validate
+from dnarod.configuration import SCHEMA_PATH, load, schema, validate
 
 ROOT = Path(__file__).resolve().parents[2]
 SHIPPED = sorted((ROOT / "workflows" / "config").glob("*.yaml"))

@@ -78,7 +78,7 @@ def _run_showing_md_progress(cmd, env, out: Path, poll_s: float = 5.0) -> int:
 
 
 def run(args) -> int:
-    from workflows.configuration import load
+    from dnarod.configuration import load
     cfg = Path(args.config)
     load(cfg)  # every key checked before anything runs (workflows/config/schema.yaml)
     if args.cores < 1:

@@ -16,10 +16,10 @@ from pathlib import Path
 
 import numpy as np
 
-from workflows.paper import theory
-from workflows.paper.common import find_frequencies, finish, mode_amplitude, plt, write_json
+from dnarod.paper import theory
+from dnarod.paper.common import find_frequencies, finish, mode_amplitude, plt, write_json
 from mdbridge.rodrun import run_scene
-from workflows.paper.rod import scene, straight_rod
+from dnarod.paper.rod import scene, straight_rod
 
 EPS = 1e-4
 TRANSVERSE = [(f, c) for f in ("gamma", "omega", "Gamma", "Omega") for c in (0, 1)]

@@ -11,8 +11,8 @@ from pathlib import Path
 
 import numpy as np
 
-from workflows.paper import theory
-from workflows.paper.common import finish, plt, write_json
+from dnarod.paper import theory
+from dnarod.paper.common import finish, plt, write_json
 
 D1, G03, O03 = theory.D1_PAPER, 1.0, 1.0
 STYLE = {("plus", "p"): ("C0", "-"), ("minus", "p"): ("C1", "-"),

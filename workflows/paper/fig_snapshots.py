@@ -15,11 +15,11 @@ from pathlib import Path
 
 import numpy as np
 
-from workflows.paper import theory
-from workflows.paper.common import write_json
+from dnarod.paper import theory
+from dnarod.paper.common import write_json
 from mdbridge.rodrun import run_scene
-from workflows.paper.rod import scene, straight_rod
-from workflows.paper.tubes import close_periodic, snapshot_figure
+from dnarod.paper.rod import scene, straight_rod
+from dnarod.paper.tubes import close_periodic, snapshot_figure
 
 FIELDS_3D = ("internal", "energy", "energy_parts", "centerline", "directors")
 

@@ -119,7 +119,7 @@ def twisting_bent_ring(quick: bool = False, I3: float | None = None) -> dict:
 
 
 def check(outdir: Path | None = None, quick: bool = False) -> dict:
-    from workflows.paper.common import write_json
+    from dnarod.paper.common import write_json
     data = {"rotating_ring": rotating_ring(quick), "twisting_ring": twisting_ring(quick),
             "twisting_bent_ring": twisting_bent_ring(quick),
             "twisting_bent_ring_I3_1": twisting_bent_ring(quick, I3=1.0)}

@@ -22,10 +22,10 @@ from pathlib import Path
 import numpy as np
 from scipy.optimize import brentq, least_squares
 
-from workflows.paper import theory
-from workflows.paper.common import finish, mode_amplitude, plt, write_json
+from dnarod.paper import theory
+from dnarod.paper.common import finish, mode_amplitude, plt, write_json
 from mdbridge.rodrun import run_scene
-from workflows.paper.rod import scene, straight_rod
+from dnarod.paper.rod import scene, straight_rod
 
 PARTS = ("kinetic_translational", "kinetic_rotational", "shear", "extension", "bend", "twist")
 

@@ -15,10 +15,10 @@ from pathlib import Path
 
 import numpy as np
 
-from workflows.paper import theory
-from workflows.paper.common import write_json
+from dnarod.paper import theory
+from dnarod.paper.common import write_json
 from mdbridge.rodrun import run_scene
-from workflows.paper.rod import scene, straight_rod
+from dnarod.paper.rod import scene, straight_rod
 
 K, A, O3, G3 = 2.0, 0.5, 1.0, 1.0
 

@@ -20,8 +20,8 @@ from pathlib import Path
 import numpy as np
 
 from dna_models.units import Units
-from workflows.paper import theory
-from workflows.paper.common import write_json
+from dnarod.paper import theory
+from dnarod.paper.common import write_json
 from mdbridge.rodrun import run_scene, scene_bp_turns
 
 SCENE = Path(__file__).resolve().parents[1] / "scenes" / "dna158.toml"
@@ -48,7 +48,7 @@ def amplitude_series(amplitudes=(1e-3, 0.1, 1.0), t_end: float = 2500.0) -> list
     """Frequency of the laboratory k = 2 pi / L mode of the centerline displacement versus
     the kick A_v: long runs (several periods), frequencies from find_frequencies (spectral
     peaks refined by least squares). Shows where the linear dispersion relation holds."""
-    from workflows.paper.common import find_frequencies, mode_amplitude
+    from dnarod.paper.common import find_frequencies, mode_amplitude
     with open(SCENE, "rb") as f:
         base = tomllib.load(f)
     u = Units.paper()

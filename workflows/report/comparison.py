@@ -76,7 +76,7 @@ def _md_row(runs: list[dict]) -> dict | None:
 def comparison_block(cfg: dict, data: dict) -> dict:
     from mdbridge.analysis.dispersion import critical_compression
     from dna_models.units import Units
-    from workflows.report.matched import interp_rod_curve
+    from dnarod.report.matched import interp_rod_curve
     u = Units.paper()
     seeds = [int(s) for s in cfg["seeds"]]
     avs = sorted(data["rod"])

@@ -1,7 +1,7 @@
 """The comparison report: DIR/results.json and DIR/report/index.html (self-contained,
 figures embedded as base64 PNG).
 
-    python -m workflows.report.report CONFIG.yaml OUT_DIR
+    python -m dnarod.report.report CONFIG.yaml OUT_DIR
 
 Reads what the workflow's analysis steps wrote under OUT_DIR (rod/, md/, sweep/).
 """
@@ -115,7 +115,7 @@ def results_json(cfg: dict, data: dict) -> dict:
     md_runs = [m for m in md_runs if m]
     md_speed, md_err = _combine([m["wave_speed_A_per_ps"] for m in md_runs],
                                 [m["wave_speed_err_A_per_ps"] for m in md_runs])
-    from workflows.report.comparison import comparison_block
+    from dnarod.report.comparison import comparison_block
     comp = comparison_block(cfg, data)
     head_row = next((r for r in comp["rows"] if r["A_v_A_per_ps"] == head), {})
     md_head = head_row.get("md") or {}
@@ -339,7 +339,7 @@ def write_html(cfg: dict, res: dict, figs: dict, path: Path):
         f"<td>{_f(j['t_end_ps'])}"
         f"{'' if j.get('complete', True) else ' (stopped: ' + html.escape(j.get('stopped', '')) + ')'}</td></tr>"
         for j in res["runs"]["rod"] + res["runs"]["md"] + res["runs"]["sweep"])
-    from workflows.report.comparison import html_table
+    from dnarod.report.comparison import html_table
     matched_html = html_table(res["comparison"]) if res.get("comparison") else ""
     imgs = "\n".join(f'<figure id="fig-{html.escape(k)}"><img alt="{html.escape(k)}" '
                      f'src="data:image/png;base64,{_png(fig)}"><figcaption><b>{html.escape(k)}.</b> '
