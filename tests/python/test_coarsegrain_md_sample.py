@@ -49,7 +49,8 @@ def test_opened_pairs_are_excluded_and_reported(ensemble):
 def _run(tmp_path, *extra):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        return main(["coarse-grain", str(DATA / "md_sample_3dna" / "sample_md0.pdb.gz"), "--pairs", str(DATA / "md_sample_3dna" / "bpfile.dat"),
+        d = DATA / "md_sample_3dna"
+        return main(["coarse-grain", str(d / "sample_md0.pdb.gz"), "--pairs", str(d / "bpfile.dat"),
                      "-o", str(tmp_path), *extra])
 
 

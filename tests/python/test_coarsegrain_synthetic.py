@@ -50,7 +50,8 @@ def test_atoms_trajectory_recovers_means_and_stiffness(tmp_path):
     assert n == 189
     assert bad <= allowed_beyond_3sigma(n), f"{bad} of {n} elements beyond 3 sigma"
     # the sequence average is the average of the truths
-    za = z_scores(np.diagonal(np.array(p["average"]["stiffness"])), np.diagonal(np.array(p["average"]["stiffness_err"])),
+    za = z_scores(np.diagonal(np.array(p["average"]["stiffness"])),
+                  np.diagonal(np.array(p["average"]["stiffness_err"])),
                   np.diagonal(K.mean(axis=0)))
     assert np.all(np.abs(za) < 4)
     # stationary input: the two halves agree, the convergence series ends at the full value

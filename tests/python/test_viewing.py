@@ -9,7 +9,6 @@ comparison's rod run and MD build (conftest `tiny_run`).
 import json
 import subprocess
 import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -107,7 +106,9 @@ def test_relaxation_restores_links(tiny_paths, dnarod, tmp_path):
         assert p.returncode == 0, p.stderr[-3000:]
     a = json.loads(rigid.with_suffix(".chemistry.json").read_text())
     b = json.loads(relaxed.with_suffix(".chemistry.json").read_text())
-    dev = lambda r: np.maximum(np.abs(np.array(r["O3P_max_A"]) - 1.61), np.abs(np.array(r["O3P_min_A"]) - 1.61))
+
+    def dev(r):
+        return np.maximum(np.abs(np.array(r["O3P_max_A"]) - 1.61), np.abs(np.array(r["O3P_min_A"]) - 1.61))
     k = int(np.argmax(dev(a)))
     assert dev(a)[k] > 0.05, "the rigid back-map was not strained: the check cannot fail"
     assert dev(b)[k] < 0.5 * dev(a)[k]

@@ -4,7 +4,6 @@ missing key and every value of the wrong type or range is an error naming the fi
 and the key, with what is allowed."""
 import re
 import subprocess
-import sys
 from pathlib import Path
 
 import pytest

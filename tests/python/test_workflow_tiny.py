@@ -2,7 +2,6 @@
 rod scene -> rodsim -> build-md -> run-md -> analyses -> report, then a resume that
 has nothing left to do. ~3 min on 2 cores."""
 import json
-import os
 import subprocess
 import time
 from pathlib import Path

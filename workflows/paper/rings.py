@@ -45,6 +45,7 @@ def rotating_ring(quick: bool = False) -> dict:
     R = Gamma3 * L / (2 * np.pi)
     run = run_scene(sc)
     assert run.centerline is not None and run.directors is not None and run.energy is not None
+    assert run.time is not None
     c = run.centerline
     centre = c.mean(axis=1, keepdims=True)
     radius = np.linalg.norm(c - centre, axis=2)
@@ -71,6 +72,7 @@ def twisting_ring(quick: bool = False) -> dict:
     L, w3 = sc["rod"]["length"], sc["initial"]["omega3"]
     A = sc["initial"]["A"] or 2 * np.pi / L
     run = run_scene(sc)
+    assert run.time is not None
     t = run.time[:, None]
     Om, om = run.fields["Omega"], run.fields["omega"]
     err = max(float(np.max(np.abs(Om[..., 0] - A * np.sin(w3 * t)))),
@@ -103,6 +105,7 @@ def twisting_bent_ring(quick: bool = False, I3: float | None = None) -> dict:
     A = sc["initial"]["A"] or 2 * np.pi / L
     O02 = sc["rod"]["Omega0"][1]
     run = run_scene(sc)
+    assert run.time is not None
     w3_ode, O1_ode, O2_ode = eq46(run.time, w3, 0.0, A, D[0], O02, I[2])
     Om, om = run.fields["Omega"], run.fields["omega"]
     err = max(float(np.max(np.abs(om[..., 2] - w3_ode[:, None]))),

@@ -60,6 +60,7 @@ def amplitude_series(amplitudes=(1e-3, 0.1, 1.0), t_end: float = 2500.0) -> list
         sc["checks"]["max_energy_drift"] = 1e-4
         sc["output"].update(t_end=t_end, frames=1251, fields=["internal", "centerline"])
         run = run_scene(sc)
+        assert run.centerline is not None
         z = run.centerline[..., 2] - run.centerline[..., 2].mean(axis=1, keepdims=True)
         c = mode_amplitude(z, 1)
         w, rel = find_frequencies(run.time, [c.real, c.imag], 2)
@@ -79,6 +80,7 @@ def check(outdir: Path | None = None, quick: bool = False) -> dict:
     if quick:
         sc["output"]["frames"] = 61
     run = run_scene(sc)
+    assert run.energy is not None
     bp, turns = scene_bp_turns(sc, SCENE)
     traj = BasePairTrajectory.from_rod(run, n_bp=bp)
     a = WaveAnalysis(traj, in_plane=[0.0, 0.0, 1.0], n_boot=20 if quick else 200).run()
