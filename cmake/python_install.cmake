@@ -20,8 +20,14 @@ if(NOT DNAROD_PYTHON_INSTALL_DIR)
     message(FATAL_ERROR "could not ask ${Python_EXECUTABLE} for its site directory; "
                         "set -DDNAROD_PYTHON_INSTALL_DIR=DIR")
   endif()
+  # Relative to the install prefix when it lies under it (the default /usr/local), so
+  # that `cmake --install build --prefix DIR` keeps everything inside DIR.
+  string(FIND "${_dnarod_platlib}" "${CMAKE_INSTALL_PREFIX}/" _dnarod_at)
+  if(_dnarod_at EQUAL 0)
+    file(RELATIVE_PATH _dnarod_platlib ${CMAKE_INSTALL_PREFIX} ${_dnarod_platlib})
+  endif()
   set(DNAROD_PYTHON_INSTALL_DIR ${_dnarod_platlib} CACHE PATH
-      "where `cmake --install` puts the compiled rodcore module")
+      "where `cmake --install` puts the compiled rodcore module (relative: to the prefix)")
 endif()
 
 # Both are linked with their install RPATH (which keeps the library directories
