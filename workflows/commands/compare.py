@@ -51,7 +51,7 @@ def _run_showing_md_progress(cmd, env, out: Path, poll_s: float = 5.0) -> int:
     """Run Snakemake; meanwhile show the progress of every running MD job, read from
     the plain progress lines `dnarod run-md` writes into md/*/run-md.log
     (workflows/progress.py): every 15 s on a terminal, every minute in a log."""
-    from workflows.progress import Progress, last_progress, md_rate
+    from dnarod.progress import Progress, last_progress, md_rate
     every = 15.0 if sys.stderr.isatty() else 60.0
     shown: dict[str, Progress] = {}
     proc = subprocess.Popen(cmd, env=env)
