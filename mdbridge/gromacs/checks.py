@@ -83,8 +83,8 @@ def energy_drift(directory: Path, gmx: str, n_atoms: int) -> dict:
     t = col["time"]
     E = col.get("Conserved En.", col.get("Total Energy"))
     if E is None:
-        raise ExternalToolError(f"{d / 'energy.xvg'}: no 'Conserved En.' or 'Total Energy' column "
-                                f"(columns: {', '.join(names)})")
+        raise ExternalToolError(f"{Path(directory) / 'energy.xvg'}: no 'Conserved En.' or 'Total Energy' "
+                                f"column (columns: {', '.join(k for k in col if k != 'time')})")
     out = {"times_ps": [float(t[0]), float(t[-1])], "n_frames": int(len(t))}
     if len(t) >= 4:
         out.update(fit_drift(t, E, n_atoms))

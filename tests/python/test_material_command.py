@@ -7,7 +7,6 @@ import h5py
 import numpy as np
 import pytest
 
-from dna_models.errors import InputError
 from mdbridge.material.parameter_sets import paper_steps
 from mdbridge.material.stepfile import read_steps
 from mdbridge.material.steps_to_rod import grid_material, rod_material
