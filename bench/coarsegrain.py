@@ -69,7 +69,7 @@ def main():
     ap.add_argument("--frames", type=int, default=600)
     ap.add_argument("--out", default=str(Path(__file__).resolve().parent / "results"))
     a = ap.parse_args()
-    from workflows.cli import main as dnarod
+    from dnarod.cli import main as dnarod
     with tempfile.TemporaryDirectory() as tmp:
         t0 = time.time()
         pdb, trr, n_atoms = make_trajectory(tmp, frames=a.frames)

@@ -86,11 +86,11 @@ def link_lengths(universe, xyz) -> np.ndarray:
     res_p = universe.atoms[p].resindices
     n_res = len(universe.residues)
     n = n_res // 2
-    pairs = []
+    pair_list = []
     for a, r in zip(o3, res_o3):
         nxt = r + 1 if (r + 1) % n != 0 else r + 1 - n  # the ring closes within each strand
-        pairs.append((a, p[np.flatnonzero(res_p == nxt)[0]]))
-    pairs = np.array(pairs)
+        pair_list.append((a, p[np.flatnonzero(res_p == nxt)[0]]))
+    pairs = np.array(pair_list)
     box = universe.dimensions[:3] if universe.dimensions is not None else None
     d = xyz[:, pairs[:, 1]] - xyz[:, pairs[:, 0]]
     if box is not None and np.all(box > 0):

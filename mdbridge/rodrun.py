@@ -28,14 +28,14 @@ FIELDS = ("gamma", "omega", "Gamma", "Omega")
 
 def _rodcore():
     """The compiled module. The source folder rodcore/ imports as an empty namespace
-    package when the module is not on the path, so test for `run`, not the import."""
+    package when the module is not installed, so test for `run`, not the import."""
     try:
         import rodcore  # type: ignore
     except ImportError:
         rodcore = None
     if not hasattr(rodcore, "run"):
-        raise DnarodError("the rodcore Python module is not built or not on the path: run "
-                          "`bash scripts/build.sh` (it goes to build/python/) and use build/bin/dnarod")
+        raise DnarodError("the compiled rodcore Python module is not installed: run "
+                          "`bash scripts/build.sh` (it builds and installs it)")
     return rodcore
 
 
@@ -124,6 +124,8 @@ class RodRun:
     @property
     def L(self) -> float:
         """Fiducial length (periodic grid s_i = i L / N)."""
+        self.require("s")
+        assert self.s is not None
         return float(self.s[1] - self.s[0]) * len(self.s)
 
     @property
@@ -224,6 +226,8 @@ class RodRun:
 
     def until(self, t_end: float) -> "RodRun":
         """The frames with time <= t_end (solver units), the same run otherwise."""
+        self.require("time")
+        assert self.time is not None
         keep = np.asarray(self.time) <= t_end * (1 + 1e-12) + 1e-300
         cut = (lambda a: None if a is None else np.asarray(a)[keep])
         return RodRun(self.time[keep], self.s, {k: v[keep] for k, v in self.fields.items()},

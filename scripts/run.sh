@@ -12,5 +12,5 @@ cd "$DNAROD_ROOT"
 args=("$@")
 case " ${args[*]-} " in *" --out "*) ;; *) args+=(--out out/compare) ;; esac
 case " ${args[*]-} " in *" --cores "*) ;; *) args+=(--cores "$(nproc)") ;; esac
-"$DNAROD_BUILD/bin/dnarod" compare "${args[@]}"
+DNAROD_BIN_DIR="$DNAROD_BUILD/bin" dnarod compare "${args[@]}"  # dnarod: installed by build.sh
 echo "Report: $DNAROD_ROOT/out/compare/report/index.html (or the --out you gave)"

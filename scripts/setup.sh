@@ -17,6 +17,10 @@ PACKAGES=(
   python3 python3-dev python3-numpy python3-scipy python3-matplotlib
   python3-h5py python3-mdanalysis python3-pytest python3-hypothesis
   python3-yaml python3-toml snakemake
+  # installing the toolkit (scripts/install.sh: pip install -e . with Debian's setuptools)
+  python3-pip python3-setuptools python3-wheel
+  # checks run by scripts/test.sh (scripts/check.sh): format, lint, types
+  clang-format python3-flake8 mypy
 )
 
 missing=()

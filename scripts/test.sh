@@ -1,15 +1,21 @@
 #!/usr/bin/env bash
-# The one test command (README, CI): install, build, then every C++ and
-# Python test. Exits non-zero if anything fails.
+# The one test command (README, CI): install, build and install this checkout,
+# then every C++ and Python test and the code checks. Exits non-zero if
+# anything fails. Each suite prints its wall time (docs/testing.md keeps them).
 set -euo pipefail
 source "$(dirname "$0")/env.sh"
 bash "$DNAROD_ROOT/scripts/setup.sh"
-bash "$DNAROD_ROOT/scripts/build.sh"
+# build.sh also installs (scripts/install.sh): the tests import the installed
+# toolkit, and tests/python/test_install.py checks that it is this checkout.
+t0=$SECONDS; bash "$DNAROD_ROOT/scripts/build.sh"; echo "-- build + install: $((SECONDS - t0)) s"
 echo "== C++ tests (CTest)"
-ctest --test-dir "$DNAROD_BUILD" --output-on-failure -j "$(nproc)"
+t0=$SECONDS; ctest --test-dir "$DNAROD_BUILD" --output-on-failure -j "$(nproc)"
+echo "-- CTest: $((SECONDS - t0)) s"
 echo "== Python tests (pytest)"
 cd "$DNAROD_ROOT"
-"$PYTHON" -m pytest -q tests/python "$@"
+# -P: the checkout folder is not put on sys.path, so the tests see only the
+# installed toolkit (pyproject.toml sets -rs --strict-markers).
+t0=$SECONDS; "$PYTHON" -P -m pytest -q tests/python "$@"; echo "-- pytest: $((SECONDS - t0)) s"
 # Issue 8: the same C++ tests under AddressSanitizer + UndefinedBehaviorSanitizer
 # (build-asan/), then a short libFuzzer run of the scene reader (build-fuzz/).
 # DNAROD_SKIP_SANITIZE=1 leaves them out (say so in any report that uses it).
@@ -17,5 +23,7 @@ if [ "${DNAROD_SKIP_SANITIZE:-0}" = 1 ]; then
   echo "== Sanitizers: SKIPPED (DNAROD_SKIP_SANITIZE=1)"
 else
   echo "== Sanitizers (scripts/test_sanitize.sh)"
-  bash "$DNAROD_ROOT/scripts/test_sanitize.sh"
+  t0=$SECONDS; bash "$DNAROD_ROOT/scripts/test_sanitize.sh"; echo "-- sanitizers + fuzz: $((SECONDS - t0)) s"
 fi
+# Format, lint and types (scripts/check.sh), last so a style slip does not hide test results.
+t0=$SECONDS; bash "$DNAROD_ROOT/scripts/check.sh"; echo "-- checks: $((SECONDS - t0)) s"

@@ -10,15 +10,15 @@ import warnings
 # MDAnalysis 2.4 (Debian) imports the deprecated xdrlib; the warning is noise for users.
 warnings.filterwarnings("ignore", message=".*xdrlib.*", category=DeprecationWarning)
 
-from dna_models.errors import DnarodError
-from workflows import commands
+from dna_models.errors import DnarodError  # noqa: E402  (after the warning filter)
+from dnarod import commands  # noqa: E402
 
 
 def _subcommand_modules():
     for info in sorted(pkgutil.iter_modules(commands.__path__), key=lambda m: m.name):
         if info.name.startswith("_"):
             continue
-        yield importlib.import_module(f"workflows.commands.{info.name}")
+        yield importlib.import_module(f"dnarod.commands.{info.name}")
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -22,6 +22,7 @@
     stability.py --build BUILD --out bench/results [--quick]
 """
 import argparse
+import importlib.util
 import json
 import math
 import subprocess
@@ -33,11 +34,22 @@ from pathlib import Path
 import h5py
 import numpy as np
 
+from dna_models.units import Units
+from mdbridge.rodrun import RodRun
+
 HERE = Path(__file__).resolve().parent
-sys.path.insert(0, str(HERE.parent))
-import baseline_numpy  # noqa: E402  (the independent RHS)
-from dna_models.units import Units  # noqa: E402
-from mdbridge.rodrun import RodRun  # noqa: E402
+
+
+def _bench_script(name):
+    """bench/NAME.py as a module (bench/ is a folder of scripts, not a package)."""
+    spec = importlib.util.spec_from_file_location(name, HERE.parent / f"{name}.py")
+    assert spec is not None and spec.loader is not None
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+baseline_numpy = _bench_script("baseline_numpy")  # the independent RHS
 
 FIELDS = ("gamma", "omega", "Gamma", "Omega")
 _U = Units.paper()   # the paper's dimensionless material, from its one source (dna_models)

@@ -39,10 +39,10 @@ def bp_intact_fraction(universe, pairs, start=None, stop=None, step=None,
     import MDAnalysis as mda
     a = mda.AtomGroup([_central_atom(r1) for r1, _ in pairs])
     b = mda.AtomGroup([_central_atom(r2) for _, r2 in pairs])
-    times, dist = [], []
+    times, per_frame = [], []
     for ts in universe.trajectory[start:stop:step]:
         box = ts.dimensions if ts.dimensions is not None and np.all(ts.dimensions[:3] > 0) else None
-        dist.append(calc_bonds(a.positions, b.positions, box=box))
+        per_frame.append(calc_bonds(a.positions, b.positions, box=box))
         times.append(ts.time)
-    dist = np.array(dist)
+    dist = np.array(per_frame)
     return np.array(times), np.mean(dist < cutoff_A, axis=1), dist

@@ -138,7 +138,8 @@ def regime(added_pN: float, baseline_pN: float | None = None, err_pN: float | No
     base_ok = baseline_pN is not None and math.isfinite(baseline_pN)
     if a >= OVERSTRETCH_PN:
         lab = "beyond the overstretching plateau"
-    elif a < LINEAR_PN and (not base_ok or a < LINEAR_FRACTION_OF_BASELINE * abs(baseline_pN)
+    elif a < LINEAR_PN and (baseline_pN is None or not base_ok
+                            or a < LINEAR_FRACTION_OF_BASELINE * abs(baseline_pN)
                             or abs(baseline_pN) < LINEAR_PN):
         lab = "linear"
     else:

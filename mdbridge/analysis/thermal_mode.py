@@ -70,18 +70,19 @@ def kicked_mode_study(a_kick_A: float, a_thermal_A: float, omega: float, Q: floa
     e = rng.standard_normal((2, n_real, n))
     e[..., 0] /= math.sqrt(1 - phi ** 2)
     ln = lfilter([math.sqrt(1 - phi ** 2) * local_noise_A], [1, -phi], e, axis=-1)
-    est, err, refused = [], [], 0
+    est_list, err, refused = [], [], 0
     for r in range(n_real):
         c = (xc[r] + kick) - 1j * xs[r] + ln[0, r] + 1j * ln[1, r]
         f = standing_mode_fit(t, c, k_per_A, record_term=False)
         if not math.isfinite(f["speed_A_per_ps"]):
             refused += 1
             continue
-        est.append(f["omega_per_ps"])
+        est_list.append(f["omega_per_ps"])
         err.append(f["omega_err_per_ps"])
-    est = np.array(est)
+    est = np.array(est_list)
     ok = len(est) >= 3
-    return {"a_kick_A": a_kick_A, "a_thermal_A": a_thermal_A, "snr": a_kick_A / a_thermal_A if a_thermal_A else math.inf,
+    return {"a_kick_A": a_kick_A, "a_thermal_A": a_thermal_A,
+            "snr": a_kick_A / a_thermal_A if a_thermal_A else math.inf,
             "Q": Q, "record_ps": record_ps, "n_real": n_real, "refused": refused,
             "omega_true_per_ps": wd,
             "rel_bias": float(est.mean() / wd - 1) if ok else float("nan"),

@@ -199,7 +199,7 @@ def phase_velocity(times_ps, c, k_per_A) -> dict:
             return {"method": "phase velocity", "speed_A_per_ps": float("nan"),
                     "reason": "standing/mixed wave on non-uniform times: cannot split by frequency"}
         C = np.fft.fft(c)
-        nu = np.fft.fftfreq(len(t))
+        nu = np.fft.fftfreq(len(t), 1.0)
         fwd, bwd = np.where(nu < 0, C, 0), np.where(nu > 0, C, 0)
         pf, pb = np.sum(np.abs(fwd) ** 2), np.sum(np.abs(bwd) ** 2)
         how = "phase of the stronger frequency-signed part of c(t)"

@@ -108,11 +108,11 @@ def _links(s: Structure, strand: str) -> StrandLinks:
 
 def excluded_pairs(n_atoms: int, bonds: np.ndarray) -> set:
     """Pairs (i < j) that are 1-2 or 1-3 bonded, as keys i * n_atoms + j."""
-    neighbours = [[] for _ in range(n_atoms)]
+    neighbours: list[list[int]] = [[] for _ in range(n_atoms)]
     for i, j in bonds:
         neighbours[i].append(j)
         neighbours[j].append(i)
-    out = set()
+    out: set[int] = set()
     for i in range(n_atoms):
         reach = set(neighbours[i])
         for j in neighbours[i]:

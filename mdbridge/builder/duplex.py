@@ -112,7 +112,8 @@ def build_duplex(sequence, origins, R, *, periodic_box=None, hydrogens=False,
     residues += [(comp[i], "II", 2 * n - i, o_II[i], R_II[i])
                  for i in range(n - 1, -1, -1)]
 
-    names, resnames, resids, strands, elements, coords, bonds = [], [], [], [], [], [], []
+    names, resnames, resids, strands, elements, bonds = [], [], [], [], [], []
+    coords: list[np.ndarray] = []
     start_of = {}
     for base, strand, resid, o, Rb in residues:
         t = nucleotide_template(base, hydrogens=hydrogens)

@@ -70,8 +70,8 @@ def generate(gmx: str | None = None) -> dict:
     from mdbridge.build import build_duplex, ideal_frames, read_pdb, write_pdb
     R, o = ideal_frames(len(PROBE_SEQUENCE))
     s = build_duplex(PROBE_SEQUENCE, o, R)
-    with tempfile.TemporaryDirectory() as tmp:
-        tmp = Path(tmp)
+    with tempfile.TemporaryDirectory() as tmp_name:
+        tmp = Path(tmp_name)
         write_pdb(tmp / "probe.pdb", s)
         with_h = read_pdb(run_pdb2gmx_ignh(tmp / "probe.pdb", tmp, gmx))
     return {"_about": "CHARMM27 hydrogens of the B-DNA nucleotide templates "

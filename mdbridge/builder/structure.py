@@ -54,6 +54,8 @@ class Structure:
 
     def residue_frame(self, resid: int):
         """(origin, R) of the base frame residue `resid` was placed with."""
+        if self.base_origins is None or self.base_R is None:
+            raise ValueError("this structure carries no base frames (it was not built by the builder)")
         return self.base_origins[resid - 1], self.base_R[resid - 1]
 
     def minimum_image(self, d: np.ndarray) -> np.ndarray:

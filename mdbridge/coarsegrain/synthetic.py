@@ -18,7 +18,6 @@ from pathlib import Path
 import numpy as np
 
 
-
 def ar1_steps(mean, K, n_frames: int, phi: float, rng: np.random.Generator) -> np.ndarray:
     """(T, n_steps, 6) step parameters; mean (n_steps, 6), K (n_steps, 6, 6) in kT units."""
     mean = np.asarray(mean, dtype=float)
@@ -55,13 +54,13 @@ def write_trajectory(directory, sequence: str, q: np.ndarray, temperature_K: flo
     pdb = d / "duplex.pdb"
     write_pdb(pdb, build_duplex(sequence, o, R))
     u = mda.Universe(str(pdb))
-    pos = np.array(pos, dtype=np.float32)
+    pos_arr = np.array(pos, dtype=np.float32)
     vel = None
     if temperature_K is not None:
         from mdbridge.gromacs.velocities import thermal_velocities
         vel = np.array([10.0 * thermal_velocities(u.atoms.masses, temperature_K, int(s))   # nm/ps -> A/ps
                         for s in rng.integers(0, 2**31, len(pos))], dtype=np.float32)
-    u.load_new(pos, format=MemoryReader, velocities=vel, dt=dt_ps)
+    u.load_new(pos_arr, format=MemoryReader, velocities=vel, dt=dt_ps)
     trr = d / "duplex.trr"
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)   # MDAnalysis: box angles of "no box"

@@ -19,6 +19,8 @@ from pathlib import Path
 
 import numpy as np
 
+from dna_models.errors import ExternalToolError
+
 from .gmx import run_gmx
 from .inputs import NM, o3p_links
 
@@ -80,6 +82,9 @@ def energy_drift(directory: Path, gmx: str, n_atoms: int) -> dict:
     col = read_energies(directory, gmx)
     t = col["time"]
     E = col.get("Conserved En.", col.get("Total Energy"))
+    if E is None:
+        raise ExternalToolError(f"{Path(directory) / 'energy.xvg'}: no 'Conserved En.' or 'Total Energy' "
+                                f"column (columns: {', '.join(k for k in col if k != 'time')})")
     out = {"times_ps": [float(t[0]), float(t[-1])], "n_frames": int(len(t))}
     if len(t) >= 4:
         out.update(fit_drift(t, E, n_atoms))

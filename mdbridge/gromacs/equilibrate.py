@@ -54,8 +54,9 @@ def axial_compressibility(box_nm, axis: int) -> float:
 
 def render_equilibration(s: MdSettings, *, ps: float, temperature_K: float, axis: int,
                          axial_pressure: bool, box_nm=(1.0, 1.0, 1.0)) -> str:
-    eq = MdSettings(**{**s.as_dict(), "thermostat": True, "temperature_K": temperature_K,
-                       "tau_t_ps": TAU_T_PS, "output_ps": 0.1})
+    kw: dict = {**s.as_dict(), "thermostat": True, "temperature_K": temperature_K,
+                "tau_t_ps": TAU_T_PS, "output_ps": 0.1}
+    eq = MdSettings(**kw)
     eq.nsteps = eq.steps_per(ps)
     text = render_md(eq).replace("; dnarod md.mdp:", "; dnarod eq.mdp (equilibration stage):")
     # eq_in.gro carries Maxwell-Boltzmann velocities at T drawn by velocities.py with the
@@ -114,7 +115,7 @@ def equilibrate(outdir: Path, gmx: str, settings: MdSettings, *, ps: float, temp
     run_gmx(gmx, ["mdrun", "-deffnm", "eq", "-nt", str(threads)], d, log_name="gmx_mdrun_eq.log")
     e = read_energies(d, gmx, edr="eq.edr")
     t = e["time"]
-    rec = {"ps": ps, "thermostat": f"v-rescale, tau-t {TAU_T_PS} ps, ref-t {temperature_K} K",
+    rec: dict = {"ps": ps, "thermostat": f"v-rescale, tau-t {TAU_T_PS} ps, ref-t {temperature_K} K",
            "temperature_K": stationarity(t, e["Temperature"]),
            "potential_kJ_mol": stationarity(t, e["Potential"]),
            "test": "means over the 3rd and 4th quarter of the stage differ by less than 2 x "

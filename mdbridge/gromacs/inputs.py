@@ -78,7 +78,7 @@ def structure_chains(structure, shift_A) -> list[dict]:
     x = np.asarray(structure.coords, float) + np.asarray(shift_A, float)
     for strand, cid in (("I", "A"), ("II", "B")):
         idx = np.flatnonzero(structure.strands == strand)
-        residues = []
+        residues: list[tuple] = []
         for k in idx:
             r = int(structure.resids[k])
             if not residues or residues[-1][0] != r:
@@ -196,7 +196,7 @@ def build_inputs(outdir: Path, structure, rod: RodInitial, box: BoxPlan, *, sequ
         np.unique(m.resnr - m.resnr.min())] for m in mols])
 
     g = read_gro(top["gro"])
-    names_itp = sum((m.atomname for m in mols), [])
+    names_itp: list[str] = sum((m.atomname for m in mols), [])
     if g.n_atoms != len(masses) or g.name != names_itp:
         raise DnarodError(f"{top['gro']}: atoms differ from the topology's ({g.n_atoms} vs {len(masses)})")
     x_nm = g.x.copy()
@@ -324,7 +324,7 @@ def build_inputs(outdir: Path, structure, rod: RodInitial, box: BoxPlan, *, sequ
 def _em_summary(log: Path) -> dict:
     import re
     text = Path(log).read_text()
-    out = {}
+    out: dict[str, bool | int | float] = {}
     m = re.search(r"converged to Fmax < (\S+) in (\d+) steps", text)
     if m:
         out.update(converged=True, steps=int(m.group(2)))

@@ -20,12 +20,12 @@ from .topology import Molecule
 KINDS = ("bonds", "pairs", "angles", "proper_dihedrals", "improper_dihedrals", "cmap")
 
 
-def _terms_by_step(mol: Molecule, steps: list[tuple[int, int]]) -> dict:
+def _terms_by_step(mol: Molecule, steps: list[tuple[int, int]]) -> list[dict[str, Counter]]:
     """For each step (a, b) (a 5' of b): per kind, the Counter of term patterns that
     involve atoms of both residues a and b and of no other residue. One pass over all
     terms (a 158-bp strand has ~10^4 of them)."""
     index = {step: n for n, step in enumerate(steps)}
-    out = [{k: Counter() for k in KINDS} for _ in steps]
+    out: list[dict[str, Counter]] = [{k: Counter() for k in KINDS} for _ in steps]
     resnr = mol.resnr
     for kind, terms in mol.terms.items():
         if not terms:

@@ -62,6 +62,7 @@ def rod_for_md(run: RodRun, *, md_ps: float, scene: dict, units: Units | None = 
                               f"(scene: {np.round(want, 6).tolist()})")
     if differ:
         raise InputError(f"{run.source}: not a run of this scene: " + "; ".join(differ))
+    assert run.time is not None  # RodRun.read: a rod output file always has time
     if float(run.time[0]) != 0.0:
         raise InputError(f"{run.source}: the first frame is at t = {u.time_to_ps(run.time[0]):g} ps; "
                          "build-md needs the rod's state at t = 0")

@@ -195,7 +195,7 @@ def run_md(directory: Path, *, ps: float | None = None, steps: int | None = None
         (d / f).unlink(missing_ok=True)
     log = (d / "md.log").read_text() if (d / "md.log").exists() else ""
     m = re.findall(r"Performance:\s+(\S+)\s+(\S+)", log)
-    record = {"steps": steps, "dt_ps": dt, "length_ps": run_ps, "wall_s": round(wall, 2),
+    record: dict = {"steps": steps, "dt_ps": dt, "length_ps": run_ps, "wall_s": round(wall, 2),
               "ns_per_day": float(m[-1][0]) if m else None, "threads": threads,
               "resumed_from_checkpoint": resume, "checkpoint_min": checkpoint_min,
               "reprod": reprod,

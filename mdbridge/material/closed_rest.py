@@ -28,7 +28,8 @@ moment M: n = R^T N, m = R^T (M - r x N), x = x0 + K^-1 (n, m), shot along s
 for the 6 numbers (N, M) until R(L) = I, |r(L)| = b, N || r(L) (scipy
 least_squares). Then:
 
-* closure_weight = 0 (default, "equilibrium"): the minimiser is polished by Levenberg-Marquardt (scipy least_squares, analytic Jacobian)
+* closure_weight = 0 (default, "equilibrium"): the minimiser is polished by Levenberg-Marquardt
+  (scipy least_squares, analytic Jacobian)
   on the semi-discrete statics:
   an equilibrium of the solver's equations to round-off (it stays at rest),
   closed to the discretisation error (measured: ClosedRest.closure_*).

@@ -155,7 +155,7 @@ def read_steps(path) -> StepMaterial:
             fmt = fmt.decode()
         if fmt != FORMAT:
             raise InputError(f"{where}: attribute 'format' is {fmt!r}; allowed: {FORMAT!r}")
-        vals = {}
+        vals: dict = {}
         for fl in fields(StepMaterial):
             name = fl.name
             if name not in f:

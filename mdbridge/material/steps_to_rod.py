@@ -44,7 +44,7 @@ from dna_models.units import Units
 from mdbridge.geometry.steps import step_parameters, step_transform
 from mdbridge.rodframes import step_exp, step_log, trig_interpolate
 
-from .composition import cell_matrix, compose_stretches
+from .composition import compose_stretches
 
 from .stepfile import StepMaterial
 
@@ -204,7 +204,7 @@ def exact_shape_samples(rm: RodMaterial, refine=32, tol=1e-13, maxiter=30):
     that step's rigid motion: the rod read at its base pairs has the step parameters.
     Newton on the 6 n_bp step residuals (SE(3) log of target^-1 composed motion),
     from the interpolated per-step values; batched central-difference Jacobian."""
-    n, L, h = rm.n_bp, rm.length, rm.h
+    n, h = rm.n_bp, rm.h
     Rt, dt = step_exp(rm.Omega0 * h, rm.Gamma0 * h)
     RtT = np.swapaxes(Rt, -1, -2)
     B = trig_interpolate(np.eye(n), 0.5 * h, h, (np.arange(n * refine) + 0.5) * h / refine)
@@ -274,8 +274,8 @@ def grid_material(rm: RodMaterial, N=None, interpolation="trig", sigma=None, sha
     # analytic, so the spectral derivative of K(s) (x - x0) converges exponentially.
     pos = _spd_log if interpolation == "trig" else (lambda a: a)
     back = _spd_exp if interpolation == "trig" else (lambda a: a)
-    lg = np.log if interpolation == "trig" else (lambda a: a)
-    ex = np.exp if interpolation == "trig" else (lambda a: a)
+    lg = (lambda a: np.log(a)) if interpolation == "trig" else (lambda a: a)
+    ex = (lambda a: np.exp(a)) if interpolation == "trig" else (lambda a: a)
     g = {"s": np.arange(N) * L / N,
          "Gamma0": _on_grid(rm.Gamma0, n, N, L, 0.5, interpolation, sigma),
          "Omega0": _on_grid(rm.Omega0, n, N, L, 0.5, interpolation, sigma),

@@ -1,5 +1,5 @@
 """Independent truths for the coarse-graining tests: Olson et al. 1998's tables (copied
-in tests/data/cg/) and z-score bookkeeping. Helpers only, no tests."""
+in tests/data/olson1998/) and z-score bookkeeping. Helpers only, no tests."""
 from __future__ import annotations
 
 import csv
@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 from scipy import stats
 
-DATA = Path(__file__).resolve().parents[1] / "data" / "cg"
+DATA = Path(__file__).resolve().parents[1] / "data"  # tests/data/README.md: sources, licences
 # Olson's files order (tilt, roll, twist, shift, slide, rise); ours (shift, slide, rise, tilt, roll, twist)
 TO_OURS = [3, 4, 5, 0, 1, 2]
 
@@ -16,11 +16,11 @@ TO_OURS = [3, 4, 5, 0, 1, 2]
 def olson_tables():
     """{dimer: mean (6,)}, {dimer: F (6, 6) in kT/A^2, kT/(A deg), kT/deg^2}, both in our order."""
     means, F = {}, {}
-    with open(DATA / "olson1998_PplusDNA_step_means.csv") as f:
+    with open(DATA / "olson1998" / "olson1998_PplusDNA_step_means.csv") as f:
         for row in csv.DictReader(ln for ln in f if not ln.startswith("#")):
             means[row["step"]] = np.array([float(row[k]) for k in
                                            ("shift", "slide", "rise", "tilt", "roll", "twist")])
-    with open(DATA / "olson1998_force_constants_6x6.csv") as f:
+    with open(DATA / "olson1998" / "olson1998_force_constants_6x6.csv") as f:
         for row in csv.DictReader(ln for ln in f if not ln.startswith("#")):
             M = np.array([float(row[f"F{i}{j}"]) for i in range(6) for j in range(6)]).reshape(6, 6)
             F[row["step"]] = M[np.ix_(TO_OURS, TO_OURS)]

@@ -5,7 +5,7 @@ import pytest
 
 from mdbridge.build import read_pdb
 from mdbridge.builder.params import read_3dna_par
-from workflows.cli import main
+from dnarod.cli import main
 
 
 def run(argv, capsys):

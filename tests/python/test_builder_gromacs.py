@@ -19,7 +19,7 @@ COMP = {"A": "T", "C": "G", "G": "C", "T": "A"}
 def _gmx():
     gmx = shutil.which("gmx")
     if gmx is None:
-        pytest.skip("gmx not found (install the Debian package gromacs)")
+        pytest.fail("gmx not found: scripts/setup.sh installs the Debian package gromacs")
     return gmx
 
 

@@ -36,7 +36,7 @@ def test_hydrogens_match_pdb2gmx_on_355d(refdata):
     from mdbridge.builder.hydrogens import run_pdb2gmx_ignh
     import shutil
     if shutil.which("gmx") is None:
-        pytest.skip("gmx not found (install the Debian package gromacs)")
+        pytest.fail("gmx not found: scripts/setup.sh installs the Debian package gromacs")
     p = read_3dna_par(refdata / "rebuild_3dna_bdna/355d_with_bp_params/in_step.par")
     R, o = frames_from_steps(p.steps)
     seq = p.sequence
@@ -73,7 +73,7 @@ def test_stored_templates_are_what_pdb2gmx_gives_now():
     import json
     import shutil
     if shutil.which("gmx") is None:
-        pytest.skip("gmx not found (install the Debian package gromacs)")
+        pytest.fail("gmx not found: scripts/setup.sh installs the Debian package gromacs")
     from mdbridge.builder.hydrogens import generate
     from mdbridge.builder.templates import H_DATA
     stored = json.loads(H_DATA.read_text())["nucleotides"]

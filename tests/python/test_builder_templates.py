@@ -20,7 +20,7 @@ def _charmm27_dir():
     for c in cands:
         if (c / "dna.rtp").is_file():
             return c
-    pytest.skip("GROMACS charmm27.ff/dna.rtp not found (install the Debian package gromacs)")
+    pytest.fail("GROMACS charmm27.ff/dna.rtp not found: scripts/setup.sh installs the Debian package gromacs")
 
 
 def _rtp_residue(resname):

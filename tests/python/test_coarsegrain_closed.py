@@ -15,7 +15,7 @@ import pytest
 from mdbridge.builder.duplex import build_duplex
 from mdbridge.builder.frames import ideal_frames
 from mdbridge.geometry.rotations import rotation_exp
-from workflows.cli import main
+from dnarod.cli import main
 
 
 def _ring_trajectory(tmp_path, n_bp=20, T=400, seed=0):
@@ -78,9 +78,7 @@ def test_closed_ring_closing_step_like_the_others(ring):
 def test_steps_and_material_files(ring):
     """With the per-step file module (engineer seq's mdbridge.material, shared format
     "dnarod-steps/1"): steps.h5 carries params.json's per-step numbers and masses, and
-    material.h5 is a rod material file with one point per base pair. Skipped, with this
-    reason, in a tree without that module."""
-    pytest.importorskip("mdbridge.material.stepfile", reason="mdbridge.material (per-step file) not in this tree")
+    material.h5 is a rod material file with one point per base pair."""
     import h5py
     from mdbridge.material.stepfile import read_steps
     seq, tmp_path = ring

@@ -1,6 +1,6 @@
 """`dnarod coarse-grain` on a real third-party MD ensemble and on bad input.
 
-tests/data/cg/sample_md0.pdb: 3DNA's example MD ensemble, 21 models of a 12-bp hairpin
+tests/data/md_sample_3dna/sample_md0.pdb.gz: 3DNA's example MD ensemble, 21 models of a 12-bp hairpin
 (AMBER names), pairs in bpfile.dat; model_00.bp_step.par is 3DNA v2.3's own analysis
 of model 0 (3 printed decimals). Truth for the per-frame step parameters the
 estimator starts from; the 21-model means and stiffness are reported with the
@@ -9,14 +9,14 @@ caveat that 21 frames are few (N_eff ~ 20: stiffness errors ~ 30 % or more).
 import json
 import warnings
 
+import MDAnalysis
 import numpy as np
 import pytest
 
 from cg_truth import DATA
 from mdbridge.geometry.x3dna import read_bp_step_par
-from workflows.cli import main
+from dnarod.cli import main
 
-MDAnalysis = pytest.importorskip("MDAnalysis")
 TOL3 = 0.0005 + 2e-4   # 3 printed decimals + float32 coordinates (test_geometry_3dna.py)
 
 
@@ -26,14 +26,14 @@ def ensemble():
     from mdbridge.geometry.structure import read_pairs_file
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        u = MDAnalysis.Universe(str(DATA / "sample_md0.pdb"))
-        pairs, numbering = read_pairs_file(DATA / "bpfile.dat")
+        u = MDAnalysis.Universe(str(DATA / "md_sample_3dna" / "sample_md0.pdb.gz"))
+        pairs, numbering = read_pairs_file(DATA / "md_sample_3dna" / "bpfile.dat")
         return read_ensemble(u, pairs, numbering)
 
 
 def test_model0_step_parameters_equal_3dna(ensemble):
     ens, _ = ensemble
-    _, _, ref = read_bp_step_par(DATA / "model_00.bp_step.par")
+    _, _, ref = read_bp_step_par(DATA / "md_sample_3dna" / "model_00.bp_step.par")
     assert ens.n_frames == 21 and ens.sequence == "CCTAATAGAAAT" and not ens.closed
     assert np.abs(ens.q[0] - ref).max() < TOL3
 
@@ -49,7 +49,8 @@ def test_opened_pairs_are_excluded_and_reported(ensemble):
 def _run(tmp_path, *extra):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        return main(["coarse-grain", str(DATA / "sample_md0.pdb"), "--pairs", str(DATA / "bpfile.dat"),
+        d = DATA / "md_sample_3dna"
+        return main(["coarse-grain", str(d / "sample_md0.pdb.gz"), "--pairs", str(d / "bpfile.dat"),
                      "-o", str(tmp_path), *extra])
 
 

@@ -1,7 +1,7 @@
 """Coarse-graining against ensembles with a known answer (issue 14).
 
 Truth: step parameters drawn from Gaussians with known per-step means and coupled
-6x6 stiffness K (Olson et al. 1998's own tables, tests/data/cg/), as an AR(1) series
+6x6 stiffness K (Olson et al. 1998's own tables, tests/data/olson1998/), as an AR(1) series
 in time, so the bootstrap must handle correlated frames. One test goes through atoms:
 builder -> PDB + TRR with Maxwell-Boltzmann velocities -> `dnarod coarse-grain`.
 """
@@ -14,7 +14,7 @@ import pytest
 from cg_truth import UPPER, allowed_beyond_3sigma, per_step, z_scores
 from mdbridge.coarsegrain import CoarseGrain, StepEnsemble
 from mdbridge.coarsegrain.synthetic import ar1_steps, write_trajectory
-from workflows.cli import main
+from dnarod.cli import main
 
 
 def _fraction_beyond(z):
@@ -50,7 +50,8 @@ def test_atoms_trajectory_recovers_means_and_stiffness(tmp_path):
     assert n == 189
     assert bad <= allowed_beyond_3sigma(n), f"{bad} of {n} elements beyond 3 sigma"
     # the sequence average is the average of the truths
-    za = z_scores(np.diagonal(np.array(p["average"]["stiffness"])), np.diagonal(np.array(p["average"]["stiffness_err"])),
+    za = z_scores(np.diagonal(np.array(p["average"]["stiffness"])),
+                  np.diagonal(np.array(p["average"]["stiffness_err"])),
                   np.diagonal(K.mean(axis=0)))
     assert np.all(np.abs(za) < 4)
     # stationary input: the two halves agree, the convergence series ends at the full value

@@ -9,12 +9,13 @@ deg); with the PDB's coordinates read in double precision the agreement is
 within half a unit of the last printed decimal
 (test_md_ensemble_exact_with_double_coordinates), i.e. exact to what 3DNA prints.
 """
+import gzip
 import warnings
 
 import numpy as np
 import pytest
 
-MDAnalysis = pytest.importorskip("MDAnalysis")
+import MDAnalysis
 
 from mdbridge.geometry.structure import BasePairFrames  # noqa: E402
 from mdbridge.geometry.x3dna import read_bp_step_par, read_out_table, read_ref_frames  # noqa: E402
@@ -102,7 +103,7 @@ def test_md_ensemble_model_0_equals_3dna(refdata):
     d = refdata / "md_sample_3dna"
     pairs, numbering = read_pairs_file(d / "bpfile.dat")
     assert numbering == "serial" and len(pairs) == 12
-    r = BasePairFrames(_universe(d / "sample_md0.pdb"), pairs=pairs, pair_numbering=numbering).run()
+    r = BasePairFrames(_universe(d / "sample_md0.pdb.gz"), pairs=pairs, pair_numbering=numbering).run()
     assert r.results.R.shape == (21, 12, 3, 3)
     _, bp_ref, step_ref = read_bp_step_par(d / "model_00.bp_step.par")
     o_ref, R_ref = read_ref_frames(d / "model_00.ref_frames.dat")
@@ -111,7 +112,7 @@ def test_md_ensemble_model_0_equals_3dna(refdata):
     assert np.abs(r.results.origins[0] - o_ref).max() < TOL4
     assert np.abs(r.results.R[0] - R_ref).max() < TOL4
     # automatic pairing of the hairpin finds the same pairs
-    auto = BasePairFrames(_universe(d / "sample_md0.pdb"))
+    auto = BasePairFrames(_universe(d / "sample_md0.pdb.gz"))
     assert [(i + 1, j + 1) for i, j in auto.pair_index] == pairs
 
 
@@ -122,9 +123,9 @@ def test_md_ensemble_exact_with_double_coordinates(refdata):
     from mdbridge.geometry.structure import read_pairs_file
     d = refdata / "md_sample_3dna"
     pairs, numbering = read_pairs_file(d / "bpfile.dat")
-    bpf = BasePairFrames(_universe(d / "sample_md0.pdb"), pairs=pairs, pair_numbering=numbering)
+    bpf = BasePairFrames(_universe(d / "sample_md0.pdb.gz"), pairs=pairs, pair_numbering=numbering)
     xyz = []
-    for ln in open(d / "sample_md0.pdb"):
+    for ln in gzip.open(d / "sample_md0.pdb.gz", "rt"):
         if ln.startswith("ENDMDL"):
             break
         if ln.startswith(("ATOM", "HETATM")):
@@ -140,7 +141,7 @@ def test_1kx5_nucleosome_runs(refdata):
     """147-bp nucleosome DNA (two DNA chains among 8 protein chains): runs,
     pairs all 147 bp, and gives B-like numbers (mean rise ~3.3-3.4 A, mean twist
     ~34-35 deg, strong roll variation from the wrapping)."""
-    r = _analyse(refdata / "1kx5" / "1kx5.pdb")
+    r = _analyse(refdata / "1kx5" / "1kx5.pdb.gz")
     assert r.n_bp == 147
     s = r.step_parameters()[0]
     assert np.all(np.isfinite(s))

@@ -136,7 +136,7 @@ def test_open_rod_spline_on_uniform_helix():
 
 
 def test_read_rod_frames_hdf5(tmp_path):
-    h5py = pytest.importorskip("h5py")
+    import h5py
     n_bp, twist = 8, np.radians(36.0)
     ds = U.length_to_rod(U.rise_A)
     s = np.arange(2 * n_bp) * n_bp * ds / (2 * n_bp)

@@ -8,7 +8,7 @@ import warnings
 import numpy as np
 import pytest
 
-MDAnalysis = pytest.importorskip("MDAnalysis")
+import MDAnalysis
 
 from dna_models.errors import InputError  # noqa: E402
 from mdbridge.geometry.structure import BasePairFrames, base_of_resname  # noqa: E402
@@ -122,20 +122,9 @@ def test_no_dna():
 
 
 def _dnarod(*args):
-    return subprocess.run([sys.executable, "-m", "workflows.cli", "helical-params", *args],
-                          capture_output=True, text=True, cwd=str(_root()), env=_env())
-
-
-def _root():
-    from pathlib import Path
-    return Path(__file__).resolve().parents[2]
-
-
-def _env():
-    import os
-    env = dict(os.environ)
-    env["PYTHONPATH"] = str(_root()) + os.pathsep + env.get("PYTHONPATH", "")
-    return env
+    """`dnarod helical-params` through the installed toolkit, run from outside the checkout."""
+    return subprocess.run([sys.executable, "-m", "dnarod.cli", "helical-params", *args],
+                          capture_output=True, text=True, cwd="/")
 
 
 def test_command_on_355d_equals_3dna(refdata, tmp_path):
@@ -153,7 +142,7 @@ def test_command_on_355d_equals_3dna(refdata, tmp_path):
 
 def test_command_trajectory_with_bpfile_to_stdout(refdata):
     d = refdata / "md_sample_3dna"
-    r = _dnarod(str(d / "sample_md0.pdb"), "--pairs", str(d / "bpfile.dat"))
+    r = _dnarod(str(d / "sample_md0.pdb.gz"), "--pairs", str(d / "bpfile.dat"))
     assert r.returncode == 0, r.stderr
     rows = r.stdout.splitlines()[1:]
     assert len(rows) == 21 * 11
@@ -203,7 +192,7 @@ def test_gromacs_tpr(refdata, tmp_path):
     import shutil
     gmx = shutil.which("gmx")
     if gmx is None:
-        pytest.skip("GROMACS (gmx) not on PATH: install it with scripts/setup.sh")
+        pytest.fail("GROMACS (gmx) not on PATH: scripts/setup.sh installs it")
     pdb = _dna_only_pdb(refdata, tmp_path)
 
     def run(args, stdin=""):

@@ -17,7 +17,6 @@ import pytest
 from dna_models.errors import ExternalToolError
 from mdbridge.build import build_duplex
 from mdbridge.gromacs.box import plan_box
-from mdbridge.gromacs.gmx import find_gmx
 from mdbridge.gromacs.gro import read_gro
 from mdbridge.gromacs.inputs import RodInitial, build_inputs
 from mdbridge.gromacs.mdp import MdSettings
@@ -28,14 +27,6 @@ KB = 8.314462618e-3     # kJ/(mol K)
 A_V = 1.0               # A/ps
 W = 0.05                # rad/ps
 A_DISP = 3.0            # A
-
-
-@pytest.fixture(scope="module")
-def gmx():
-    try:
-        return find_gmx()
-    except ExternalToolError as e:
-        pytest.skip(f"GROMACS not installed: {e}")
 
 
 def table1_rod(n_bp, turns, A=A_DISP, Av=A_V, w=W):
@@ -92,6 +83,7 @@ def _pair_of_each_atom(u, n_bp):
     each strand II nucleotide pairs with the strand I one whose N1/N3 is nearest."""
     res = list(u.residues)
     I, II = res[:n_bp], res[n_bp:]
+
     def n13(r):
         return r.atoms.select_atoms("name N1" if r.resname in ("DA", "DG") else "name N3").positions[0]
     XI = np.array([n13(r) for r in I])
@@ -257,8 +249,7 @@ def test_cli_build_md_from_the_dna21_scene_then_run_md(gmx, tmp_path, capsys):
     """The real chain: scene -> rodcore -> builder -> GROMACS. The scene is the paper's
     Table 1 with A = 0 and A_v = 1 A/ps, so at 0 K every atom of base pair i must move
     with (0, 0, sin(2 pi i / 21)) A/ps in the lab: a formula, not the rod's output."""
-    pytest.importorskip("rodcore", reason="rodcore Python module not built (bash scripts/build.sh)")
-    from workflows.cli import main
+    from dnarod.cli import main
     scene = Path(__file__).resolve().parents[2] / "workflows" / "scenes" / "dna21.toml"
     out = tmp_path / "md21"
     assert main(["build-md", str(scene), "-o", str(out), "--ps", "0.2", "--temperature", "0",

@@ -13,7 +13,7 @@ from mdbridge.gromacs.equilibrate import stationarity
 from mdbridge.gromacs.gro import read_gro
 from mdbridge.gromacs.mdp import MdSettings
 from mdbridge.gromacs.velocities import kinetic_temperature
-from test_gromacs_build import _expected_rod_velocity, _tpr, gmx, make  # noqa: F401
+from test_gromacs_build import _expected_rod_velocity, _tpr, make  # noqa: F401  (gmx: conftest)
 
 
 def test_stationarity_accepts_noise_and_rejects_a_trend():

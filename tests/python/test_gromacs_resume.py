@@ -28,7 +28,7 @@ from dna_models.errors import ExternalToolError
 from mdbridge.gromacs.checks import read_energies
 from mdbridge.gromacs.mdp import MdSettings
 from mdbridge.gromacs.run import run_md
-from test_gromacs_build import gmx, make  # noqa: F401  (shared fixture and 21-bp build)
+from test_gromacs_build import make  # noqa: F401  (the 21-bp build; gmx: conftest)
 
 STEPS = 3000          # 3 ps at 1 fs: ~3 s on an idle core, so the kill lands mid-run
 OUT_PS = 0.03         # 101 frames

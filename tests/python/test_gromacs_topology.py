@@ -9,8 +9,6 @@ Known facts (docs/md.md, measured with GROMACS 2022.5 charmm27): a closed
 strand's junction carries 1 bond, 4 angles, 7 proper dihedrals and 7 pairs.
 """
 import json
-import os
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -21,14 +19,6 @@ from mdbridge.gromacs.junction import junction_report
 from mdbridge.gromacs.topology import parse_itp, read_pdb_chains, run_pdb2gmx, write_pdb2gmx_input
 
 PERIOD_A = 33.8
-
-
-@pytest.fixture(scope="module")
-def gmx():
-    try:
-        return find_gmx()
-    except ExternalToolError as e:
-        pytest.skip(f"GROMACS not installed: {e}")
 
 
 @pytest.fixture(scope="module")

@@ -69,6 +69,7 @@ def test_rigid_body_velocity_is_a_rigid_motion():
     h = 1e-5
     for i in range(n_bp):
         sel = bp == i
+
         def at(t):
             Rt = Rotation.from_rotvec(omega[i] * t).as_matrix()
             return origins[i] + gamma[i] * t + (x[sel] - origins[i]) @ Rt.T

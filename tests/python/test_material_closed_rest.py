@@ -115,7 +115,7 @@ def _rodsim_reads_material(rodsim, scene):
 def test_rest_in_rodsim(rodsim, tmp_path):
     """The issue's Rest test through rodsim: the closed rest state stays at rest to
     1e-10 while its stress is not zero; a perturbed copy does not (control)."""
-    from workflows.cli import main
+    from dnarod.cli import main
     assert main(["dna-rod", "--random", "21", "--seed", "1", "--params", "olson1998", "--rest", "equilibrium",
                  "--t-end-ps", "5", "-o", str(tmp_path / "r")]) == 0
     scene = tmp_path / "r" / "scene.toml"

@@ -7,11 +7,10 @@ import h5py
 import numpy as np
 import pytest
 
-from dna_models.errors import InputError
 from mdbridge.material.parameter_sets import paper_steps
 from mdbridge.material.stepfile import read_steps
 from mdbridge.material.steps_to_rod import grid_material, rod_material
-from workflows.cli import main
+from dnarod.cli import main
 
 
 def test_dna_rod_from_md_folder(tmp_path, capsys):

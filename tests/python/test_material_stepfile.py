@@ -102,7 +102,9 @@ def test_atomic_mass_from_chemical_formulas():
     residues with their 5' phosphate), and the inertia is positive definite."""
     from mdbridge.material.parameter_sets import atomic_mass_inertia
     w = {"C": 12.011, "H": 1.008, "N": 14.007, "O": 15.999, "P": 30.974}
-    f = lambda C, H, N, O: C * w["C"] + H * w["H"] + N * w["N"] + O * w["O"] + w["P"]
+
+    def f(C, H, N, O):
+        return C * w["C"] + H * w["H"] + N * w["N"] + O * w["O"] + w["P"]
     m, I = atomic_mass_inertia("ATGC")
     at, gc = f(10, 11, 5, 5) + f(10, 12, 2, 7), f(10, 11, 5, 6) + f(9, 11, 3, 6)
     assert m == pytest.approx([at, at, gc, gc], abs=1e-9)

@@ -7,8 +7,8 @@ import math
 import numpy as np
 import pytest
 
-from workflows.cli import main
-from workflows.paper import theory
+from dnarod.cli import main
+from dnarod.paper import theory
 
 
 def _csv(capsys, argv):
@@ -37,8 +37,8 @@ def test_dispersion_twisted_and_ratios(capsys):
     for pm, kap in (("p", 3.0), ("m", 1.0)):
         for b in ("minus", "plus"):
             w = float(r[f"omega_{b}_{pm}"])
-            assert float(r[f"energy_ratio_{b}_{pm}"]) == pytest.approx((w * w - 1.21 * kap ** 2) ** 2 / (1.21 * kap ** 2),
-                                                                     rel=1e-8)
+            assert float(r[f"energy_ratio_{b}_{pm}"]) == pytest.approx(
+                (w * w - 1.21 * kap ** 2) ** 2 / (1.21 * kap ** 2), rel=1e-8)
             assert float(r[f"shear_bend_{b}_{pm}"]) ** 2 / 1.21 == pytest.approx(float(r[f"energy_ratio_{b}_{pm}"]),
                                                                                 rel=1e-8)
 

@@ -4,9 +4,9 @@ amplitudes of the exact (Eq 24) and asymptotic (Eqs 40-43) fields that the solve
 import numpy as np
 import pytest
 
-from workflows.paper import theory
+from dnarod.paper import theory
 from mdbridge.rodrun import run_scene
-from workflows.paper.rod import scene, straight_rod
+from dnarod.paper.rod import scene, straight_rod
 
 D1 = 1.21
 
@@ -58,7 +58,7 @@ def test_parabolic_branches_near_k_equal_Omega03():
 def test_python_and_cpp_formulas_agree():
     # The Python entry points (branch names, vectorisation) must hand the C++ formula
     # the right sign: mdbridge.analysis.dispersion.omega_pm and theory.omega.
-    rodcore = pytest.importorskip("rodcore")
+    import rodcore
     from mdbridge.analysis import dispersion as mod
     k = np.linspace(-5, 5, 41)
     for b, sign in (("plus", 1), ("minus", -1)):

@@ -2,7 +2,7 @@
 independent scipy integration of Eq (46)."""
 import pytest
 
-from workflows.paper import rings
+from dnarod.paper import rings
 
 
 def test_balanced_rotating_ring_keeps_its_radius():

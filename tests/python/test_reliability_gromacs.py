@@ -14,29 +14,22 @@ import re
 import subprocess
 from pathlib import Path
 
-import pytest
-
-from test_gromacs_build import gmx  # noqa: F401  (the shared "GROMACS installed" fixture)
-
 ROOT = Path(__file__).resolve().parents[2]
 FINISHED_LOOKING = ("md.xtc", "md.edr", "md.log", "confout.gro", "md.done", "checks.json")
 
 
-def dnarod(bin_dir, *args, cwd):
-    exe = bin_dir / "dnarod"
-    if not exe.is_file():
-        pytest.fail(f"{exe} not built: run scripts/build.sh (with the same DNAROD_BUILD)")
-    return subprocess.run([str(exe), *map(str, args)], cwd=cwd, capture_output=True, text=True,
+def run_dnarod(dnarod, *args, cwd):
+    return subprocess.run([str(dnarod), *map(str, args)], cwd=cwd, capture_output=True, text=True,
                           timeout=300)
 
 
-def sheared_build(bin_dir, tmp, *extra):
+def sheared_build(dnarod, tmp, *extra):
     """dna21.toml with A_A = 8 A, built at 0 K without the restrained minimisation."""
     scene = (ROOT / "workflows" / "scenes" / "dna21.toml").read_text()
     assert "A_A = 0.0" in scene
     (tmp / "sheared.toml").write_text(scene.replace("A_A = 0.0", "A_A = 8.0"))
-    b = dnarod(bin_dir, "build-md", "sheared.toml", "-o", "md", "--ps", "0.2", "--temperature",
-               "0", "--seed", "3", *extra, cwd=tmp)
+    b = run_dnarod(dnarod, "build-md", "sheared.toml", "-o", "md", "--ps", "0.2", "--temperature",
+                   "0", "--seed", "3", *extra, cwd=tmp)
     assert b.returncode == 0, b.stderr
     # the build itself warns: the clash is real, and not of dnarod's run-md making
     assert "closer than 1.5 A" in b.stderr and "--minimize" in b.stderr
@@ -45,10 +38,10 @@ def sheared_build(bin_dir, tmp, *extra):
     return tmp / "md"
 
 
-def run_md_fails(bin_dir, d):
+def run_md_fails(dnarod, d):
     (d / "md.done").write_text("{}")                # a stale marker from an earlier run
-    r = dnarod(bin_dir, "run-md", "md", "--steps", "100", "--threads", "2", "--output-ps",
-               "0.05", cwd=d.parent)
+    r = run_dnarod(dnarod, "run-md", "md", "--steps", "100", "--threads", "2", "--output-ps",
+                   "0.05", cwd=d.parent)
     assert r.returncode == 2, (r.returncode, r.stdout, r.stderr)
     assert r.stderr.startswith("dnarod run-md: error: `gmx mdrun` failed"), r.stderr
     assert "Traceback" not in r.stderr
@@ -74,9 +67,9 @@ def quoted_energy(err, name):
     raise AssertionError(f"{name} not quoted in:\n{err}")
 
 
-def test_mdrun_blow_up_is_a_clear_error_and_never_looks_finished(gmx, bin_dir, tmp_path):
-    d = sheared_build(bin_dir, tmp_path)
-    err = run_md_fails(bin_dir, d)
+def test_mdrun_blow_up_is_a_clear_error_and_never_looks_finished(gmx, dnarod, tmp_path):
+    d = sheared_build(dnarod, tmp_path)
+    err = run_md_fails(dnarod, d)
     # GROMACS's own lines: the step it stopped at and the energies it logged there
     assert "last energies in md.part.log:" in err and "Energies (kJ/mol)" in err
     step = re.search(r"Step\s+Time\n\s+(\d+)\s", err)
@@ -87,10 +80,10 @@ def test_mdrun_blow_up_is_a_clear_error_and_never_looks_finished(gmx, bin_dir, t
     assert "exit -" not in err
 
 
-def test_lincs_warnings_are_named_in_the_error(gmx, bin_dir, tmp_path):
-    d = sheared_build(bin_dir, tmp_path, "--constraints", "h-bonds")
+def test_lincs_warnings_are_named_in_the_error(gmx, dnarod, tmp_path):
+    d = sheared_build(dnarod, tmp_path, "--constraints", "h-bonds")
     assert "constraints             = h-bonds" in (d / "md.mdp").read_text()
-    err = run_md_fails(bin_dir, d)
+    err = run_md_fails(dnarod, d)
     m = re.search(r"mdrun printed (\d+) LINCS warning\(s\)", err)
     assert m and int(m.group(1)) >= 1, err
     # the first LINCS WARNING quoted as GROMACS printed it, with its deviation: a relative
@@ -100,21 +93,21 @@ def test_lincs_warnings_are_named_in_the_error(gmx, bin_dir, tmp_path):
     assert dev and float(dev.group(1)) > 1.0, err
 
 
-def test_absurd_time_step_is_refused_before_any_md(gmx, bin_dir, tmp_path):
+def test_absurd_time_step_is_refused_before_any_md(gmx, dnarod, tmp_path):
     """A 10 fs step never reaches mdrun: without constraints build-md refuses it (X-H
     bonds), with h-bond constraints grompp does (heavy-atom bonds: period ~19 fs < 5 dt,
     GROMACS's own rule), and the directory is then not a build run-md accepts."""
     scene = ROOT / "workflows" / "scenes" / "dna21.toml"
-    r = dnarod(bin_dir, "build-md", scene, "-o", "plain", "--ps", "1", "--dt", "0.01",
-               cwd=tmp_path)
+    r = run_dnarod(dnarod, "build-md", scene, "-o", "plain", "--ps", "1", "--dt", "0.01",
+                   cwd=tmp_path)
     assert r.returncode == 2 and "--dt 0.01" in r.stderr and "dt <= 0.001 ps" in r.stderr
-    r = dnarod(bin_dir, "build-md", scene, "-o", "md", "--ps", "1", "--dt", "0.01",
-               "--constraints", "h-bonds", "--temperature", "0", "--seed", "3", cwd=tmp_path)
+    r = run_dnarod(dnarod, "build-md", scene, "-o", "md", "--ps", "1", "--dt", "0.01",
+                   "--constraints", "h-bonds", "--temperature", "0", "--seed", "3", cwd=tmp_path)
     assert r.returncode == 2, r.stderr
     assert "`gmx grompp` failed" in r.stderr and "oscillational period" in r.stderr
     assert "time step of 1.0e-02 ps" in r.stderr and "Traceback" not in r.stderr
     assert not (tmp_path / "md" / "build.json").exists()
-    r = dnarod(bin_dir, "run-md", "md", cwd=tmp_path)
+    r = run_dnarod(dnarod, "run-md", "md", cwd=tmp_path)
     assert r.returncode == 2 and "build.json missing" in r.stderr
     for f in FINISHED_LOOKING:
         assert not (tmp_path / "md" / f).exists(), f

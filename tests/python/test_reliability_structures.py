@@ -5,10 +5,9 @@ removed has a broken strand; a pair list naming a nucleotide twice or with
 itself is impossible; a G-T pair is not Watson-Crick."""
 import warnings
 
-import numpy as np
 import pytest
 
-mda = pytest.importorskip("MDAnalysis")
+import MDAnalysis as mda
 
 from dna_models.errors import InputError  # noqa: E402
 from mdbridge.build import build_duplex, ideal_frames, write_pdb  # noqa: E402

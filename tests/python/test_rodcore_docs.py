@@ -5,9 +5,8 @@ import re
 import tomllib
 from pathlib import Path
 
-import pytest
 
-rodcore = pytest.importorskip("rodcore", reason="build the rodcore module first (scripts/build.sh)")
+import rodcore
 
 ROOT = Path(__file__).resolve().parents[2]
 DOC = (ROOT / "docs" / "scenes.md").read_text()

@@ -28,7 +28,8 @@ def app(bin_dir, tmp_path_factory):
     subprocess.run(["cmake", "--install", str(build), "--prefix", str(prefix)], check=True,
                    capture_output=True, text=True)
     headers = {p.name for p in (prefix / "include" / "rodcore").iterdir()}
-    assert {"simulation.hpp", "scene_io.hpp", "observer.hpp", "h5_writer.hpp", "version.hpp", "dna_units.hpp"} <= headers
+    assert {"simulation.hpp", "scene_io.hpp", "observer.hpp", "h5_writer.hpp", "version.hpp",
+            "dna_units.hpp"} <= headers
     for h in (prefix / "include" / "rodcore").iterdir():  # nothing of toml++ or HDF5 leaks
         text = h.read_text()
         assert "toml++" not in text and "<hdf5.h>" not in text, h.name
@@ -64,4 +65,3 @@ def test_control_loose_tolerances_fail_the_check(app, tmp_path):
     loose.write_text(text)
     p = subprocess.run([str(app), str(loose), str(tmp_path / "loose.h5")], capture_output=True, text=True)
     assert p.returncode == 1 and p.stdout.strip().endswith("FAILED"), p.stdout + p.stderr
-

@@ -171,7 +171,7 @@ def test_results_json_is_strict_json(tmp_path):
 def test_report_writes_strict_results_json(tmp_path):
     """The report's results.json goes through the same sanitiser: a run with no MD
     (NaN speeds) must give null, not NaN."""
-    from workflows.report import report
+    from dnarod.report import report
     cfg = {"A_v_A_per_ps": [1.0], "seeds": [1], "headline_A_v_A_per_ps": 1.0,
            "rod": {"run_ps": 10.0}, "md": {"enabled": False, "run_ps": 10.0}}
     res = report.results_json(cfg, {"rod": {}, "md": {}, "sweep": {}, "modulus": None})

@@ -5,17 +5,17 @@ itself checked against an exact solution. Also the band-limited resampling the
 work-precision benchmark uses to compare runs on different grids."""
 import math
 import subprocess
-import sys
 from pathlib import Path
 
 import h5py
 import numpy as np
 import pytest
+from benchscripts import load_bench
 
 ROOT = Path(__file__).resolve().parents[2]
-sys.path.insert(0, str(ROOT / "bench"))
-import baseline_numpy  # noqa: E402
-import workprecision  # noqa: E402
+baseline_numpy = load_bench("baseline_numpy.py")
+workprecision = load_bench("workprecision.py")
+stability = load_bench("stress/stability.py")
 
 SCENES = ROOT / "bench" / "scenes"
 FIELDS = ("gamma", "omega", "Gamma", "Omega")
@@ -73,6 +73,7 @@ def test_rodsim_agrees_with_independent_baseline_on_dna_scene(rodsim, tmp_path, 
 
 def test_fourier_resample_is_exact_for_band_limited_data():
     L = 3.0
+
     def f(s):
         return np.array([np.cos(2 * np.pi * 3 * s / L) + 0.2 * np.sin(2 * np.pi * 7 * s / L), 1.0 + 0 * s])
     fine = f(L * np.arange(96) / 96)
@@ -86,8 +87,6 @@ def test_rodsim_agrees_with_baseline_on_random_smooth_state(rodsim, tmp_path, sp
     # Every component excited (the DNA scene leaves twist and extension at rest,
     # so it cannot see an error in D3, I3 or C3 terms): smooth random fields of
     # modes 1..4, an anisotropic material and a twisted, sheared intrinsic shape.
-    sys.path.insert(0, str(ROOT / "bench" / "stress"))
-    import stability
     N, L = 32, 2 * math.pi
     G0, O0 = (0.1, -0.05, 1.0), (0.2, 0.1, 0.7)
     rng = np.random.default_rng(3)

@@ -6,15 +6,12 @@ state (eigenvalues of the Jacobian of the independent numpy RHS) is purely
 imaginary (skew operators, conserved energy); the semi-discrete energy is
 conserved exactly, so an adaptive run's energy drift is set by its tolerance."""
 import math
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
+from benchscripts import load_bench
 
-ROOT = Path(__file__).resolve().parents[2]
-sys.path.insert(0, str(ROOT / "bench" / "stress"))
-import stability  # noqa: E402
+stability = load_bench("stress/stability.py")
 
 
 @pytest.mark.parametrize("space", ["fd4", "spectral"])

@@ -9,7 +9,6 @@ comparison's rod run and MD build (conftest `tiny_run`).
 import json
 import subprocess
 import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -28,10 +27,10 @@ def tiny_paths(tiny_run):
 
 
 @pytest.fixture(scope="module")
-def atoms(tiny_paths, bin_dir, tmp_path_factory):
+def atoms(tiny_paths, dnarod, tmp_path_factory):
     rod, md = tiny_paths
     xtc = tmp_path_factory.mktemp("r2a") / "rod_atoms.xtc"
-    p = subprocess.run([str(bin_dir / "dnarod"), "rod-to-atoms", str(rod), "--like", str(md), "-o", str(xtc)],
+    p = subprocess.run([str(dnarod), "rod-to-atoms", str(rod), "--like", str(md), "-o", str(xtc)],
                        capture_output=True, text=True)
     assert p.returncode == 0, p.stderr[-3000:]
     return xtc
@@ -96,29 +95,31 @@ def test_chemistry_report(atoms):
     assert 1.4 < rep["O3P_min_A"][0] <= rep["O3P_max_A"][0] < 1.8
 
 
-def test_relaxation_restores_links(tiny_paths, bin_dir, tmp_path):
+def test_relaxation_restores_links(tiny_paths, dnarod, tmp_path):
     """A short restrained minimisation per frame brings the O3'-P links of the most
     strained frame closer to the CHARMM27 bond length (1.61 A) than the rigid back-map."""
     rod, md = tiny_paths
     rigid, relaxed = tmp_path / "rigid.xtc", tmp_path / "relaxed.xtc"
     for out, extra in ((rigid, []), (relaxed, ["--relax-steps", "200"])):
-        p = subprocess.run([str(bin_dir / "dnarod"), "rod-to-atoms", str(rod), "--like", str(md), "-o", str(out),
+        p = subprocess.run([str(dnarod), "rod-to-atoms", str(rod), "--like", str(md), "-o", str(out),
                             "--every", "25", *extra], capture_output=True, text=True)
         assert p.returncode == 0, p.stderr[-3000:]
     a = json.loads(rigid.with_suffix(".chemistry.json").read_text())
     b = json.loads(relaxed.with_suffix(".chemistry.json").read_text())
-    dev = lambda r: np.maximum(np.abs(np.array(r["O3P_max_A"]) - 1.61), np.abs(np.array(r["O3P_min_A"]) - 1.61))
+
+    def dev(r):
+        return np.maximum(np.abs(np.array(r["O3P_max_A"]) - 1.61), np.abs(np.array(r["O3P_min_A"]) - 1.61))
     k = int(np.argmax(dev(a)))
     assert dev(a)[k] > 0.05, "the rigid back-map was not strained: the check cannot fail"
     assert dev(b)[k] < 0.5 * dev(a)[k]
 
 
-def test_coarse_pdb(tiny_paths, bin_dir, tmp_path):
+def test_coarse_pdb(tiny_paths, dnarod, tmp_path):
     import MDAnalysis as mda
     rod, md = tiny_paths
     n_bp = json.loads((md / "build.json").read_text())["n_bp"]
     pdb = tmp_path / "coarse.pdb"
-    p = subprocess.run([str(bin_dir / "dnarod"), "rod-to-atoms", str(rod), "--coarse", "--bp", str(n_bp),
+    p = subprocess.run([str(dnarod), "rod-to-atoms", str(rod), "--coarse", "--bp", str(n_bp),
                         "-o", str(pdb)], capture_output=True, text=True)
     assert p.returncode == 0, p.stderr
     R, o, t = _rod_frames(rod, n_bp)
@@ -144,13 +145,13 @@ def _pymol_png(tmp_path, script: str) -> np.ndarray:
     return mpimg.imread(png)
 
 
-def test_pymol_renders_coarse_and_atoms(atoms, tiny_paths, bin_dir, tmp_path):
+def test_pymol_renders_coarse_and_atoms(atoms, tiny_paths, dnarod, tmp_path):
     import importlib.util
     if importlib.util.find_spec("pymol") is None:
         pytest.fail("PyMOL not importable by Debian's Python: scripts/setup.sh installs pymol")
     rod, md = tiny_paths
     pdb = tmp_path / "coarse.pdb"
-    subprocess.run([str(bin_dir / "dnarod"), "rod-to-atoms", str(rod), "--coarse", "--bp", "21", "-o", str(pdb)],
+    subprocess.run([str(dnarod), "rod-to-atoms", str(rod), "--coarse", "--bp", "21", "-o", str(pdb)],
                    check=True, capture_output=True)
     img = _pymol_png(tmp_path, f"load {pdb}, rod\nshow sticks\nload {md / 'conf.gro'}, md\n"
                                f"load_traj {atoms}, md\ncount_states md\norient")
@@ -158,7 +159,7 @@ def test_pymol_renders_coarse_and_atoms(atoms, tiny_paths, bin_dir, tmp_path):
     assert np.std(img[..., :3]) > 0.02, "PyMOL rendered a blank picture"
 
 
-def test_bad_inputs_are_named(tiny_paths, bin_dir, tmp_path):
+def test_bad_inputs_are_named(tiny_paths, dnarod, tmp_path):
     rod, md = tiny_paths
     cases = [
         ([str(tmp_path / "nope.h5"), "--coarse", "--bp", "21", "-o", str(tmp_path / "x.pdb")], "no such rod run"),
@@ -167,5 +168,5 @@ def test_bad_inputs_are_named(tiny_paths, bin_dir, tmp_path):
         ([str(rod), "--coarse", "--bp", "20", "-o", str(tmp_path / "x.pdb")], "multiple of n_bp"),
     ]
     for args, words in cases:
-        p = subprocess.run([str(bin_dir / "dnarod"), "rod-to-atoms", *args], capture_output=True, text=True)
+        p = subprocess.run([str(dnarod), "rod-to-atoms", *args], capture_output=True, text=True)
         assert p.returncode == 2 and words in p.stderr, (args, p.stderr)

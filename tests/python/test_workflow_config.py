@@ -4,14 +4,13 @@ missing key and every value of the wrong type or range is an error naming the fi
 and the key, with what is allowed."""
 import re
 import subprocess
-import sys
 from pathlib import Path
 
 import pytest
 import yaml
 
 from dna_models.errors import InputError
-from workflows.configuration import SCHEMA_PATH, load, schema, validate
+from dnarod.configuration import SCHEMA_PATH, load, schema, validate
 
 ROOT = Path(__file__).resolve().parents[2]
 SHIPPED = sorted((ROOT / "workflows" / "config").glob("*.yaml"))
@@ -86,11 +85,11 @@ def test_every_key_is_documented():
     assert not missing, f"docs/workflow.md does not document {missing}"
 
 
-def test_compare_refuses_before_snakemake_runs(tmp_path, bin_dir):
+def test_compare_refuses_before_snakemake_runs(tmp_path, dnarod):
     cfg = dict(GOOD, md={"threads": 2, "run_sp": 4})
     path = tmp_path / "bad.yaml"
     path.write_text(yaml.safe_dump(cfg))
-    p = subprocess.run([str(bin_dir / "dnarod"), "compare", "--config", str(path), "--out", str(tmp_path / "o")],
+    p = subprocess.run([str(dnarod), "compare", "--config", str(path), "--out", str(tmp_path / "o")],
                        capture_output=True, text=True)
     assert p.returncode == 2, p.stderr
     assert str(path) in p.stderr and "missing key 'md.run_ps'" in p.stderr and "did you mean 'md.run_ps'" in p.stderr

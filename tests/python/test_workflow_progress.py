@@ -5,7 +5,7 @@ clock), the plain line parses back to the numbers it was made from, and a
 terminal gets one redrawn line while a pipe gets rate-limited plain lines."""
 import io
 
-from workflows.progress import Progress, duration, last_progress, md_rate, parse_line
+from dnarod.progress import Progress, duration, last_progress, md_rate, parse_line
 
 
 class Clock:

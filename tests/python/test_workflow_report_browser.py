@@ -126,7 +126,7 @@ def test_control_blank_figure_is_caught(browser, tmp_path):
 def test_every_axis_is_labelled_with_units(tiny_run):
     """Each axis of each report figure has a label with its unit in brackets."""
     import yaml
-    from workflows.report.report import CAPTIONS, collect, figures, results_json
+    from dnarod.report.report import CAPTIONS, collect, figures, results_json
     out = tiny_run[0]
     cfg = yaml.safe_load((out / "config.effective.yaml").read_text())
     data = collect(cfg, out)

@@ -12,7 +12,6 @@ import os
 import shutil
 import socket
 import subprocess
-import sys
 import time
 from pathlib import Path
 
@@ -116,8 +115,8 @@ PartitionName=debug Nodes={host} Default=YES MaxTime=INFINITE State=UP
         time.sleep(1)
 
 
-def _compare(out: Path, env: dict, bin_dir: Path, *extra: str, timeout: int = 1200) -> subprocess.CompletedProcess:
-    cmd = [str(bin_dir / "dnarod"), "compare", "--config", str(ROOT / "workflows" / "config" / "tiny.yaml"),
+def _compare(out: Path, env: dict, dnarod: Path, *extra: str, timeout: int = 1200) -> subprocess.CompletedProcess:
+    cmd = [str(dnarod), "compare", "--config", str(ROOT / "workflows" / "config" / "tiny.yaml"),
            "--out", str(out), "--cores", str(_cpus()), "--", "--profile", str(PROFILE), *extra]
     return subprocess.run(cmd, env=env, capture_output=True, text=True, timeout=timeout)
 
@@ -158,10 +157,10 @@ def test_status_script_maps_slurm_states(slurm_cluster):
     assert wait_state(long, {"success", "failed"}, 180) == "failed"
 
 
-def test_tiny_comparison_through_slurm(slurm_cluster, tiny_run, bin_dir, tmp_path):
+def test_tiny_comparison_through_slurm(slurm_cluster, tiny_run, dnarod, tmp_path):
     local_out = tiny_run[0]
     out = tmp_path / "slurm_tiny"
-    p = _compare(out, slurm_cluster, bin_dir)
+    p = _compare(out, slurm_cluster, dnarod)
     assert p.returncode == 0, p.stdout[-3000:] + p.stderr[-3000:]
     jobs = list((out / "slurm").glob("*.out"))
     assert any(j.name.startswith("md_run-") for j in jobs), "the MD did not run as a SLURM job"

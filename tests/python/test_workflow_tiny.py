@@ -2,10 +2,7 @@
 rod scene -> rodsim -> build-md -> run-md -> analyses -> report, then a resume that
 has nothing left to do. ~3 min on 2 cores."""
 import json
-import os
-import shutil
 import subprocess
-import sys
 import time
 from pathlib import Path
 
@@ -48,11 +45,10 @@ def test_resume_has_nothing_to_do(tiny_run):
     assert time.time() - t0 < 60
 
 
-def test_bad_config_is_named(tmp_path):
+def test_bad_config_is_named(tmp_path, dnarod):
     bad = tmp_path / "bad.yaml"
     bad.write_text("scene: x.toml\nseeds: [1]\n")
-    p = subprocess.run([sys.executable, "-m", "workflows.cli", "compare", "--config", str(bad),
-                        "--out", str(tmp_path / "o")], capture_output=True, text=True,
-                       env=dict(os.environ, PYTHONPATH=str(ROOT)))
+    p = subprocess.run([str(dnarod), "compare", "--config", str(bad),
+                        "--out", str(tmp_path / "o")], capture_output=True, text=True)
     assert p.returncode == 2
     assert "bad.yaml" in p.stderr and "A_v_A_per_ps" in p.stderr

@@ -163,5 +163,6 @@ def run(args):
     for c in caveats:
         print(f"  caveat: {c}")
     extra = [f for f in (params["files"].get("steps_file"), params["files"].get("material_file")) if f]
-    print(f"wrote {out / 'params.json'}, {out / 'convergence.png'}, {out / 'by_length.png'}" + "".join(f", {out / f}" for f in extra))
+    print(f"wrote {out / 'params.json'}, {out / 'convergence.png'}, {out / 'by_length.png'}"
+          + "".join(f", {out / f}" for f in extra))
     return 0

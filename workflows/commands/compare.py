@@ -51,7 +51,7 @@ def _run_showing_md_progress(cmd, env, out: Path, poll_s: float = 5.0) -> int:
     """Run Snakemake; meanwhile show the progress of every running MD job, read from
     the plain progress lines `dnarod run-md` writes into md/*/run-md.log
     (workflows/progress.py): every 15 s on a terminal, every minute in a log."""
-    from workflows.progress import Progress, last_progress, md_rate
+    from dnarod.progress import Progress, last_progress, md_rate
     every = 15.0 if sys.stderr.isatty() else 60.0
     shown: dict[str, Progress] = {}
     proc = subprocess.Popen(cmd, env=env)
@@ -78,7 +78,7 @@ def _run_showing_md_progress(cmd, env, out: Path, poll_s: float = 5.0) -> int:
 
 
 def run(args) -> int:
-    from workflows.configuration import load
+    from dnarod.configuration import load
     cfg = Path(args.config)
     load(cfg)  # every key checked before anything runs (workflows/config/schema.yaml)
     if args.cores < 1:
@@ -90,10 +90,7 @@ def run(args) -> int:
            "--configfile", str(cfg.resolve()), "--config", f"bin_dir={bin_dir}",
            "--directory", str(out), "--cores", str(args.cores), "--printshellcmds",
            "--rerun-incomplete", "--keep-going"] + list(args.snakemake_args)
-    env = dict(os.environ)
-    env["PYTHONPATH"] = os.pathsep.join([str(ROOT), str(Path(bin_dir).parent / "python")]
-                                        + ([env["PYTHONPATH"]] if env.get("PYTHONPATH") else []))
-    rc = _run_showing_md_progress(cmd, env, out)
+    rc = _run_showing_md_progress(cmd, dict(os.environ), out)
     if rc != 0:
         raise ExternalToolError(f"the workflow stopped (snakemake exit {rc}); the failing step's log is "
                                 f"named above (under {out}); rerun the same command to resume")

@@ -68,7 +68,7 @@ def add_arguments(p):
     g.add_argument("--k", nargs="+", metavar="K",
                    help="wavenumbers k of a twisted rod (use with --Omega03)")
     p.add_argument("--Gamma03", type=float, default=1.0, help="intrinsic extension Gamma03 (default 1)")
-    from workflows.paper.theory import D1_PAPER
+    from dnarod.paper.theory import D1_PAPER
     p.add_argument("--D1", type=float, default=D1_PAPER,
                    help=f"dimensionless bend stiffness D1 = D rho / (I C) (default {D1_PAPER:g}, "
                         "paper Sec 2.2)")
@@ -81,7 +81,7 @@ def add_arguments(p):
 
 def table(args):
     """(header, rows) of the CSV for parsed arguments."""
-    from workflows.paper import theory
+    from dnarod.paper import theory
     if args.D1 <= 0 or not np.isfinite(args.D1):
         raise InputError(f"--D1 {args.D1}: must be a positive number")
     if not np.isfinite(args.Gamma03) or args.Gamma03 <= 0:

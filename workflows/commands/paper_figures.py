@@ -13,7 +13,7 @@ HELP = "regenerate the paper's Figs 1-7 and the reproduction checks (PNG + JSON)
 
 
 def _description():
-    from workflows.paper.registry import TARGETS
+    from dnarod.paper.registry import TARGETS
     lines = "\n".join(f"  {k:<17} {v[0]}" for k, v in TARGETS.items())
     return f"""\
 Regenerate the equivalents of the paper's figures, each from a real rod simulation
@@ -38,7 +38,7 @@ DESCRIPTION = None  # filled lazily below (argparse reads it when the parser is 
 
 
 def add_arguments(p):
-    from workflows.paper.registry import TARGETS
+    from dnarod.paper.registry import TARGETS
     p.description = _description()
     p.add_argument("-o", "--out", required=True, metavar="DIR", help="output folder (created)")
     p.add_argument("--only", nargs="+", metavar="TARGET", choices=list(TARGETS),
@@ -50,7 +50,7 @@ def add_arguments(p):
 def run(args):
     import matplotlib
     matplotlib.use("Agg")
-    from workflows.paper.registry import FIGURES, TARGETS
+    from dnarod.paper.registry import FIGURES, TARGETS
     out = Path(args.out)
     try:
         out.mkdir(parents=True, exist_ok=True)

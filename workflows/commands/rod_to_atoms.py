@@ -39,7 +39,8 @@ def add_arguments(p):
     p.add_argument("--like", metavar="MDDIR", help="MD build directory (dnarod build-md) whose atoms and "
                                                   "coordinates to use (with --coarse: only its coordinates)")
     p.add_argument("--coarse", action="store_true", help="coarse bead model instead of atoms")
-    p.add_argument("-o", "--out", required=True, help="output trajectory (.xtc/.trr/.dcd with --like, .pdb with --coarse)")
+    p.add_argument("-o", "--out", required=True,
+                   help="output trajectory (.xtc/.trr/.dcd with --like, .pdb with --coarse)")
     p.add_argument("--bp", type=int, help="base pairs the rod carries (default: from MDDIR/build.json or the "
                                           "rod file's scene)")
     p.add_argument("--every", type=int, default=1, help="write every n-th rod frame (default 1)")

@@ -52,7 +52,7 @@ def run(args):
     warnings.filterwarnings("ignore", message="'xdrlib' is deprecated")
 
     from mdbridge.gromacs.run import CHECKPOINT_MIN, run_md
-    from workflows.progress import Progress, md_rate
+    from dnarod.progress import Progress, md_rate
     bar: list[Progress] = []
 
     def progress(done_ps, total_ps):

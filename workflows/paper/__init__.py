@@ -3,7 +3,7 @@ quantitative checks of docs/reproduction.md.
 
 One module per figure or check; all of them run real simulations through
 `mdbridge.rodrun.run_scene` (the compiled `rodcore` module) or evaluate the
-closed-form results of `workflows.paper.theory` (which calls the C++
+closed-form results of `dnarod.paper.theory` (which calls the C++
 `rodcore.analytic` functions). `dnarod paper-figures` drives
-them (`workflows.paper.registry`).
+them (`dnarod.paper.registry`).
 """

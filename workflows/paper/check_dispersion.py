@@ -16,10 +16,10 @@ from pathlib import Path
 
 import numpy as np
 
-from workflows.paper import theory
-from workflows.paper.common import find_frequencies, finish, mode_amplitude, plt, write_json
+from dnarod.paper import theory
+from dnarod.paper.common import find_frequencies, finish, mode_amplitude, plt, write_json
 from mdbridge.rodrun import run_scene
-from workflows.paper.rod import scene, straight_rod
+from dnarod.paper.rod import scene, straight_rod
 
 EPS = 1e-4
 TRANSVERSE = [(f, c) for f in ("gamma", "omega", "Gamma", "Omega") for c in (0, 1)]
@@ -47,11 +47,11 @@ def measure(k: float, Omega03: float, N: int = 16, periods: float = 6.0) -> dict
               "Omega": np.column_stack([z, EPS * np.sin(k * s), Omega03 + z])}
     run = run_scene(scene(straight_rod(L, N, 1.0, Omega03), None, t_end=t_end, frames=frames,
                           fields=("internal",), rtol=1e-12), initial=fields)
-    sig = []
+    amplitudes = []
     for f, c in TRANSVERSE:
         a = mode_amplitude(run.fields[f][..., c], 1)
-        sig += [a.real, a.imag]
-    sig = np.array(sig) / EPS
+        amplitudes += [a.real, a.imag]
+    sig = np.array(amplitudes) / EPS
     w_fit, rel = find_frequencies(run.time, sig, len(pred))
     rows = []
     for label, kap, w in pred:
@@ -84,6 +84,7 @@ def check(outdir: Path | None = None, quick: bool = False) -> dict:
                     color="C0" if r["branch"].startswith("plus") else "C1", ms=5)
         ax.plot([], [], "ko", mfc="none", label="run, untwisted (k)")
         ax.plot([], [], "ks", mfc="none", label=r"run, twisted ($|\kappa_{p,m}|$)")
-        finish(fig, ax, outdir / "dispersion_check.png", r"$|\kappa|$", r"$\omega$", f"measured frequencies vs Eqs (26)/(39): max rel. diff {data['max_rel_diff']:.1e}", legend=7)
+        finish(fig, ax, outdir / "dispersion_check.png", r"$|\kappa|$", r"$\omega$",
+               f"measured frequencies vs Eqs (26)/(39): max rel. diff {data['max_rel_diff']:.1e}", legend=7)
         write_json(outdir / "dispersion_check.json", data)
     return data

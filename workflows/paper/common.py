@@ -72,7 +72,7 @@ def find_frequencies(t, signals, n: int, tol: float = 1e-5, extra: int = 2):
     Y = np.atleast_2d(np.asarray(signals, float))
     w, rel = fit_frequencies(t, Y, spectral_peaks(t, Y, n))
     while rel > tol and len(w) < n + extra:
-        A = np.column_stack([f(wj * t) for wj in w for f in (np.cos, np.sin)])
+        A = np.column_stack([g for wj in w for g in (np.cos(wj * t), np.sin(wj * t))])
         R = Y.T - A @ np.linalg.lstsq(A, Y.T, rcond=None)[0]
         w, rel = fit_frequencies(t, Y, np.append(w, spectral_peaks(t, R.T, 1)))
     return w, rel
@@ -86,7 +86,7 @@ def spectral_peaks(t, signals, n_peaks: int, pad: int = 8):
     dt = t[1] - t[0]
     n = len(t) * pad
     win = np.hanning(len(t))
-    P = sum(np.abs(np.fft.rfft((y - y.mean()) * win, n)) ** 2 for y in Y)
+    P = np.sum([np.abs(np.fft.rfft((y - y.mean()) * win, n)) ** 2 for y in Y], axis=0)
     f = 2 * np.pi * np.fft.rfftfreq(n, dt)
     idx = [i for i in range(1, len(P) - 1) if P[i] >= P[i - 1] and P[i] > P[i + 1]]
     idx = sorted(idx, key=lambda i: -P[i])[:n_peaks]

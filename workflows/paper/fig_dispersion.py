@@ -11,8 +11,8 @@ from pathlib import Path
 
 import numpy as np
 
-from workflows.paper import theory
-from workflows.paper.common import finish, plt, write_json
+from dnarod.paper import theory
+from dnarod.paper.common import finish, plt, write_json
 
 D1, G03, O03 = theory.D1_PAPER, 1.0, 1.0
 STYLE = {("plus", "p"): ("C0", "-"), ("minus", "p"): ("C1", "-"),
@@ -35,7 +35,8 @@ def fig1(outdir: Path, quick: bool = False) -> dict:
     dots = {"omega_minus_m": float(theory.omega(0.0, "minus", D1, G03)),
             "omega_plus_m": float(theory.omega(0.0, "plus", D1, G03))}
     ax.plot([O03, O03], [dots["omega_minus_m"], dots["omega_plus_m"]], "ko", ms=5)
-    png = finish(fig, ax, outdir / "fig1.png", "k", r"$\omega$", r"Fig 1: Eq (26), $\Omega_{03}=1$, $\Gamma_{03}=1$, $D_1=1.21$", legend=8)
+    png = finish(fig, ax, outdir / "fig1.png", "k", r"$\omega$",
+                 r"Fig 1: Eq (26), $\Omega_{03}=1$, $\Gamma_{03}=1$, $D_1=1.21$", legend=8)
     data = {"figure": 1, "equation": "26", "D1": D1, "Gamma03": G03, "Omega03": O03,
             "parabolic_points_at_k_equal_Omega03": dots,
             "samples": {f"omega_{b}_{pm}": {"k": [0.0, 1.0, 2.0, 4.0],
@@ -61,7 +62,8 @@ def fig2(outdir: Path, quick: bool = False) -> dict:
                             "ratio_near_Omega03": float(r[np.argmin(np.abs(k - O03))]),
                             "ratio_at_k_max": float(r[-1])}
     ax.axhline(1.0, color="gray", lw=0.5)
-    png = finish(fig, ax, outdir / "fig2.png", "k", r"$\Gamma_\perp^2 / (D_1 \Omega_\perp^2)$", "Fig 2: shear/bend energy ratio, Eq (27)", legend=8)
+    png = finish(fig, ax, outdir / "fig2.png", "k", r"$\Gamma_\perp^2 / (D_1 \Omega_\perp^2)$",
+                 "Fig 2: shear/bend energy ratio, Eq (27)", legend=8)
     data = {"figure": 2, "equation": "27", "D1": D1, "Gamma03": G03, "Omega03": O03, "branches": out}
     write_json(outdir / "fig2.json", data)
     return {"png": png, "json": outdir / "fig2.json", "data": data}
@@ -77,7 +79,8 @@ def fig5(outdir: Path, quick: bool = False) -> dict:
         ax.loglog(k, r, color=c, label=rf"$\omega_{{{'+' if b == 'plus' else '-'}}}$")
         out[b] = {"k": [float(k[0]), float(k[-1])], "ratio": [float(r[0]), float(r[-1])]}
     ax.axhline(1.0, color="gray", lw=0.5)
-    png = finish(fig, ax, outdir / "fig5.png", "k", r"$|\Gamma_1| / |\Omega_2|$", r"Fig 5: $|\omega^2 - D_1 k^2| / (k \Gamma_{03})$ from Eqs (40)-(43)", legend=8)
+    png = finish(fig, ax, outdir / "fig5.png", "k", r"$|\Gamma_1| / |\Omega_2|$",
+                 r"Fig 5: $|\omega^2 - D_1 k^2| / (k \Gamma_{03})$ from Eqs (40)-(43)", legend=8)
     data = {"figure": 5, "equations": "40-43", "D1": D1, "Gamma03": G03, "ends": out,
             "formula": "|Gamma1|/|Omega2| = |w^2 - D1 k^2| / (k Gamma03)"}
     write_json(outdir / "fig5.json", data)

@@ -15,11 +15,11 @@ from pathlib import Path
 
 import numpy as np
 
-from workflows.paper import theory
-from workflows.paper.common import write_json
+from dnarod.paper import theory
+from dnarod.paper.common import write_json
 from mdbridge.rodrun import run_scene
-from workflows.paper.rod import scene, straight_rod
-from workflows.paper.tubes import close_periodic, snapshot_figure
+from dnarod.paper.rod import scene, straight_rod
+from dnarod.paper.tubes import close_periodic, snapshot_figure
 
 FIELDS_3D = ("internal", "energy", "energy_parts", "centerline", "directors")
 
@@ -44,6 +44,7 @@ def fig3(outdir: Path, quick: bool = False) -> dict:
                {"kind": "twisted_wave", "mode": mode, "A": A, "kappa": "p", "branch": "plus"},
                t_end=T, frames=5, fields=FIELDS_3D, rtol=1e-11)
     run = run_scene(sc)
+    assert run.energy is not None and run.time is not None
     # after exactly one period the exact wave is back where it started (Eq 24)
     err = max(float(np.max(np.abs(run.fields[f][-1] - run.fields[f][0]))) for f in run.fields)
     drift = float(np.max(np.abs(run.energy - run.energy[0])) / run.energy[0])
@@ -87,6 +88,7 @@ def fig4(outdir: Path, quick: bool = False) -> dict:
                {"kind": "shear_oscillation", "omega2": omega0, "Gamma1": 0.0, "Gamma3": G03},
                t_end=t_end, frames=7 if quick else 61, fields=FIELDS_3D, rtol=1e-11)
     run = run_scene(sc)
+    assert run.energy is not None and run.time is not None
     G, W, Om = run.fields["Gamma"], run.fields["omega"], run.fields["Omega"]
     shear = np.hypot(G[..., 0], G[..., 1])       # |Gamma_perp|
     spin = np.hypot(W[..., 0], W[..., 1])         # |omega_perp|
@@ -121,6 +123,7 @@ def fig6(outdir: Path, quick: bool = False) -> dict:
                {"kind": "untwisted_wave", "mode": mode, "epsilon": eps, "branch": "plus"},
                t_end=3.6, frames=5, fields=FIELDS_3D, rtol=1e-11)
     run = run_scene(sc)
+    assert run.energy is not None and run.time is not None
     png = outdir / "fig6.png"
     snapshot_figure(png, _frames(run, range(len(run.time))), radius=0.1,
                     titles=[f"t = {t:.1f}" for t in run.time],

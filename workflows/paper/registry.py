@@ -10,7 +10,7 @@ from pathlib import Path
 def _fig(module, name):
     def make(outdir: Path, quick: bool):
         import importlib
-        return getattr(importlib.import_module(f"workflows.paper.{module}"), name)(outdir, quick)
+        return getattr(importlib.import_module(f"dnarod.paper.{module}"), name)(outdir, quick)
     return make
 
 

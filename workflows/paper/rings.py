@@ -44,6 +44,8 @@ def rotating_ring(quick: bool = False) -> dict:
     Gamma3 = (C3 * G03 + np.sqrt((C3 * G03) ** 2 + 4 * C3 * g3 ** 2)) / (2 * C3)
     R = Gamma3 * L / (2 * np.pi)
     run = run_scene(sc)
+    assert run.centerline is not None and run.directors is not None and run.energy is not None
+    assert run.time is not None
     c = run.centerline
     centre = c.mean(axis=1, keepdims=True)
     radius = np.linalg.norm(c - centre, axis=2)
@@ -70,6 +72,7 @@ def twisting_ring(quick: bool = False) -> dict:
     L, w3 = sc["rod"]["length"], sc["initial"]["omega3"]
     A = sc["initial"]["A"] or 2 * np.pi / L
     run = run_scene(sc)
+    assert run.time is not None
     t = run.time[:, None]
     Om, om = run.fields["Omega"], run.fields["omega"]
     err = max(float(np.max(np.abs(Om[..., 0] - A * np.sin(w3 * t)))),
@@ -102,6 +105,7 @@ def twisting_bent_ring(quick: bool = False, I3: float | None = None) -> dict:
     A = sc["initial"]["A"] or 2 * np.pi / L
     O02 = sc["rod"]["Omega0"][1]
     run = run_scene(sc)
+    assert run.time is not None
     w3_ode, O1_ode, O2_ode = eq46(run.time, w3, 0.0, A, D[0], O02, I[2])
     Om, om = run.fields["Omega"], run.fields["omega"]
     err = max(float(np.max(np.abs(om[..., 2] - w3_ode[:, None]))),
@@ -118,7 +122,7 @@ def twisting_bent_ring(quick: bool = False, I3: float | None = None) -> dict:
 
 
 def check(outdir: Path | None = None, quick: bool = False) -> dict:
-    from workflows.paper.common import write_json
+    from dnarod.paper.common import write_json
     data = {"rotating_ring": rotating_ring(quick), "twisting_ring": twisting_ring(quick),
             "twisting_bent_ring": twisting_bent_ring(quick),
             "twisting_bent_ring_I3_1": twisting_bent_ring(quick, I3=1.0)}

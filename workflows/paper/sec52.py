@@ -22,10 +22,10 @@ from pathlib import Path
 import numpy as np
 from scipy.optimize import brentq, least_squares
 
-from workflows.paper import theory
-from workflows.paper.common import finish, mode_amplitude, plt, write_json
+from dnarod.paper import theory
+from dnarod.paper.common import finish, mode_amplitude, plt, write_json
 from mdbridge.rodrun import run_scene
-from workflows.paper.rod import scene, straight_rod
+from dnarod.paper.rod import scene, straight_rod
 
 PARTS = ("kinetic_translational", "kinetic_rotational", "shear", "extension", "bend", "twist")
 
@@ -46,7 +46,7 @@ def energy_components(outdir: Path | None = None, quick: bool = False, k=2.0, ep
     run = untwisted_run(k, eps, "plus", t_end, 41 if quick else 201, 32 if quick else 64)
     E = run.energy
     short = run.time <= 3.6 + 1e-9  # the span of the paper's Fig 6 run
-    out = {}
+    out: dict[str, dict] = {}
     for p in PARTS:
         e = run.energy_parts[p]
         ref = e[0]
@@ -63,7 +63,8 @@ def energy_components(outdir: Path | None = None, quick: bool = False, k=2.0, ep
             "max_rel_diff_of_large_components": max(out[p]["max_rel_diff"] for p in
                                                     ("kinetic_translational", "kinetic_rotational", "shear", "bend")),
             "max_rel_diff_of_large_components_t_le_3.6": max(
-                out[p]["max_rel_diff_t_le_3.6"] for p in ("kinetic_translational", "kinetic_rotational", "shear", "bend")),
+                out[p]["max_rel_diff_t_le_3.6"]
+                for p in ("kinetic_translational", "kinetic_rotational", "shear", "bend")),
             "max_diff_over_total_energy_any_component": max(out[p]["max_diff_over_total_energy"] for p in PARTS),
             "max_diff_over_total_energy_any_component_t_le_3.6": max(
                 out[p]["max_diff_over_total_energy_t_le_3.6"] for p in PARTS),
@@ -73,7 +74,8 @@ def energy_components(outdir: Path | None = None, quick: bool = False, k=2.0, ep
         for p in PARTS[:5]:
             ax.plot(run.time, run.energy_parts[p] / E[0], label=p)
             ax.axhline(run.energy_parts[p][0] / E[0], color="gray", lw=0.4, ls=":")
-        finish(fig, ax, outdir / "sec52_energy.png", "t", "energy / total", r"Sec 5.2: energy parts, $\omega_+$, k = 2, $\epsilon$ = 0.5 (dotted: Eqs 40-45)", legend=7)
+        finish(fig, ax, outdir / "sec52_energy.png", "t", "energy / total",
+               r"Sec 5.2: energy parts, $\omega_+$, k = 2, $\epsilon$ = 0.5 (dotted: Eqs 40-45)", legend=7)
         write_json(outdir / "sec52_energy.json", data)
     return data
 
@@ -120,7 +122,8 @@ def fig7(outdir: Path, quick: bool = False, k=8.0, eps_plus=0.1, t_fix=1.0) -> d
         run, dot, _ = pair[b]
         ss = np.append(run.s, run.L)
         ax.plot(ss, np.append(dot, dot[0]), "k" + style, label=rf"$\omega_{{{'+' if b == 'plus' else '-'}}}$")
-    png = finish(fig, ax, outdir / "fig7.png", "s", r"$\Gamma_3 / |\Gamma|$", f"Fig 7: k = 8, equal energy, t = {t_fix}", legend=8)
+    png = finish(fig, ax, outdir / "fig7.png", "s", r"$\Gamma_3 / |\Gamma|$",
+                 f"Fig 7: k = 8, equal energy, t = {t_fix}", legend=8)
     # Sec 5.2: "for small wave number (k < 1) ... omega_- corresponds to the small oscillations
     # of Gamma3/|Gamma| and omega_+ to the large ones"
     small = equal_energy_pair(0.5, 0.02, 2.0, quick, N=16, mode=1)
@@ -231,6 +234,7 @@ def second_harmonic(outdir: Path | None = None, quick: bool = False, k=2.0, bran
         ax.loglog(eps, amp, "ko", label="run: forced 2k mode of $\\delta\\Gamma_3$")
         ax.loglog(eps, [r["Eq45_C3"] for r in rows], "C0-", label="Eq (45) with $C_3$")
         ax.loglog(eps, [r["Eq45_C3_squared_as_printed"] for r in rows], "C3--", label="Eq (45) as printed ($C_3^2$)")
-        finish(fig, ax, outdir / "sec52_harmonic.png", r"$\epsilon$", "amplitude", f"second harmonic, k = {k}, $\\omega_+$: slope {slope:.3f}", legend=7)
+        finish(fig, ax, outdir / "sec52_harmonic.png", r"$\epsilon$", "amplitude",
+               f"second harmonic, k = {k}, $\\omega_+$: slope {slope:.3f}", legend=7)
         write_json(outdir / "sec52_harmonic.json", data)
     return data

@@ -15,10 +15,10 @@ from pathlib import Path
 
 import numpy as np
 
-from workflows.paper import theory
-from workflows.paper.common import write_json
+from dnarod.paper import theory
+from dnarod.paper.common import write_json
 from mdbridge.rodrun import run_scene
-from workflows.paper.rod import scene, straight_rod
+from dnarod.paper.rod import scene, straight_rod
 
 K, A, O3, G3 = 2.0, 0.5, 1.0, 1.0
 
@@ -43,12 +43,14 @@ def check(outdir: Path | None = None, quick: bool = False) -> dict:
     rk4 = []
     for n in (40, 80, 160):
         run = run_scene(_wave_scene(T, 2, time="rk4", dt=T / n))
+        assert run.energy is not None
         rk4.append({"dt": T / n, "error_after_one_period": _period_error(run),
                     "relative_energy_drift": float(np.max(np.abs(run.energy - run.energy[0])) / run.energy[0])})
     ratios = [rk4[i]["error_after_one_period"] / rk4[i + 1]["error_after_one_period"] for i in range(2)]
     periods = 2 if quick else 20
     tight = run_scene(_wave_scene(periods * T, 21, rtol=1e-13,
                                   fields=("internal", "energy", "centerline", "directors")))
+    assert tight.energy is not None and tight.directors is not None
     norms = np.linalg.norm(tight.directors, axis=2)   # (T, N, 3): |d_k| per point
     data = {"check": "Sec 5.1 accuracy claims on the exact twisted wave", "period": T,
             "rk4_fixed_step": rk4, "rk4_error_ratio_when_halving_dt": ratios, "paper_ratio": 16,

@@ -20,8 +20,8 @@ from pathlib import Path
 import numpy as np
 
 from dna_models.units import Units
-from workflows.paper import theory
-from workflows.paper.common import write_json
+from dnarod.paper import theory
+from dnarod.paper.common import write_json
 from mdbridge.rodrun import run_scene, scene_bp_turns
 
 SCENE = Path(__file__).resolve().parents[1] / "scenes" / "dna158.toml"
@@ -48,7 +48,7 @@ def amplitude_series(amplitudes=(1e-3, 0.1, 1.0), t_end: float = 2500.0) -> list
     """Frequency of the laboratory k = 2 pi / L mode of the centerline displacement versus
     the kick A_v: long runs (several periods), frequencies from find_frequencies (spectral
     peaks refined by least squares). Shows where the linear dispersion relation holds."""
-    from workflows.paper.common import find_frequencies, mode_amplitude
+    from dnarod.paper.common import find_frequencies, mode_amplitude
     with open(SCENE, "rb") as f:
         base = tomllib.load(f)
     u = Units.paper()
@@ -60,6 +60,7 @@ def amplitude_series(amplitudes=(1e-3, 0.1, 1.0), t_end: float = 2500.0) -> list
         sc["checks"]["max_energy_drift"] = 1e-4
         sc["output"].update(t_end=t_end, frames=1251, fields=["internal", "centerline"])
         run = run_scene(sc)
+        assert run.centerline is not None
         z = run.centerline[..., 2] - run.centerline[..., 2].mean(axis=1, keepdims=True)
         c = mode_amplitude(z, 1)
         w, rel = find_frequencies(run.time, [c.real, c.imag], 2)
@@ -79,6 +80,7 @@ def check(outdir: Path | None = None, quick: bool = False) -> dict:
     if quick:
         sc["output"]["frames"] = 61
     run = run_scene(sc)
+    assert run.energy is not None
     bp, turns = scene_bp_turns(sc, SCENE)
     traj = BasePairTrajectory.from_rod(run, n_bp=bp)
     a = WaveAnalysis(traj, in_plane=[0.0, 0.0, 1.0], n_boot=20 if quick else 200).run()

@@ -76,12 +76,12 @@ def _md_row(runs: list[dict]) -> dict | None:
 def comparison_block(cfg: dict, data: dict) -> dict:
     from mdbridge.analysis.dispersion import critical_compression
     from dna_models.units import Units
-    from workflows.report.matched import interp_rod_curve
+    from dnarod.report.matched import interp_rod_curve
     u = Units.paper()
     seeds = [int(s) for s in cfg["seeds"]]
     avs = sorted(data["rod"])
-    curve = [_rod_row(j) for j, _ in list(data["sweep"].values()) + list(data["rod"].values()) if j]
-    curve = [r for r in curve if r and math.isfinite(r["omega_per_ps"])]
+    rows_or_none = [_rod_row(j) for j, _ in list(data["sweep"].values()) + list(data["rod"].values()) if j]
+    curve = [r for r in rows_or_none if r and math.isfinite(r["omega_per_ps"])]
     rows = {}
     for av in avs:
         rows[av] = {"rod": _rod_row(data["rod"][av][0]),
@@ -90,7 +90,6 @@ def comparison_block(cfg: dict, data: dict) -> dict:
     base_rod = rows.get(0.0, {}).get("rod")
     md_base_T = base_md["tension_pN"] if base_md else None
     rod_base_T = base_rod["tension_pN"] if base_rod else 0.0
-    first_rod = next((r for r in rows.values() if r["rod"]), {}).get("rod")
     buck = None
     if data["rod"]:
         j = next(j for j, _ in data["rod"].values() if j)

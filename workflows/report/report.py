@@ -1,7 +1,7 @@
 """The comparison report: DIR/results.json and DIR/report/index.html (self-contained,
 figures embedded as base64 PNG).
 
-    python -m workflows.report.report CONFIG.yaml OUT_DIR
+    python -m dnarod.report.report CONFIG.yaml OUT_DIR
 
 Reads what the workflow's analysis steps wrote under OUT_DIR (rod/, md/, sweep/).
 """
@@ -21,7 +21,8 @@ import numpy as np
 from mdbridge.gromacs.checks import DRIFT_TARGET_KJ_MOL_NS_ATOM as DRIFT_TARGET
 from mdbridge.jsonio import write_json
 
-PAPER = {"rod_wave_speed_A_per_ps": 1.4, "md_wave_speed_A_per_ps": 2.2, "md_run_ps": 600.0,
+PAPER_MD_RUN_PS = 600.0
+PAPER = {"rod_wave_speed_A_per_ps": 1.4, "md_wave_speed_A_per_ps": 2.2, "md_run_ps": PAPER_MD_RUN_PS,
          "A_v_A_per_ps": [0.0, 1.0, 5.0], "source": "paper Sec 6.2"}
 
 
@@ -90,7 +91,7 @@ def _png(fig) -> str:
 def collect(cfg: dict, out: Path) -> dict:
     avs = [float(a) for a in cfg["A_v_A_per_ps"]]
     seeds = [int(s) for s in cfg["seeds"]]
-    data = {"rod": {}, "md": {}, "sweep": {}}
+    data: dict[str, dict] = {"rod": {}, "md": {}, "sweep": {}}
     for av in avs:
         data["rod"][av] = _load(out / "rod" / f"Av{fmt_av(av)}" / "analysis")
         if cfg.get("md", {}).get("enabled", True):
@@ -115,9 +116,9 @@ def results_json(cfg: dict, data: dict) -> dict:
     md_runs = [m for m in md_runs if m]
     md_speed, md_err = _combine([m["wave_speed_A_per_ps"] for m in md_runs],
                                 [m["wave_speed_err_A_per_ps"] for m in md_runs])
-    from workflows.report.comparison import comparison_block
+    from dnarod.report.comparison import comparison_block
     comp = comparison_block(cfg, data)
-    head_row = next((r for r in comp["rows"] if r["A_v_A_per_ps"] == head), {})
+    head_row: dict = next((r for r in comp["rows"] if r["A_v_A_per_ps"] == head), {})
     md_head = head_row.get("md") or {}
     if md_runs and all("standing_mode" in m for m in md_runs):
         # the three-part error of mdbridge/analysis/mode_error.py (offset always fitted)
@@ -339,14 +340,14 @@ def write_html(cfg: dict, res: dict, figs: dict, path: Path):
         f"<td>{_f(j['t_end_ps'])}"
         f"{'' if j.get('complete', True) else ' (stopped: ' + html.escape(j.get('stopped', '')) + ')'}</td></tr>"
         for j in res["runs"]["rod"] + res["runs"]["md"] + res["runs"]["sweep"])
-    from workflows.report.comparison import html_table
+    from dnarod.report.comparison import html_table
     matched_html = html_table(res["comparison"]) if res.get("comparison") else ""
     imgs = "\n".join(f'<figure id="fig-{html.escape(k)}"><img alt="{html.escape(k)}" '
                      f'src="data:image/png;base64,{_png(fig)}"><figcaption><b>{html.escape(k)}.</b> '
                      f'{html.escape(CAPTIONS[k])}</figcaption></figure>'
                      for k, fig in figs.items())
     note = ""
-    if float(res["md_run_ps"]) < PAPER["md_run_ps"]:
+    if float(res["md_run_ps"]) < PAPER_MD_RUN_PS:
         note = (f"<p><b>Note:</b> the MD here runs {_f(res['md_run_ps'])} ps, shorter than the paper's "
                 "600 ps, to fit the default configuration's time budget; use "
                 "<code>--config workflows/config/paper.yaml</code> for the paper's length.</p>")

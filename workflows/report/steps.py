@@ -1,10 +1,10 @@
 """Steps of `dnarod compare` (called from workflows/Snakefile, one process each).
 
-    python -m workflows.report.steps scene   BASE.toml OUT.toml --A-v 1 --run-ps 600 --every-ps 1
-    python -m workflows.report.steps rod     SCENE.toml ROD.h5 OUT_PREFIX [--n-boot 200]
-    python -m workflows.report.steps md      SCENE.toml MD_DIR OUT_PREFIX [--n-boot 200]
-    python -m workflows.report.steps modulus SCENE.toml OUT.json MD_ANALYSIS.json...
-    python -m workflows.report.steps prestrain-scene BASE.toml OUT.toml --A-v 1 --rest-length-A L0 \
+    python -m dnarod.report.steps scene   BASE.toml OUT.toml --A-v 1 --run-ps 600 --every-ps 1
+    python -m dnarod.report.steps rod     SCENE.toml ROD.h5 OUT_PREFIX [--n-boot 200]
+    python -m dnarod.report.steps md      SCENE.toml MD_DIR OUT_PREFIX [--n-boot 200]
+    python -m dnarod.report.steps modulus SCENE.toml OUT.json MD_ANALYSIS.json...
+    python -m dnarod.report.steps prestrain-scene BASE.toml OUT.toml --A-v 1 --rest-length-A L0 \
         --run-ps 600 --every-ps 1
 
 `rod` and `md` run the same `mdbridge.analysis.WaveAnalysis` and write OUT_PREFIX.json
@@ -89,7 +89,7 @@ def _report_mode_fit(s: dict):
 def analyse_rod(scene_path, h5_path, prefix, n_boot=200):
     from mdbridge.analysis import BasePairTrajectory, WaveAnalysis
     scene = load_scene(scene_path)
-    from workflows.report import matched
+    from dnarod.report import matched
     run = RodRun.read(h5_path)
     side = Path(scene_path).with_suffix(".json")  # a pre-strained rod's record (prestrain.py)
     meta = json.loads(side.read_text()) if side.is_file() else {}
@@ -131,7 +131,7 @@ def analyse_md(scene_path, md_dir, prefix, n_boot=200):
     n_bp = scene_n_bp(scene, scene_path)
     if traj.n_bp != n_bp:
         raise InputError(f"{md_dir}: the MD duplex has {traj.n_bp} base pairs, the scene {n_bp}")
-    from workflows.report import matched
+    from dnarod.report import matched
     e_in = matched.scene_in_plane(scene, scene_path)
     a = WaveAnalysis(traj, in_plane=e_in, offset=True, n_boot=n_boot).run()
     t_int, intact, _ = bp_intact_fraction(u, traj.meta["pairs"])
@@ -160,7 +160,8 @@ def analyse_md(scene_path, md_dir, prefix, n_boot=200):
     build = md_dir / "build.json"
     if build.is_file():
         b = json.loads(build.read_text())
-        s["seed"] = b.get("seed", b.get("velocities", {}).get("seed") if isinstance(b.get("velocities"), dict) else None)
+        vel = b.get("velocities")
+        s["seed"] = b.get("seed", vel.get("seed") if isinstance(vel, dict) else None)
     _write(prefix, a, s, {"intact_times_ps": t_int, "intact_fraction": intact})
     return s
 
@@ -182,7 +183,7 @@ def fit_moduli(scene_path, md_jsons, out_json, which=("bend", "stretch")):
 
 
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(prog="python -m workflows.report.steps", description=__doc__.splitlines()[0])
+    ap = argparse.ArgumentParser(prog="python -m dnarod.report.steps", description=__doc__.splitlines()[0])
     sub = ap.add_subparsers(dest="step", required=True)
     for name in ("scene", "prestrain-scene"):
         p = sub.add_parser(name)
@@ -209,7 +210,7 @@ def main(argv=None) -> int:
         if a.step == "scene":
             make_scene(a.base, a.out, a.A_v, a.run_ps, a.every_ps)
         elif a.step == "prestrain-scene":
-            from workflows.report.prestrain import gamma03_from_rest_length, make_prestrain_scene
+            from dnarod.report.prestrain import gamma03_from_rest_length, make_prestrain_scene
             sc = load_scene(a.base)
             ini = sc.get("initial", {})
             G = gamma03_from_rest_length(scene_n_bp(sc, a.base), float(ini.get("rise_A", Units.paper().rise_A)),
