@@ -167,7 +167,8 @@ rodcore::Material bench_material(const std::string& kind, std::size_t N) {
     return m;
   }
   for (std::size_t i = 0; i < N; ++i) {
-    const double w = 1.0 + 0.1 * std::sin(2.0 * std::numbers::pi * static_cast<double>(i) / static_cast<double>(N));
+    const double w =
+        1.0 + 0.1 * std::sin(2.0 * std::numbers::pi * static_cast<double>(i) / static_cast<double>(N));
     for (double k : K) m.K_s.push_back(w * k);
     for (double v : I) m.I_s.push_back(w * v);
     m.rho_s.push_back(w);

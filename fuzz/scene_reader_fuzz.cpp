@@ -27,14 +27,16 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const std::string resolved = rodcore::scene_to_toml(scene);
   std::string again;
   try {
-    again = rodcore::scene_to_toml(rodcore::read_scene_string(resolved, "<fuzz>", "/nonexistent-dnarod-fuzz-dir"));
+    again = rodcore::scene_to_toml(
+        rodcore::read_scene_string(resolved, "<fuzz>", "/nonexistent-dnarod-fuzz-dir"));
   } catch (const rodcore::InputError& e) {
-    std::fprintf(stderr, "accepted scene does not read back: %s\n--- resolved:\n%s\n", e.what(), resolved.c_str());
+    std::fprintf(stderr, "accepted scene does not read back: %s\n--- resolved:\n%s\n", e.what(),
+                 resolved.c_str());
     std::abort();
   }
   if (again != resolved) {
-    std::fprintf(stderr, "resolved scene changes on a second round trip:\n%s\n--- vs ---\n%s\n", resolved.c_str(),
-                 again.c_str());
+    std::fprintf(stderr, "resolved scene changes on a second round trip:\n%s\n--- vs ---\n%s\n",
+                 resolved.c_str(), again.c_str());
     std::abort();
   }
   return 0;

@@ -41,6 +41,8 @@ void ProgressBar::finish() {
   drawn_ = false;
 }
 
-void ProgressObserver::stepped(const Simulation& sim) { bar_.update(sim.integrator_time(), sim.scene().output.t_end); }
+void ProgressObserver::stepped(const Simulation& sim) {
+  bar_.update(sim.integrator_time(), sim.scene().output.t_end);
+}
 
 }  // namespace rodcore

@@ -16,9 +16,9 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <memory>
 #include <iostream>
 #include <limits>
+#include <memory>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -91,8 +91,8 @@ int run(const std::string& scene_path, const std::string& out_path, const std::v
     sim.resume_from(c);
     out = std::make_shared<rodcore::H5Writer>(out_path, sim, c.next_frame);
     if (!quiet)
-      std::cerr << "rodsim: resuming from " << ckpt << " at t = " << c.integrator.t << " (" << c.next_frame << " of "
-                << scene.output.frames << " frames written)\n";
+      std::cerr << "rodsim: resuming from " << ckpt << " at t = " << c.integrator.t << " (" << c.next_frame
+                << " of " << scene.output.frames << " frames written)\n";
   } else {
     if (resume && !quiet) std::cerr << "rodsim: no checkpoint " << ckpt << ": starting from t = 0\n";
     std::error_code ec;
@@ -118,11 +118,12 @@ int run(const std::string& scene_path, const std::string& out_path, const std::v
       [&](const rodcore::Checkpoint& c) {
         schedule.written();
         if (int sig = rodcore::stop_signal())
-          throw rodcore::Interrupted(std::string(sig == SIGINT ? "SIGINT" : "SIGTERM") + " received: stopped at t = " +
-                                         num(c.integrator.t) + " with " + std::to_string(c.next_frame) + " of " +
-                                         std::to_string(scene.output.frames) + " frames in " + out->partial_path() +
-                                         "; checkpoint " + ckpt + ". Continue with:\n  " +
-                                         resume_command(scene_path, out_path, sets),
+          throw rodcore::Interrupted(std::string(sig == SIGINT ? "SIGINT" : "SIGTERM") +
+                                         " received: stopped at t = " + num(c.integrator.t) + " with " +
+                                         std::to_string(c.next_frame) + " of " +
+                                         std::to_string(scene.output.frames) + " frames in " +
+                                         out->partial_path() + "; checkpoint " + ckpt +
+                                         ". Continue with:\n  " + resume_command(scene_path, out_path, sets),
                                      sig);
       }));
   rodcore::ProgressBar bar(!quiet && rodcore::ProgressBar::stderr_is_terminal());
@@ -180,18 +181,22 @@ int main(int argc, char** argv) {
   run_cmd->add_option("scene", scene_path, "Scene file (TOML)")->required();
   run_cmd->add_option("-o,--output", out_path, "Output HDF5 file (written as OUT.h5.partial until complete)")
       ->required();
-  run_cmd->add_option("--set", sets,
-                      "Override a scene key, e.g. --set solver.rtol=1e-8 (repeatable; validated like the file)");
+  run_cmd->add_option(
+      "--set", sets,
+      "Override a scene key, e.g. --set solver.rtol=1e-8 (repeatable; validated like the file)");
   run_cmd->add_flag("-q,--quiet", quiet, "No progress bar and no summary line");
-  run_cmd->add_option("--checkpoint-every", checkpoint_every,
-                      "Write the checkpoint OUT.h5.ckpt every SECONDS of wall time (overrides "
-                      "output.checkpoint_interval_s; 0: only on SIGINT/SIGTERM)")
+  run_cmd
+      ->add_option("--checkpoint-every", checkpoint_every,
+                   "Write the checkpoint OUT.h5.ckpt every SECONDS of wall time (overrides "
+                   "output.checkpoint_interval_s; 0: only on SIGINT/SIGTERM)")
       ->check(CLI::NonNegativeNumber);
-  run_cmd->add_flag("--resume", resume,
-                    "Continue an interrupted run from OUT.h5.ckpt, appending to OUT.h5.partial (same scene and --set "
-                    "options; the result equals an uninterrupted run). Without a checkpoint: start from t = 0");
+  run_cmd->add_flag(
+      "--resume", resume,
+      "Continue an interrupted run from OUT.h5.ckpt, appending to OUT.h5.partial (same scene and --set "
+      "options; the result equals an uninterrupted run). Without a checkpoint: start from t = 0");
 
-  auto* check_cmd = app.add_subcommand("check", "Validate a scene and print it resolved (all defaults filled)");
+  auto* check_cmd =
+      app.add_subcommand("check", "Validate a scene and print it resolved (all defaults filled)");
   check_cmd->add_option("scene", scene_path, "Scene file (TOML)")->required();
   check_cmd->add_option("--set", sets, "Override a scene key, as for run");
 

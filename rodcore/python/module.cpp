@@ -72,9 +72,11 @@ void insert_value(toml::table& table, const std::string& key, const py::handle& 
   } else if (py::isinstance<py::list>(v) || py::isinstance<py::tuple>(v)) {
     table.insert_or_assign(key, to_toml_array(v, where));
   } else if (py::hasattr(v, "__index__")) {
-    table.insert_or_assign(key, py::int_(py::reinterpret_borrow<py::object>(v)).cast<long long>());  // int, numpy integers
+    table.insert_or_assign(
+        key, py::int_(py::reinterpret_borrow<py::object>(v)).cast<long long>());  // int, numpy integers
   } else if (py::hasattr(v, "__float__")) {
-    table.insert_or_assign(key, py::float_(py::reinterpret_borrow<py::object>(v)).cast<double>());  // float, numpy floats
+    table.insert_or_assign(
+        key, py::float_(py::reinterpret_borrow<py::object>(v)).cast<double>());  // float, numpy floats
   } else if (py::hasattr(v, "__fspath__")) {
     table.insert_or_assign(key, py::module_::import("os").attr("fspath")(v).cast<std::string>());
   } else {
@@ -135,8 +137,8 @@ SceneSource scene_source(const py::object& scene) {
     try {
       src.table = toml::parse(text, std::string_view("<string>"));
     } catch (const toml::parse_error& e) {
-      throw InputError("<string>:" + std::to_string(e.source().begin.line) + ": not valid TOML: " +
-                       std::string(e.description()));
+      throw InputError("<string>:" + std::to_string(e.source().begin.line) +
+                       ": not valid TOML: " + std::string(e.description()));
     }
     src.label = "<string>";
   }
@@ -165,7 +167,8 @@ std::vector<double> initial_state(const py::dict& initial, std::size_t& N) {
   for (int f = 0; f < kFields; ++f) {
     const char* name = kFieldNames[f];
     if (!initial.contains(name))
-      throw InputError(std::string("initial: missing '") + name + "' (need gamma, omega, Gamma, Omega, each N x 3)");
+      throw InputError(std::string("initial: missing '") + name +
+                       "' (need gamma, omega, Gamma, Omega, each N x 3)");
     auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(initial[name]);
     if (!a || a.ndim() != 2 || a.shape(1) != 3)
       throw InputError(std::string("initial['") + name + "']: expected an array of shape (N, 3)");
@@ -209,8 +212,8 @@ Resolved resolve(const py::object& scene, const py::object& initial, const std::
   table.insert_or_assign("initial", toml::table{{"kind", "rest"}});
   Scene probe = read_scene_table(std::move(table), src.label, src.base_dir, sets);
   if (static_cast<std::size_t>(probe.rod.points) != N)
-    throw InputError(src.label + ": rod.points = " + std::to_string(probe.rod.points) + " but the initial arrays have N = " +
-                     std::to_string(N) + " points");
+    throw InputError(src.label + ": rod.points = " + std::to_string(probe.rod.points) +
+                     " but the initial arrays have N = " + std::to_string(N) + " points");
   probe.initial = Initial{};
   probe.initial.kind = "file";
   probe.initial.path = kArraysNote;
@@ -254,7 +257,8 @@ py::dict run(const py::object& scene, const py::object& initial, const std::vect
   std::vector<double> fields[kFields];
   std::map<std::string, std::vector<double>> parts;
   if (!output.is_none())
-    sim.add_observer(std::make_shared<H5Writer>(py::module_::import("os").attr("fspath")(output).cast<std::string>(), sc, s));
+    sim.add_observer(std::make_shared<H5Writer>(
+        py::module_::import("os").attr("fspath")(output).cast<std::string>(), sc, s));
 
   auto on_frame = [&](const Frame& fr) {
     time.push_back(fr.t);
@@ -265,8 +269,10 @@ py::dict run(const py::object& scene, const py::object& initial, const std::vect
     if (sc.output.energy && fr.energy) energy.push_back(*fr.energy);
     if (sc.output.energy_parts)
       for (const auto& [k, v] : fr.energy_parts) parts[k].push_back(v);
-    if (sc.output.centerline && fr.centerline) centerline.insert(centerline.end(), fr.centerline, fr.centerline + 3 * N);
-    if (sc.output.directors && fr.directors) directors.insert(directors.end(), fr.directors, fr.directors + 9 * N);
+    if (sc.output.centerline && fr.centerline)
+      centerline.insert(centerline.end(), fr.centerline, fr.centerline + 3 * N);
+    if (sc.output.directors && fr.directors)
+      directors.insert(directors.end(), fr.directors, fr.directors + 9 * N);
   };
 
   RunSummary sum;
@@ -324,13 +330,15 @@ std::vector<double> state_values(const py::object& state, std::size_t N, bool& a
     std::size_t n = 0;
     std::vector<double> y = initial_state(py::reinterpret_borrow<py::dict>(state), n);
     if (n != N)
-      throw InputError("state: the arrays have N = " + std::to_string(n) + " points, the rod has " + std::to_string(N));
+      throw InputError("state: the arrays have N = " + std::to_string(n) + " points, the rod has " +
+                       std::to_string(N));
     return y;
   }
   auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(state);
   if (!a || static_cast<std::size_t>(a.size()) != kComponents * N)
-    throw InputError("state: expected a dict of (N, 3) arrays gamma, omega, Gamma, Omega or an array of 12 N = " +
-                     std::to_string(kComponents * N) + " values (layout: rows gamma1..Omega3, each N long)");
+    throw InputError(
+        "state: expected a dict of (N, 3) arrays gamma, omega, Gamma, Omega or an array of 12 N = " +
+        std::to_string(kComponents * N) + " values (layout: rows gamma1..Omega3, each N long)");
   return std::vector<double>(a.data(), a.data() + a.size());
 }
 
@@ -350,9 +358,12 @@ py::dict frame_dict(const Frame& fr) {
     for (const auto& [k, v] : fr.energy_parts) p[py::str(k)] = v;
     d["energy_parts"] = p;
   }
-  if (fr.centerline) d["centerline"] = array(std::vector<double>(fr.centerline, fr.centerline + 3 * N), {n, 3});
-  if (fr.directors) d["directors"] = array(std::vector<double>(fr.directors, fr.directors + 9 * N), {n, 3, 3});
-  if (fr.end_to_end) d["end_to_end"] = array(std::vector<double>(fr.end_to_end->begin(), fr.end_to_end->end()), {3});
+  if (fr.centerline)
+    d["centerline"] = array(std::vector<double>(fr.centerline, fr.centerline + 3 * N), {n, 3});
+  if (fr.directors)
+    d["directors"] = array(std::vector<double>(fr.directors, fr.directors + 9 * N), {n, 3, 3});
+  if (fr.end_to_end)
+    d["end_to_end"] = array(std::vector<double>(fr.end_to_end->begin(), fr.end_to_end->end()), {3});
   if (fr.end_rotation) d["end_rotation"] = *fr.end_rotation;
   if (fr.end_rotation) d["max_director_norm_error"] = fr.max_director_norm_error;
   return d;
@@ -394,14 +405,15 @@ struct PySimulation {
     return summary_dict(sum);
   }
   void add_observer(py::object callback) {
-    if (!PyCallable_Check(callback.ptr())) throw InputError("add_observer: expected a callable f(frame: dict)");
+    if (!PyCallable_Check(callback.ptr()))
+      throw InputError("add_observer: expected a callable f(frame: dict)");
     auto o = std::make_shared<PyFrameObserver>(std::move(callback));
     python_observers.push_back(o);
     sim->add_observer(o);
   }
   void add_output(const py::object& path) {
-    sim->add_observer(std::make_shared<H5Writer>(py::module_::import("os").attr("fspath")(path).cast<std::string>(),
-                                                 resolved.scene, sim->grid()));
+    sim->add_observer(std::make_shared<H5Writer>(
+        py::module_::import("os").attr("fspath")(path).cast<std::string>(), resolved.scene, sim->grid()));
   }
   py::object rhs(const py::object& state) const {
     const std::size_t N = sim->grid().size();
@@ -428,8 +440,9 @@ py::list kinds() {
   for (const auto& k : initial_kinds()) {
     py::list numbers, strings;
     for (const auto& p : k.numbers)
-      numbers.append(py::dict(py::arg("name") = p.name, py::arg("default") = p.default_value, py::arg("min") = p.min,
-                              py::arg("max") = p.max, py::arg("unit") = p.unit, py::arg("doc") = p.doc));
+      numbers.append(py::dict(py::arg("name") = p.name, py::arg("default") = p.default_value,
+                              py::arg("min") = p.min, py::arg("max") = p.max, py::arg("unit") = p.unit,
+                              py::arg("doc") = p.doc));
     for (const auto& c : k.strings)
       strings.append(py::dict(py::arg("name") = c.name, py::arg("default") = c.default_value,
                               py::arg("allowed") = c.allowed, py::arg("doc") = c.doc));
@@ -483,16 +496,16 @@ PYBIND11_MODULE(rodcore, m) {
       PyErr_SetString(numerical_error.ptr(), e.what());
     } catch (const toml::parse_error& e) {
       PyErr_SetString(input_error.ptr(), (std::string(e.source().path ? *e.source().path : "<scene>") + ":" +
-                                          std::to_string(e.source().begin.line) + ": not valid TOML: " +
-                                          std::string(e.description()))
+                                          std::to_string(e.source().begin.line) +
+                                          ": not valid TOML: " + std::string(e.description()))
                                              .c_str());
     } catch (const Error& e) {
       PyErr_SetString(PyExc_RuntimeError, e.what());
     }
   });
 
-  m.def("run", &run, py::arg("scene"), py::arg("initial") = py::none(), py::arg("set") = std::vector<std::string>{},
-        py::arg("output") = py::none(),
+  m.def("run", &run, py::arg("scene"), py::arg("initial") = py::none(),
+        py::arg("set") = std::vector<std::string>{}, py::arg("output") = py::none(),
         R"(Run a scene; return numpy arrays.
 
 scene:   dict with the structure of a scene file (docs/scenes.md), TOML text,
@@ -521,38 +534,52 @@ The GIL is released while integrating.)");
       py::arg("scene"), py::arg("set") = std::vector<std::string>{},
       "Validate a scene and return it resolved (every key, defaults filled) as TOML text.");
 
-  py::class_<PySimulation>(m, "Simulation", R"(A simulation of one scene that you step and read (C++ rodcore::Simulation).
+  py::class_<PySimulation>(m, "Simulation",
+                           R"(A simulation of one scene that you step and read (C++ rodcore::Simulation).
 
 Simulation(scene, initial=None, set=()): scene and initial as for run().
 Everything is dimensionless (paper Sec 2.2); rodcore.run(...)["scales"] and
 the output file say how to convert.)")
-      .def(py::init<const py::object&, const py::object&, const std::vector<std::string>&>(), py::arg("scene"),
-           py::arg("initial") = py::none(), py::arg("set") = std::vector<std::string>{})
+      .def(py::init<const py::object&, const py::object&, const std::vector<std::string>&>(),
+           py::arg("scene"), py::arg("initial") = py::none(), py::arg("set") = std::vector<std::string>{})
       .def("step_to", &PySimulation::step_to, py::arg("t"),
            "Advance to time t (>= time). Frames the integrator passes go to the observers (frame 0 on the "
            "first call). Steps are not shortened to stop at t: the state at t comes from the continuous "
            "extension, so stepping in pieces equals one run. The GIL is released while integrating.")
-      .def("run", &PySimulation::run, "Integrate to the last output time; return the summary dict (as run()['summary']).")
-      .def("add_observer", &PySimulation::add_observer, py::arg("callback"),
-           "Call callback(frame) at every output frame; frame is a dict: index, t, fields {gamma, omega, Gamma, "
-           "Omega: (N, 3)}, and when computed energy, energy_parts, checked_energy, energy_drift, centerline (N, 3), "
-           "directors (N, 3, 3), end_to_end, end_rotation. An exception raised by the callback stops the run.")
+      .def("run", &PySimulation::run,
+           "Integrate to the last output time; return the summary dict (as run()['summary']).")
+      .def(
+          "add_observer", &PySimulation::add_observer, py::arg("callback"),
+          "Call callback(frame) at every output frame; frame is a dict: index, t, fields {gamma, omega, "
+          "Gamma, "
+          "Omega: (N, 3)}, and when computed energy, energy_parts, checked_energy, energy_drift, centerline "
+          "(N, 3), "
+          "directors (N, 3, 3), end_to_end, end_rotation. An exception raised by the callback stops the run.")
       .def("add_output", &PySimulation::add_output, py::arg("path"),
            "Also write the HDF5 file rodsim would write (an observer; complete when run() finishes).")
       .def_property_readonly("time", [](const PySimulation& p) { return p.sim->time(); })
-      .def_property_readonly("s", [](const PySimulation& p) {
-        const auto s = p.sim->grid();
-        return array(s, {static_cast<py::ssize_t>(s.size())});
-      })
+      .def_property_readonly("s",
+                             [](const PySimulation& p) {
+                               const auto s = p.sim->grid();
+                               return array(s, {static_cast<py::ssize_t>(s.size())});
+                             })
       .def_property_readonly(
-          "state", [](const PySimulation& p) { return fields_dict(p.sim->state().data(), p.sim->grid().size()); },
+          "state",
+          [](const PySimulation& p) { return fields_dict(p.sim->state().data(), p.sim->grid().size()); },
           "The state at time: dict gamma, omega, Gamma, Omega of (N, 3) arrays (internal frame).")
       .def_property_readonly(
-          "y", [](const PySimulation& p) { return array(p.sim->state(), {static_cast<py::ssize_t>(p.sim->state().size())}); },
+          "y",
+          [](const PySimulation& p) {
+            return array(p.sim->state(), {static_cast<py::ssize_t>(p.sim->state().size())});
+          },
           "The state at time as 12 N values (rows gamma1..Omega3, each N long; state.hpp).")
-      .def_property_readonly("frames_delivered", [](const PySimulation& p) { return p.sim->frames_delivered(); })
-      .def("frame_time", [](const PySimulation& p, int k) { return p.sim->frame_time(k); }, py::arg("index"))
-      .def("energy", [](const PySimulation& p) { return p.sim->energy(); }, "Total energy of the state (Appendix A).")
+      .def_property_readonly("frames_delivered",
+                             [](const PySimulation& p) { return p.sim->frames_delivered(); })
+      .def(
+          "frame_time", [](const PySimulation& p, int k) { return p.sim->frame_time(k); }, py::arg("index"))
+      .def(
+          "energy", [](const PySimulation& p) { return p.sim->energy(); },
+          "Total energy of the state (Appendix A).")
       .def("energy_parts", [](const PySimulation& p) { return p.sim->energy_parts(); })
       .def("rhs", &PySimulation::rhs, py::arg("state"),
            "d(state)/dt of Eqs (11)-(14) for this rod and material: state as a dict of (N, 3) arrays "
@@ -561,15 +588,16 @@ the output file say how to convert.)")
       .def_property_readonly("scene", &PySimulation::scene_text, "The scene as run, resolved, as TOML text.")
       .def_property_readonly_static("scales", [](const py::object&) { return scales_dict(); });
 
-  auto a = m.def_submodule("analytic", "Closed-form results of the paper (rodcore/src/rodcore/analytic.hpp).");
-  a.def("dispersion", &analytic::dispersion, py::arg("kappa"), py::arg("D1"), py::arg("Gamma03"), py::arg("branch"),
-        "Eq 26 / 39: frequency w of the bend-shear wave, branch +1 (w_+) or -1 (w_-).");
-  a.def("energy_ratio", &analytic::energy_ratio, py::arg("w"), py::arg("kappa"), py::arg("D1"), py::arg("Gamma03"),
-        "Eq 27: shear / bend energy ratio of the exact wave.");
+  auto a =
+      m.def_submodule("analytic", "Closed-form results of the paper (rodcore/src/rodcore/analytic.hpp).");
+  a.def("dispersion", &analytic::dispersion, py::arg("kappa"), py::arg("D1"), py::arg("Gamma03"),
+        py::arg("branch"), "Eq 26 / 39: frequency w of the bend-shear wave, branch +1 (w_+) or -1 (w_-).");
+  a.def("energy_ratio", &analytic::energy_ratio, py::arg("w"), py::arg("kappa"), py::arg("D1"),
+        py::arg("Gamma03"), "Eq 27: shear / bend energy ratio of the exact wave.");
   py::class_<analytic::TwistedWave>(a, "TwistedWave", "The exact twisted-rod wave (Eq 24, checked form).")
       .def(py::init<>())
-      .def(py::init([](double A, double k, double Gamma03, double Omega03, double D1, std::string kappa_branch,
-                       int omega_branch) {
+      .def(py::init([](double A, double k, double Gamma03, double Omega03, double D1,
+                       std::string kappa_branch, int omega_branch) {
              analytic::TwistedWave w;
              w.A = A, w.k = k, w.Gamma03 = Gamma03, w.Omega03 = Omega03, w.D1 = D1;
              w.kappa_branch = std::move(kappa_branch), w.omega_branch = omega_branch;
@@ -591,15 +619,17 @@ the output file say how to convert.)")
       .def("period", &analytic::TwistedWave::period)
       .def("fields", &wave_fields<analytic::TwistedWave>, py::arg("s"), py::arg("t"),
            "Fields at points s (array) and time t: dict gamma, omega, Gamma, Omega of (len(s), 3) arrays.");
-  py::class_<analytic::UntwistedWave>(a, "UntwistedWave", "The asymptotic untwisted-rod wave (Eqs 40-45, corrected).")
+  py::class_<analytic::UntwistedWave>(a, "UntwistedWave",
+                                      "The asymptotic untwisted-rod wave (Eqs 40-45, corrected).")
       .def(py::init<>())
       .def(py::init([](double eps, double k, double Gamma03, double D1, double C3, int omega_branch) {
              analytic::UntwistedWave w;
              w.eps = eps, w.k = k, w.Gamma03 = Gamma03, w.D1 = D1, w.C3 = C3, w.omega_branch = omega_branch;
              return w;
            }),
-           py::arg("eps") = 0.1, py::arg("k") = 2.0, py::arg("Gamma03") = 1.0, py::arg("D1") = dna_units::D_star[0],
-           py::arg("C3") = dna_units::C_star[2], py::arg("omega_branch") = 1)
+           py::arg("eps") = 0.1, py::arg("k") = 2.0, py::arg("Gamma03") = 1.0,
+           py::arg("D1") = dna_units::D_star[0], py::arg("C3") = dna_units::C_star[2],
+           py::arg("omega_branch") = 1)
       .def_readwrite("eps", &analytic::UntwistedWave::eps)
       .def_readwrite("k", &analytic::UntwistedWave::k)
       .def_readwrite("Gamma03", &analytic::UntwistedWave::Gamma03)

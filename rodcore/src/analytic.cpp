@@ -38,20 +38,36 @@ double TwistedWave::period() const { return 2.0 * std::numbers::pi / w(); }
 Fields TwistedWave::at(double s, double t) const {
   const double ww = w(), kap = kappa(), sg = sigma(), aw = a_w();
   const double th = ww * t - k * s, c = std::cos(th), sn = std::sin(th);
-  return {-kap * A / ww * c, -sg * kap * A / ww * sn, 0.0,
-          sg * aw * c,       aw * sn,                 0.0,
-          A * c,             sg * A * sn,             Gamma03,
-          -sg * kap * aw / ww * c, -kap * aw / ww * sn, Omega03};
+  return {-kap * A / ww * c,
+          -sg * kap * A / ww * sn,
+          0.0,
+          sg * aw * c,
+          aw * sn,
+          0.0,
+          A * c,
+          sg * A * sn,
+          Gamma03,
+          -sg * kap * aw / ww * c,
+          -kap * aw / ww * sn,
+          Omega03};
 }
 
 Fields TwistedWave::d_dt(double s, double t) const {
   // every field is F(theta) with theta = w t - k s: dF/dt = w F'(theta)
   const double ww = w(), kap = kappa(), sg = sigma(), aw = a_w();
   const double th = ww * t - k * s, c = std::cos(th), sn = std::sin(th);
-  return {ww * (kap * A / ww * sn), ww * (-sg * kap * A / ww * c), 0.0,
-          ww * (-sg * aw * sn),     ww * (aw * c),                  0.0,
-          ww * (-A * sn),           ww * (sg * A * c),              0.0,
-          ww * (sg * kap * aw / ww * sn), ww * (-kap * aw / ww * c), 0.0};
+  return {ww * (kap * A / ww * sn),
+          ww * (-sg * kap * A / ww * c),
+          0.0,
+          ww * (-sg * aw * sn),
+          ww * (aw * c),
+          0.0,
+          ww * (-A * sn),
+          ww * (sg * A * c),
+          0.0,
+          ww * (sg * kap * aw / ww * sn),
+          ww * (-kap * aw / ww * c),
+          0.0};
 }
 
 double UntwistedWave::w() const { return dispersion(k, D1, Gamma03, omega_branch); }
@@ -69,12 +85,12 @@ Fields UntwistedWave::at(double s, double t) const {
   const double a = eps * (1.0 + eps);
   const double e2 = eps * eps;
   Fields f{};
-  f[0] = -(k / ww) * gg * a * c;                                  // gamma1
-  f[2] = C3 * k * Gamma03 * e2 / (4.0 * ww * den) * c2;           // gamma3
-  f[4] = a * sn;                                                  // omega2
-  f[6] = gg * a * c;                                              // Gamma1
-  f[8] = Gamma03 - Gamma03 * e2 / (4.0 * den) * c2;               // Gamma3
-  f[10] = -(k / ww) * a * sn;                                     // Omega2
+  f[0] = -(k / ww) * gg * a * c;                         // gamma1
+  f[2] = C3 * k * Gamma03 * e2 / (4.0 * ww * den) * c2;  // gamma3
+  f[4] = a * sn;                                         // omega2
+  f[6] = gg * a * c;                                     // Gamma1
+  f[8] = Gamma03 - Gamma03 * e2 / (4.0 * den) * c2;      // Gamma3
+  f[10] = -(k / ww) * a * sn;                            // Omega2
   return f;
 }
 

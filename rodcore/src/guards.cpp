@@ -67,9 +67,10 @@ struct EnergyGuard : Observer {
     const double E = *f.checked_energy, drift = *f.energy_drift;
     if (!std::isfinite(E))
       throw NumericalError(source + ": the energy is not finite (E = " + num(E) + ") at t = " + num(f.t) +
-                           (f.index == 0 ? ": the initial fields are so large that their squares overflow; check "
-                                           "the initial fields and their units (dimensionless, paper Sec 2.2)"
-                                         : ": the run blew up; reduce solver.dt or tolerances, or raise rod.points"));
+                           (f.index == 0
+                                ? ": the initial fields are so large that their squares overflow; check "
+                                  "the initial fields and their units (dimensionless, paper Sec 2.2)"
+                                : ": the run blew up; reduce solver.dt or tolerances, or raise rod.points"));
     if (!(drift <= max_drift))
       throw NumericalError(source + ": relative energy drift " + num(drift) + " at t = " + num(f.t) +
                            " exceeds checks.max_energy_drift = " + num(max_drift) +

@@ -42,7 +42,10 @@ class RK4 final : public TimeIntegrator {
  public:
   RK4(OdeSystem s, IntegratorOptions o) : TimeIntegrator(std::move(s), o) {
     const std::size_t n = sys_.n;
-    k2_.resize(n); k3_.resize(n); k4_.resize(n); tmp_.resize(n);
+    k2_.resize(n);
+    k3_.resize(n);
+    k4_.resize(n);
+    tmp_.resize(n);
     h_ = opt_.dt;
   }
   std::string name() const override { return "rk4"; }
@@ -82,8 +85,15 @@ class RK4Doubling final : public TimeIntegrator {
  public:
   RK4Doubling(OdeSystem s, IntegratorOptions o) : TimeIntegrator(std::move(s), o) {
     const std::size_t n = sys_.n;
-    k1_.resize(n); k2_.resize(n); k3_.resize(n); k4_.resize(n); tmp_.resize(n);
-    ybig_.resize(n); yhalf_.resize(n); ysmall_.resize(n); err_.resize(n);
+    k1_.resize(n);
+    k2_.resize(n);
+    k3_.resize(n);
+    k4_.resize(n);
+    tmp_.resize(n);
+    ybig_.resize(n);
+    yhalf_.resize(n);
+    ysmall_.resize(n);
+    err_.resize(n);
     h_ = opt_.dt;
   }
   std::string name() const override { return "rk4-doubling"; }
@@ -135,8 +145,7 @@ class RK4Doubling final : public TimeIntegrator {
     eval(t + 0.5 * h, tmp_.data(), k3_.data());
     for (std::size_t i = 0; i < n; ++i) tmp_[i] = y0[i] + h * k3_[i];
     eval(t + h, tmp_.data(), k4_.data());
-    for (std::size_t i = 0; i < n; ++i)
-      y1[i] = y0[i] + h / 6.0 * (f0[i] + 2.0 * (k2_[i] + k3_[i]) + k4_[i]);
+    for (std::size_t i = 0; i < n; ++i) y1[i] = y0[i] + h / 6.0 * (f0[i] + 2.0 * (k2_[i] + k3_[i]) + k4_[i]);
   }
   [[noreturn]] void underflow(double h) const {
     throw NumericalError(name() + ": step size underflow at t = " + fmt(t_) + " (dt = " + fmt(h) +
@@ -152,8 +161,7 @@ class RK4Doubling final : public TimeIntegrator {
 // exponent `expo`, memory `beta`, bounds 1/fac2 <= h_new / h <= 1/fac1.
 class Embedded : public TimeIntegrator {
  public:
-  Embedded(OdeSystem s, IntegratorOptions o, int stages, double expo, double beta, double fac1,
-           double fac2)
+  Embedded(OdeSystem s, IntegratorOptions o, int stages, double expo, double beta, double fac1, double fac2)
       : TimeIntegrator(std::move(s), o), expo_(expo), beta_(beta), fac1_(fac1), fac2_(fac2) {
     k_.assign(stages, std::vector<double>(sys_.n));
     tmp_.resize(sys_.n);
@@ -170,8 +178,8 @@ class Embedded : public TimeIntegrator {
       double h = std::min(h_, opt_.dt_max);
       const bool last = clamp(h, t_stop);
       if (!last && h < opt_.dt_min)
-        throw NumericalError(name() + ": step size underflow at t = " + fmt(t_) + " (dt = " +
-                             fmt(h) + " < solver.dt_min = " + fmt(opt_.dt_min) +
+        throw NumericalError(name() + ": step size underflow at t = " + fmt(t_) + " (dt = " + fmt(h) +
+                             " < solver.dt_min = " + fmt(opt_.dt_min) +
                              "). The solution is not smooth enough to resolve: increase "
                              "rod.points, loosen rtol/atol, or look for a blow-up.");
       const double err = attempt(h);
@@ -246,7 +254,7 @@ class Dopri5 final : public Embedded {
         {19372.0 / 6561.0, -25360.0 / 2187.0, 64448.0 / 6561.0, -212.0 / 729.0, 0, 0},
         {9017.0 / 3168.0, -355.0 / 33.0, 46732.0 / 5247.0, 49.0 / 176.0, -5103.0 / 18656.0, 0},
         {35.0 / 384.0, 0.0, 500.0 / 1113.0, 125.0 / 192.0, -2187.0 / 6784.0, 11.0 / 84.0}};
-    static constexpr double e[7] = {71.0 / 57600.0, 0.0, -71.0 / 16695.0, 71.0 / 1920.0,
+    static constexpr double e[7] = {71.0 / 57600.0,      0.0,          -71.0 / 16695.0, 71.0 / 1920.0,
                                     -17253.0 / 339200.0, 22.0 / 525.0, -1.0 / 40.0};
     const std::size_t n = sys_.n;
     std::copy(f_.begin(), f_.end(), k_[0].begin());  // FSAL
@@ -267,8 +275,8 @@ class Dopri5 final : public Embedded {
 
   void accept(double h, double t_new) override {
     // Shampine's 4th-order continuous extension (Hairer's contd5).
-    static constexpr double d[7] = {-12715105075.0 / 11282082432.0, 0.0,
-                                    87487479700.0 / 32700410799.0, -10690763975.0 / 1880347072.0,
+    static constexpr double d[7] = {-12715105075.0 / 11282082432.0,  0.0,
+                                    87487479700.0 / 32700410799.0,   -10690763975.0 / 1880347072.0,
                                     701980252875.0 / 199316789632.0, -1453857185.0 / 822651844.0,
                                     69997945.0 / 29380423.0};
     const std::size_t n = sys_.n;
@@ -372,12 +380,13 @@ class Dop853 final : public Embedded {
     const double h = t_ - t_prev_;
     const double s = h > 0.0 ? (t - t_prev_) / h : 0.0, s1 = 1.0 - s;
     for (std::size_t i = 0; i < n; ++i)
-      out[i] = rcont_[0][i] +
-               s * (rcont_[1][i] +
-                    s1 * (rcont_[2][i] +
-                          s * (rcont_[3][i] +
-                               s1 * (rcont_[4][i] +
-                                     s * (rcont_[5][i] + s1 * (rcont_[6][i] + s * rcont_[7][i]))))));
+      out[i] =
+          rcont_[0][i] +
+          s * (rcont_[1][i] +
+               s1 *
+                   (rcont_[2][i] +
+                    s * (rcont_[3][i] +
+                         s1 * (rcont_[4][i] + s * (rcont_[5][i] + s1 * (rcont_[6][i] + s * rcont_[7][i]))))));
   }
 
  private:
@@ -496,8 +505,7 @@ bool TimeIntegrator::clamp(double& h, double t_stop) const {
 void TimeIntegrator::check_steps() const {
   if (steps_ + rejected_ >= opt_.max_steps)
     throw NumericalError(name() + ": more than solver.max_steps = " + std::to_string(opt_.max_steps) +
-                         " steps at t = " + fmt(t_) +
-                         "; raise solver.max_steps or loosen the tolerances.");
+                         " steps at t = " + fmt(t_) + "; raise solver.max_steps or loosen the tolerances.");
 }
 
 void TimeIntegrator::hermite(double t, double* out) const {
@@ -507,8 +515,7 @@ void TimeIntegrator::hermite(double t, double* out) const {
   for (std::size_t i = 0; i < n; ++i) {
     const double y0 = y_prev_[i], y1 = y_[i];
     out[i] = (1.0 - th) * y0 + th * y1 +
-             th * (th - 1.0) *
-                 ((1.0 - 2.0 * th) * (y1 - y0) + (th - 1.0) * h * f_prev_[i] + th * h * f_[i]);
+             th * (th - 1.0) * ((1.0 - 2.0 * th) * (y1 - y0) + (th - 1.0) * h * f_prev_[i] + th * h * f_[i]);
   }
 }
 

@@ -30,9 +30,9 @@ void check_spd(double* A, const std::string& where, const std::string& what) {
     for (int c = r + 1; c < n; ++c) {
       const double a = A[r * n + c], b = A[c * n + r];
       if (std::abs(a - b) > 1e-12 * amax)
-        throw InputError(where + ": not symmetric: [" + std::to_string(r) + "][" + std::to_string(c) + "] = " +
-                         num(a) + " but [" + std::to_string(c) + "][" + std::to_string(r) + "] = " + num(b) +
-                         allowed);
+        throw InputError(where + ": not symmetric: [" + std::to_string(r) + "][" + std::to_string(c) +
+                         "] = " + num(a) + " but [" + std::to_string(c) + "][" + std::to_string(r) +
+                         "] = " + num(b) + allowed);
       A[r * n + c] = A[c * n + r] = 0.5 * (a + b);
     }
   Eigen::Map<const Eigen::Matrix<double, n, n, Eigen::RowMajor>> M(A);
@@ -92,9 +92,11 @@ MaterialField resolve_material(const Material& m, std::size_t N) {
   if (!m.K_s.empty() || !m.I_s.empty() || !m.rho_s.empty()) {
     const std::string src = m.file.empty() ? std::string("material (per point)") : "file '" + m.file + "'";
     if (m.K_s.size() != 36 * N || m.I_s.size() != 9 * N || m.rho_s.size() != N)
-      throw InputError(src + ": per-point material needs K (N x 6 x 6), I (N x 3 x 3) and rho (N) with N = "
-                       "rod.points = " + std::to_string(N) + "; got " + std::to_string(m.K_s.size() / 36) +
-                       ", " + std::to_string(m.I_s.size() / 9) + " and " + std::to_string(m.rho_s.size()) +
+      throw InputError(src +
+                       ": per-point material needs K (N x 6 x 6), I (N x 3 x 3) and rho (N) with N = "
+                       "rod.points = " +
+                       std::to_string(N) + "; got " + std::to_string(m.K_s.size() / 36) + ", " +
+                       std::to_string(m.I_s.size() / 9) + " and " + std::to_string(m.rho_s.size()) +
                        " points");
     f.kind = MaterialKind::per_point;
     f.K_s.assign(21 * N, 0.0);
@@ -134,10 +136,11 @@ MaterialField resolve_material(const Material& m, std::size_t N) {
     throw InputError("material.I: found " + std::to_string(m.I_full.size()) +
                      " values; allowed: 3 numbers or a 3 x 3 matrix");
   for (int c = 0; c < 3; ++c) {
-    if (m.K.empty() && (!(m.C[c] > 0.0) || !std::isfinite(m.C[c]) || !(m.D[c] > 0.0) || !std::isfinite(m.D[c])))
+    if (m.K.empty() &&
+        (!(m.C[c] > 0.0) || !std::isfinite(m.C[c]) || !(m.D[c] > 0.0) || !std::isfinite(m.D[c])))
       throw InputError("material.C and material.D: all components must be positive and finite (got C[" +
-                       std::to_string(c) + "] = " + num(m.C[c]) + ", D[" + std::to_string(c) + "] = " +
-                       num(m.D[c]) + ")");
+                       std::to_string(c) + "] = " + num(m.C[c]) + ", D[" + std::to_string(c) +
+                       "] = " + num(m.D[c]) + ")");
     if (m.I_full.empty() && (!(m.I[c] > 0.0) || !std::isfinite(m.I[c])))
       throw InputError("material.I: all three components must be positive and finite (got I[" +
                        std::to_string(c) + "] = " + num(m.I[c]) + ")");
@@ -164,7 +167,7 @@ MaterialField resolve_material(const Material& m, std::size_t N) {
   // The paper's kernel has no 1/rho (rho = 1 in its units); rho != 1 runs the
   // coupled kernel, which has.
   f.kind = is_diagonal(f.K.data(), 6) && is_diagonal(f.I.data(), 3) && m.rho == 1.0 ? MaterialKind::diagonal
-                                                                                     : MaterialKind::uniform;
+                                                                                    : MaterialKind::uniform;
   return f;
 }
 

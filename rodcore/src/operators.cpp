@@ -67,10 +67,10 @@ class Spectral final : public DerivativeOperator {
     {
       std::lock_guard<std::mutex> lock(fftw_planner_mutex());
       for (int rows = 1; rows <= kMaxRows; ++rows) {
-        forward_[rows - 1] = fftw_plan_many_dft_r2c(1, &n, rows, real_, nullptr, 1, n, spec_,
-                                                    nullptr, 1, m, FFTW_ESTIMATE);
-        backward_[rows - 1] = fftw_plan_many_dft_c2r(1, &n, rows, spec_, nullptr, 1, m, real_,
-                                                     nullptr, 1, n, FFTW_ESTIMATE);
+        forward_[rows - 1] =
+            fftw_plan_many_dft_r2c(1, &n, rows, real_, nullptr, 1, n, spec_, nullptr, 1, m, FFTW_ESTIMATE);
+        backward_[rows - 1] =
+            fftw_plan_many_dft_c2r(1, &n, rows, spec_, nullptr, 1, m, real_, nullptr, 1, n, FFTW_ESTIMATE);
       }
     }
     // i k / N (FFTW's transforms are unnormalised), zero where the mode is cut.
@@ -78,8 +78,8 @@ class Spectral final : public DerivativeOperator {
     const double dk = 2.0 * std::numbers::pi / L;
     for (std::size_t j = 0; j < M_; ++j) {
       bool keep = true;
-      if (N % 2 == 0 && j == N / 2) keep = false;          // Nyquist mode
-      if (dealias_ && 3 * j > N) keep = false;             // 2/3 rule: |m| > N/3
+      if (N % 2 == 0 && j == N / 2) keep = false;  // Nyquist mode
+      if (dealias_ && 3 * j > N) keep = false;     // 2/3 rule: |m| > N/3
       factor_[j] = keep ? dk * static_cast<double>(j) / static_cast<double>(N) : 0.0;
     }
     kmax_ = 0.0;
@@ -131,18 +131,17 @@ class Spectral final : public DerivativeOperator {
 
 }  // namespace
 
-std::unique_ptr<DerivativeOperator> make_derivative_operator(const std::string& kind,
-                                                             std::size_t N, double L,
+std::unique_ptr<DerivativeOperator> make_derivative_operator(const std::string& kind, std::size_t N, double L,
                                                              bool dealias) {
   if (!(L > 0.0) || !std::isfinite(L))
-    throw InputError("derivative operator: rod length must be positive and finite, got " +
-                     std::to_string(L));
+    throw InputError("derivative operator: rod length must be positive and finite, got " + std::to_string(L));
   if (kind == "fd4") {
     if (N < 5) throw InputError("solver.space = \"fd4\" needs rod.points >= 5, got " + std::to_string(N));
     return std::make_unique<FD4>(N, L);
   }
   if (kind == "spectral") {
-    if (N < 4) throw InputError("solver.space = \"spectral\" needs rod.points >= 4, got " + std::to_string(N));
+    if (N < 4)
+      throw InputError("solver.space = \"spectral\" needs rod.points >= 4, got " + std::to_string(N));
     return std::make_unique<Spectral>(N, L, dealias);
   }
   throw InputError("solver.space = \"" + kind + "\" is not known; allowed: \"fd4\", \"spectral\"");

@@ -33,9 +33,15 @@ Quat quat_normalized(const Quat& q) {
 
 void quat_to_matrix(const Quat& q, double R[3][3]) {
   const double w = q[0], x = q[1], y = q[2], z = q[3];
-  R[0][0] = 1 - 2 * (y * y + z * z); R[0][1] = 2 * (x * y - w * z);     R[0][2] = 2 * (x * z + w * y);
-  R[1][0] = 2 * (x * y + w * z);     R[1][1] = 1 - 2 * (x * x + z * z); R[1][2] = 2 * (y * z - w * x);
-  R[2][0] = 2 * (x * z - w * y);     R[2][1] = 2 * (y * z + w * x);     R[2][2] = 1 - 2 * (x * x + y * y);
+  R[0][0] = 1 - 2 * (y * y + z * z);
+  R[0][1] = 2 * (x * y - w * z);
+  R[0][2] = 2 * (x * z + w * y);
+  R[1][0] = 2 * (x * y + w * z);
+  R[1][1] = 1 - 2 * (x * x + z * z);
+  R[1][2] = 2 * (y * z - w * x);
+  R[2][0] = 2 * (x * z - w * y);
+  R[2][1] = 2 * (y * z + w * x);
+  R[2][2] = 1 - 2 * (x * x + y * y);
 }
 
 Quat matrix_to_quat(const double R[3][3]) {
@@ -61,8 +67,7 @@ Quat matrix_to_quat(const double R[3][3]) {
 Vec3 quat_rotate(const Quat& q, const Vec3& v) {
   double R[3][3];
   quat_to_matrix(q, R);
-  return {R[0][0] * v[0] + R[0][1] * v[1] + R[0][2] * v[2],
-          R[1][0] * v[0] + R[1][1] * v[1] + R[1][2] * v[2],
+  return {R[0][0] * v[0] + R[0][1] * v[1] + R[0][2] * v[2], R[1][0] * v[0] + R[1][1] * v[1] + R[1][2] * v[2],
           R[2][0] * v[0] + R[2][1] * v[1] + R[2][2] * v[2]};
 }
 
@@ -89,11 +94,10 @@ Reconstructor::Reconstructor(std::size_t N, double L, double max_turn)
   const int n = static_cast<int>(N), m = static_cast<int>(M_);
   {
     std::lock_guard<std::mutex> lock(fftw_planner_mutex());
-    forward_ = fftw_plan_many_dft_r2c(1, &n, kRows, real_, nullptr, 1, n,
-                                      static_cast<fftw_complex*>(spec_), nullptr, 1, m,
-                                      FFTW_ESTIMATE);
-    backward_ = fftw_plan_many_dft_c2r(1, &n, kRows, static_cast<fftw_complex*>(spec_), nullptr, 1,
-                                       m, real_, nullptr, 1, n, FFTW_ESTIMATE);
+    forward_ = fftw_plan_many_dft_r2c(1, &n, kRows, real_, nullptr, 1, n, static_cast<fftw_complex*>(spec_),
+                                      nullptr, 1, m, FFTW_ESTIMATE);
+    backward_ = fftw_plan_many_dft_c2r(1, &n, kRows, static_cast<fftw_complex*>(spec_), nullptr, 1, m, real_,
+                                       nullptr, 1, n, FFTW_ESTIMATE);
   }
   coef_.resize(2 * M_ * kRows);
 }
@@ -108,8 +112,8 @@ Reconstructor::~Reconstructor() {
 
 void Reconstructor::interpolate(const double* y) {
   const std::size_t N = N_;
-  std::copy(y + 9 * N, y + 12 * N, real_);          // Omega
-  std::copy(y + 6 * N, y + 9 * N, real_ + 3 * N);   // Gamma
+  std::copy(y + 9 * N, y + 12 * N, real_);         // Omega
+  std::copy(y + 6 * N, y + 9 * N, real_ + 3 * N);  // Gamma
   // Substeps so that each Magnus step turns the frame by <= ~0.05 rad
   // (the 4th-order error constant grows with (h |Omega|)^4).
   double wmax = 0.0;
@@ -182,8 +186,8 @@ void Reconstructor::magnus_step(std::size_t i, int sub, double h, Quat& q, Vec3&
   q = quat_normalized(quat_mul(q, quat_exp(phi)));
 }
 
-Reconstructor::End Reconstructor::sweep(const double* y, const Quat& q0, const Vec3& r0,
-                                        double* centerline, double* directors) {
+Reconstructor::End Reconstructor::sweep(const double* y, const Quat& q0, const Vec3& r0, double* centerline,
+                                        double* directors) {
   interpolate(y);
   const std::size_t N = N_;
   const double h = L_ / static_cast<double>(N);
@@ -205,8 +209,7 @@ Reconstructor::End Reconstructor::sweep(const double* y, const Quat& q0, const V
       }
     }
     if (i == N) break;
-    for (int sub = 0; sub < substeps_; ++sub)
-      magnus_step(i, sub, h / substeps_, q, r);
+    for (int sub = 0; sub < substeps_; ++sub) magnus_step(i, sub, h / substeps_, q, r);
   }
   return {q, r};
 }

@@ -5,9 +5,8 @@
 namespace rodcore {
 
 bool planar_reduction_allowed(const Rod& rod) {
-  return rod.Gamma0_s.empty() && rod.Omega0_s.empty() && rod.Gamma0[0] == 0.0 &&
-         rod.Gamma0[1] == 0.0 && rod.Omega0[0] == 0.0 && rod.Omega0[1] == 0.0 &&
-         rod.Omega0[2] == 0.0;
+  return rod.Gamma0_s.empty() && rod.Omega0_s.empty() && rod.Gamma0[0] == 0.0 && rod.Gamma0[1] == 0.0 &&
+         rod.Omega0[0] == 0.0 && rod.Omega0[1] == 0.0 && rod.Omega0[2] == 0.0;
 }
 
 std::string planar_material_coupling(const MaterialField& mf, Planar p) {
@@ -33,8 +32,7 @@ std::optional<Planar> planar_polarisation(const double* y, std::size_t N) {
   return std::nullopt;
 }
 
-PlanarRHS::PlanarRHS(RodRHS& full, Planar p)
-    : full_(full), N_(full.N()), rows_(planar_rows(p)) {
+PlanarRHS::PlanarRHS(RodRHS& full, Planar p) : full_(full), N_(full.N()), rows_(planar_rows(p)) {
   std::vector<int> rows(rows_.begin(), rows_.end());
   full_.set_nonzero_rows(rows);
 }

@@ -10,8 +10,7 @@
 namespace rodcore {
 namespace {
 
-std::vector<double> expand(const Vec3& uniform, const std::vector<double>& varying, int N,
-                           const char* name) {
+std::vector<double> expand(const Vec3& uniform, const std::vector<double>& varying, int N, const char* name) {
   const std::size_t n = static_cast<std::size_t>(N);
   std::vector<double> out(3 * n);
   if (varying.empty()) {
@@ -64,7 +63,8 @@ RodRHS::RodRHS(const Rod& rod, const Material& material, const DerivativeOperato
 
 void RodRHS::set_nonzero_rows(std::vector<int> rows) {
   for (int r : rows)
-    if (r < 0 || r >= 12) throw InputError("RodRHS::set_nonzero_rows: row " + std::to_string(r) + " not in 0..11");
+    if (r < 0 || r >= 12)
+      throw InputError("RodRHS::set_nonzero_rows: row " + std::to_string(r) + " not in 0..11");
   nonzero_rows_ = std::move(rows);
   std::fill(dy_ds_.begin(), dy_ds_.end(), 0.0);  // the skipped rows' derivative is zero
 }
@@ -83,14 +83,14 @@ constexpr bool zero_row(int planar, int r) {
 
 struct KernelArgs {
   std::size_t N;
-  const double* y[12];   // state rows (unused for zero rows)
-  const double* dy[12];  // their s-derivatives (kPerPoint: rows 6..11 hold dn/ds, dm/ds)
-  double* f[12];         // d/dt of the rows (unused for zero rows)
+  const double* y[12];      // state rows (unused for zero rows)
+  const double* dy[12];     // their s-derivatives (kPerPoint: rows 6..11 hold dn/ds, dm/ds)
+  double* f[12];            // d/dt of the rows (unused for zero rows)
   const double* Gamma0[3];  // per-point intrinsic shape and its derivative
   const double* Omega0[3];  // (kUniform: only element [0] of each row is read)
   const double* dGamma0[3];
   const double* dOmega0[3];
-  const double* nm[6];      // kPerPoint: n, m at every point (stress_kernel)
+  const double* nm[6];  // kPerPoint: n, m at every point (stress_kernel)
   const MaterialField* mf;
 };
 
@@ -128,10 +128,10 @@ void stress_kernel(const KernelArgs& a, double* nm) {
   const double *O01 = a.Omega0[0], *O02 = a.Omega0[1], *O03 = a.Omega0[2];
 #pragma GCC ivdep
   for (std::size_t i = 0; i < N; ++i) {
-    const double e[6] = {y[6 * N + i] - (kUniform ? G01[0] : G01[i]), y[7 * N + i] - (kUniform ? G02[0] : G02[i]),
-                         y[8 * N + i] - (kUniform ? G03[0] : G03[i]), y[9 * N + i] - (kUniform ? O01[0] : O01[i]),
-                         y[10 * N + i] - (kUniform ? O02[0] : O02[i]),
-                         y[11 * N + i] - (kUniform ? O03[0] : O03[i])};
+    const double e[6] = {
+        y[6 * N + i] - (kUniform ? G01[0] : G01[i]),  y[7 * N + i] - (kUniform ? G02[0] : G02[i]),
+        y[8 * N + i] - (kUniform ? G03[0] : G03[i]),  y[9 * N + i] - (kUniform ? O01[0] : O01[i]),
+        y[10 * N + i] - (kUniform ? O02[0] : O02[i]), y[11 * N + i] - (kUniform ? O03[0] : O03[i])};
     double out[6];
     stress([&](int k) { return Kp[k * N + i]; }, e, out);
     for (int r = 0; r < 6; ++r) nm[r * N + i] = out[r];
@@ -196,10 +196,10 @@ void rod_kernel(const KernelArgs& a) {
   // (measured: bench/, docs/performance.md).
 #pragma GCC ivdep
   for (std::size_t i = 0; i < N; ++i) {
-    const double b1 = ROD_Y(0), b2 = ROD_Y(1), b3 = ROD_Y(2);     // gamma
-    const double a1 = ROD_Y(3), a2 = ROD_Y(4), a3 = ROD_Y(5);     // omega
-    const double Q1 = ROD_Y(6), Q2 = ROD_Y(7), Q3 = ROD_Y(8);     // Gamma
-    const double P1 = ROD_Y(9), P2 = ROD_Y(10), P3 = ROD_Y(11);   // Omega
+    const double b1 = ROD_Y(0), b2 = ROD_Y(1), b3 = ROD_Y(2);    // gamma
+    const double a1 = ROD_Y(3), a2 = ROD_Y(4), a3 = ROD_Y(5);    // omega
+    const double Q1 = ROD_Y(6), Q2 = ROD_Y(7), Q3 = ROD_Y(8);    // Gamma
+    const double P1 = ROD_Y(9), P2 = ROD_Y(10), P3 = ROD_Y(11);  // Omega
     // Internal forces n = dW/dGamma and moments m = dW/dOmega, and their
     // s-derivatives dn, dm.
     double n1, n2, n3, m1, m2, m3, dn1, dn2, dn3, dm1, dm2, dm3;
@@ -216,8 +216,8 @@ void rod_kernel(const KernelArgs& a) {
       // Uniform K: d(K e)/ds = K de/ds.
       const double e[6] = {Q1 - ROD_SHAPE(uG01, G01), Q2 - ROD_SHAPE(uG02, G02), Q3 - ROD_SHAPE(uG03, G03),
                            P1 - ROD_SHAPE(uO01, O01), P2 - ROD_SHAPE(uO02, O02), P3 - ROD_SHAPE(uO03, O03)};
-      const double de[6] = {ROD_DY(6) - ROD_DSHAPE(dG01), ROD_DY(7) - ROD_DSHAPE(dG02),
-                            ROD_DY(8) - ROD_DSHAPE(dG03), ROD_DY(9) - ROD_DSHAPE(dO01),
+      const double de[6] = {ROD_DY(6) - ROD_DSHAPE(dG01),  ROD_DY(7) - ROD_DSHAPE(dG02),
+                            ROD_DY(8) - ROD_DSHAPE(dG03),  ROD_DY(9) - ROD_DSHAPE(dO01),
                             ROD_DY(10) - ROD_DSHAPE(dO02), ROD_DY(11) - ROD_DSHAPE(dO03)};
       double s[6], ds[6];
       auto K = [&](int k) { return Ku[k]; };
@@ -334,7 +334,8 @@ void RodRHS::operator()(const double* y, double* dydt) const {
 
 void RodRHS::reduced(int planar, const std::array<int, 6>& rows, const double* y6, double* f6) const {
   if (!uniform_ || mf_.kind == MaterialKind::per_point || (planar != 1 && planar != 2))
-    throw Error("RodRHS::reduced: needs a uniform intrinsic shape, a uniform material and polarisation 1 or 2");
+    throw Error(
+        "RodRHS::reduced: needs a uniform intrinsic shape, a uniform material and polarisation 1 or 2");
   const std::size_t N = N_;
   op_.apply(y6, dy6_.data(), 6);  // the six kept rows, one batch
   KernelArgs a;

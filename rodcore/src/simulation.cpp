@@ -25,7 +25,6 @@ std::string num(double x) { return message_number(x); }
 
 const char* planar_name(Planar p) { return p == Planar::omega2 ? "omega2" : "omega1"; }
 
-
 // Relative high-wavenumber content of the initial fields: |D f - D_2/3 f| /
 // |D f| over all 12 rows, D the spectral derivative and D_2/3 the same with
 // the top third of the modes removed. Round-off (~1e-15) for smooth
@@ -124,7 +123,8 @@ struct Simulation::Impl {
   std::optional<std::chrono::steady_clock::time_point> call_start;  // during a step_to() call
   double wall_seconds() const {
     double w = wall_before + wall_spent;
-    if (call_start) w += std::chrono::duration<double>(std::chrono::steady_clock::now() - *call_start).count();
+    if (call_start)
+      w += std::chrono::duration<double>(std::chrono::steady_clock::now() - *call_start).count();
     return w;
   }
   int j = 0;  // next output frame
@@ -271,7 +271,8 @@ void Simulation::resume_from(const Checkpoint& c) {
                      "\", the scene asks for \"" + d.scene.solver.time + "\"");
   if (!c.reduced.empty() &&
       (!planar_reduction_allowed(d.scene.rod) || d.rhs->material_field().kind == MaterialKind::per_point ||
-       !planar_material_coupling(d.rhs->material_field(), c.reduced == "omega2" ? Planar::omega2 : Planar::omega1)
+       !planar_material_coupling(d.rhs->material_field(),
+                                 c.reduced == "omega2" ? Planar::omega2 : Planar::omega1)
             .empty()))
     throw InputError(d.scene.source + ": the checkpoint holds the reduced planar system (" + c.reduced +
                      "), which this scene's intrinsic shape or material does not allow");
@@ -297,15 +298,15 @@ double Simulation::frame_time(int index) const { return impl_->frame_time(index)
 
 double Simulation::energy() const {
   const Impl& d = *impl_;
-  return rodcore::energy_parts(d.state.data(), d.N, d.scene.rod.length / static_cast<double>(d.N), d.rhs->material_field(),
-                      d.rhs->Gamma0(), d.rhs->Omega0())
+  return rodcore::energy_parts(d.state.data(), d.N, d.scene.rod.length / static_cast<double>(d.N),
+                               d.rhs->material_field(), d.rhs->Gamma0(), d.rhs->Omega0())
       .total();
 }
 
 std::map<std::string, double> Simulation::energy_parts() const {
   const Impl& d = *impl_;
-  return rodcore::energy_parts(d.state.data(), d.N, d.scene.rod.length / static_cast<double>(d.N), d.rhs->material_field(),
-                               d.rhs->Gamma0(), d.rhs->Omega0())
+  return rodcore::energy_parts(d.state.data(), d.N, d.scene.rod.length / static_cast<double>(d.N),
+                               d.rhs->material_field(), d.rhs->Gamma0(), d.rhs->Omega0())
       .as_map();
 }
 
@@ -331,22 +332,27 @@ void Simulation::Impl::start(const Simulation& self) {
     const double lambda = uniform ? linear_spectral_radius(*rhs) : wave_speed() * op->max_wavenumber();
     const double dt_cfl = 2.8 / lambda;
     if (sc.solver.dt > dt_cfl)
-      throw NumericalError(
-          sc.source + ": solver.dt = " + num(sc.solver.dt) + " exceeds the RK4 stability limit " + num(dt_cfl) +
-          (uniform ? " (2.8 / spectral radius " + num(lambda) + " of the equations linearised about the rest state, "
-                   : " (estimate: 2.8 / (max wave speed " + num(wave_speed()) + " x max wavenumber " +
-                         num(op->max_wavenumber()) + "), ") +
-          op->name() + "); use solver.dt <= " + num(dt_cfl * (1.0 - 5e-6)) + ", fewer rod.points, or an adaptive solver.time");
+      throw NumericalError(sc.source + ": solver.dt = " + num(sc.solver.dt) +
+                           " exceeds the RK4 stability limit " + num(dt_cfl) +
+                           (uniform ? " (2.8 / spectral radius " + num(lambda) +
+                                          " of the equations linearised about the rest state, "
+                                    : " (estimate: 2.8 / (max wave speed " + num(wave_speed()) +
+                                          " x max wavenumber " + num(op->max_wavenumber()) + "), ") +
+                           op->name() + "); use solver.dt <= " + num(dt_cfl * (1.0 - 5e-6)) +
+                           ", fewer rod.points, or an adaptive solver.time");
   }
 
   planar_run = planar;
-  if (resume) planar_run = resume->reduced.empty() ? std::nullopt
-                           : std::optional<Planar>(resume->reduced == "omega2" ? Planar::omega2 : Planar::omega1);
+  if (resume)
+    planar_run = resume->reduced.empty()
+                     ? std::nullopt
+                     : std::optional<Planar>(resume->reduced == "omega2" ? Planar::omega2 : Planar::omega1);
   summary.reduce_note = reduce_note;
   summary.method_note = method_note;
   if (resume && planar_run != planar)
-    summary.reduce_note = planar_run ? "reduced planar system (as in the checkpoint)"
-                                     : "full system (as in the checkpoint: the run had left the reduced system)";
+    summary.reduce_note = planar_run
+                              ? "reduced planar system (as in the checkpoint)"
+                              : "full system (as in the checkpoint: the run had left the reduced system)";
   make_system();
   full.assign(y0.size(), 0.0);
   io.rtol = sc.solver.rtol;
@@ -371,7 +377,8 @@ void Simulation::Impl::start(const Simulation& self) {
   buf.resize(y0.size());
   if (sc.output.centerline) centerline.resize(3 * N);
   if (sc.output.directors) directors.resize(9 * N);
-  energy_every_frame = sc.output.energy || sc.output.energy_parts || std::isfinite(sc.checks.max_energy_drift);
+  energy_every_frame =
+      sc.output.energy || sc.output.energy_parts || std::isfinite(sc.checks.max_energy_drift);
 
   for (auto& o : observers) o->started(self);
   j = 1;
@@ -397,8 +404,8 @@ void Simulation::Impl::deliver(const Simulation& self, int index, double tf, con
   // that the summary's drift (then end-to-end) and the overflow check of
   // the initial fields stay (O(N) each; docs/numerics.md).
   if (energy_every_frame || index == 0 || index == sc.output.frames - 1) {
-    const EnergyParts parts = rodcore::energy_parts(y, N, sc.rod.length / static_cast<double>(N), rhs->material_field(),
-                                           rhs->Gamma0(), rhs->Omega0());
+    const EnergyParts parts = rodcore::energy_parts(y, N, sc.rod.length / static_cast<double>(N),
+                                                    rhs->material_field(), rhs->Gamma0(), rhs->Omega0());
     const double E = parts.total();
     if (index == 0) E0 = E;
     const double drift = std::abs(E0) > 0.0 ? std::abs(E - E0) / std::abs(E0) : std::abs(E - E0);
@@ -479,8 +486,8 @@ void Simulation::Impl::advance(const Simulation& self, double t_req) {
 void Simulation::step_to(double t) {
   Impl& d = *impl_;
   if (!std::isfinite(t) || t < d.t)
-    throw InputError(d.scene.source + ": step_to(t = " + num(t) + "): t must be finite and >= the current time " +
-                     num(d.t));
+    throw InputError(d.scene.source + ": step_to(t = " + num(t) +
+                     "): t must be finite and >= the current time " + num(d.t));
   struct Clock {  // wall time of this call, also when it throws
     Impl& d;
     explicit Clock(Impl& impl) : d(impl) { d.call_start = std::chrono::steady_clock::now(); }
@@ -517,7 +524,8 @@ RunSummary Simulation::run(const FrameHandler& on_frame, const ProgressHandler& 
   if (on_frame || progress) {
     handlers = std::make_shared<FunctionObserver>();
     handlers->on_frame = on_frame;
-    if (progress) handlers->on_stepped = [this, progress] { progress(impl_->integ->t(), impl_->scene.output.t_end); };
+    if (progress)
+      handlers->on_stepped = [this, progress] { progress(impl_->integ->t(), impl_->scene.output.t_end); };
     d.observers.push_back(handlers);
   }
   struct Remove {  // the handlers live for this call only

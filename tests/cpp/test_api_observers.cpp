@@ -75,7 +75,8 @@ TEST(ApiObservers, CallOrderOfARun) {
   EXPECT_EQ(rec->calls.back(), "finished");
   EXPECT_EQ(rec->steps, sum.steps);
   EXPECT_EQ(rec->frame_t.size(), 6u);
-  for (std::size_t k = 0; k < rec->frame_t.size(); ++k) EXPECT_EQ(rec->frame_t[k], sim.frame_time(static_cast<int>(k)));
+  for (std::size_t k = 0; k < rec->frame_t.size(); ++k)
+    EXPECT_EQ(rec->frame_t[k], sim.frame_time(static_cast<int>(k)));
   // Between two steps: frames come after their step and before its "stepped".
   for (std::size_t i = 2; i + 1 < rec->calls.size(); ++i)
     if (rec->calls[i] == "frame") {
@@ -101,7 +102,8 @@ TEST(ApiObservers, StepToInPiecesEqualsOneRun) {
   }
   EXPECT_EQ(rec->steps, whole.steps);
   ASSERT_EQ(rec->frame_y.size(), whole.frame_y.size());
-  for (std::size_t k = 0; k < whole.frame_y.size(); ++k) EXPECT_TRUE(rec->frame_y[k] == whole.frame_y[k]) << k;
+  for (std::size_t k = 0; k < whole.frame_y.size(); ++k)
+    EXPECT_TRUE(rec->frame_y[k] == whole.frame_y[k]) << k;
   EXPECT_TRUE(sim.state() == whole.frame_y.back());
   EXPECT_THROW(sim.step_to(0.5), InputError);  // backwards
 }
@@ -134,9 +136,9 @@ TEST(ApiObservers, FoldingIsCaughtAfterTheStep) {
   init.y.assign(12 * N, 0.0);
   for (std::size_t i = 0; i < N; ++i) {
     const double s = static_cast<double>(i) * sc.rod.length / N;  // L = pi: mode 1 is sin 2s
-    init.y[8 * N + i] = 1.0 - 0.9999 * std::cos(2 * s);  // Gamma3 = 1e-4 at s = 0 ...
-    init.y[2 * N + i] = -5.0 * std::sin(2 * s);          // ... compressed there: d gamma3/ds = -10
-    init.y[11 * N + i] = 1.0;                            // Omega3 = Omega03
+    init.y[8 * N + i] = 1.0 - 0.9999 * std::cos(2 * s);           // Gamma3 = 1e-4 at s = 0 ...
+    init.y[2 * N + i] = -5.0 * std::sin(2 * s);                   // ... compressed there: d gamma3/ds = -10
+    init.y[11 * N + i] = 1.0;                                     // Omega3 = Omega03
   }
   Simulation sim(sc, init);
   auto rec = std::make_shared<Recorder>();

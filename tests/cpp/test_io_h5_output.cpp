@@ -175,7 +175,8 @@ TEST(IoH5Output, RoundTripLayoutAndAttributes) {
   EXPECT_EQ(attr_doubles(f, "rod.Omega0"), (std::vector<double>{0, 0, 0.75}));
   EXPECT_EQ(attr_doubles(f, "material.C"), (std::vector<double>{1, 1, 1.19}));
   EXPECT_EQ(attr_doubles(f, "solver.rtol")[0], 1e-9);
-  EXPECT_EQ(attr_string(f, "solver.space"), "auto");  // as given to H5Output (rodsim gives the resolved scene)
+  EXPECT_EQ(attr_string(f, "solver.space"),
+            "auto");  // as given to H5Output (rodsim gives the resolved scene)
   EXPECT_EQ(attr_string(f, "initial.kind"), "rest");
   EXPECT_EQ(attr_doubles(f, "initial.v1")[0], 0.25);
   EXPECT_EQ(attr_doubles(f, "summary.steps")[0], 42);
@@ -302,6 +303,7 @@ TEST(IoH5Output, UnwritableFolderIsAnInputError) {
     H5Output w("/nonexistent-folder-xyz/run.h5", sc, grid(6, sc.rod.length));
     FAIL() << "no error";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("/nonexistent-folder-xyz/run.h5.partial"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("/nonexistent-folder-xyz/run.h5.partial"), std::string::npos)
+        << e.what();
   }
 }

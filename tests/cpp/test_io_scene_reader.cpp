@@ -175,9 +175,10 @@ TEST(IoSceneReader, OutOfRangeValues) {
   m = error_of(kMinimal + "[output]\nframes = 1\n");
   EXPECT_NE(m.find("output.frames"), std::string::npos) << m;
   m = error_of(kMinimal + "[solver]\nspace = \"spectrl\"\n");
-  EXPECT_NE(m.find("solver.space: found \"spectrl\"; allowed: one of \"auto\", \"fd4\", \"spectral\" (did you mean "
-                   "\"spectral\"?)"),
-            std::string::npos)
+  EXPECT_NE(
+      m.find("solver.space: found \"spectrl\"; allowed: one of \"auto\", \"fd4\", \"spectral\" (did you mean "
+             "\"spectral\"?)"),
+      std::string::npos)
       << m;
 }
 
@@ -196,13 +197,15 @@ TEST(IoSceneReader, InconsistentLengths) {
   m = error_of("[rod]\nlength = 6.0\npoints = 4\nOmega0 = [[0, 0, 1], [0, 0, 1], [0, 0, 1]]\n");
   EXPECT_NE(m.find("rod.Omega0: has 3 points"), std::string::npos) << m;
   EXPECT_NE(m.find("rod.points = 4"), std::string::npos) << m;
-  Scene sc = read_scene_string("[rod]\nlength = 6.0\npoints = 4\nOmega0 = [[0, 0, 1], [0, 0, 2], [0, 0, 3], [0, 1, 4]]\n");
+  Scene sc = read_scene_string(
+      "[rod]\nlength = 6.0\npoints = 4\nOmega0 = [[0, 0, 1], [0, 0, 2], [0, 0, 3], [0, 1, 4]]\n");
   EXPECT_EQ(sc.rod.Omega0_s, (std::vector<double>{0, 0, 0, 0, 0, 0, 0, 1, 1, 2, 3, 4}));  // component-major
 }
 
 TEST(IoSceneReader, TooFewPointsForTheOperator) {
   std::string m = error_of("[rod]\nlength = 6.0\npoints = 4\n[solver]\nspace = \"fd4\"\n");
-  EXPECT_NE(m.find("rod.points: found 4; solver.space = \"fd4\" needs at least 5 points"), std::string::npos) << m;
+  EXPECT_NE(m.find("rod.points: found 4; solver.space = \"fd4\" needs at least 5 points"), std::string::npos)
+      << m;
   EXPECT_NO_THROW(read_scene_string("[rod]\nlength = 6.0\npoints = 5\n[solver]\nspace = \"fd4\"\n"));
   m = error_of("[rod]\nlength = 6.0\npoints = 3\n");
   EXPECT_NE(m.find("solver.space = \"spectral\" needs at least 4 points"), std::string::npos) << m;
@@ -224,7 +227,8 @@ TEST(IoSceneReader, TomlSyntaxErrorNamesFileAndLine) {
 
 TEST(IoSceneReader, MissingICFile) {
   TempDir dir;
-  std::string m = error_of(kMinimal + "[initial]\nkind = \"file\"\npath = \"nope.h5\"\n", {}, dir.path.string());
+  std::string m =
+      error_of(kMinimal + "[initial]\nkind = \"file\"\npath = \"nope.h5\"\n", {}, dir.path.string());
   EXPECT_NE(m.find("initial.path"), std::string::npos) << m;
   EXPECT_NE(m.find("nope.h5' does not exist"), std::string::npos) << m;
   m = error_of(kMinimal + "[initial]\nkind = \"file\"\n");
@@ -238,16 +242,19 @@ TEST(IoSceneReader, ICFileWithNaNNamesDatasetAndIndex) {
   auto y = known_state(16, 6.0);
   y[row(Gamma, 1) * 16 + 7] = std::numeric_limits<double>::quiet_NaN();
   write_initial_fields((dir.path / "ic.h5").string(), grid(16, 6.0), y);
-  std::string m = error_of(kMinimal + "[initial]\nkind = \"file\"\npath = \"ic.h5\"\n", {}, dir.path.string());
+  std::string m =
+      error_of(kMinimal + "[initial]\nkind = \"file\"\npath = \"ic.h5\"\n", {}, dir.path.string());
   EXPECT_NE(m.find("initial.path"), std::string::npos) << m;
-  EXPECT_NE(m.find("dataset 'fields/Gamma' has a non-finite value (nan) at index [7, 1]"), std::string::npos) << m;
+  EXPECT_NE(m.find("dataset 'fields/Gamma' has a non-finite value (nan) at index [7, 1]"), std::string::npos)
+      << m;
 }
 
 TEST(IoSceneReader, MisShapedICFile) {
   TempDir dir;
   // 12 points in the file, 16 in the scene.
   write_initial_fields((dir.path / "ic.h5").string(), grid(12, 6.0), known_state(12, 6.0));
-  std::string m = error_of(kMinimal + "[initial]\nkind = \"file\"\npath = \"ic.h5\"\n", {}, dir.path.string());
+  std::string m =
+      error_of(kMinimal + "[initial]\nkind = \"file\"\npath = \"ic.h5\"\n", {}, dir.path.string());
   EXPECT_NE(m.find("dataset 's' has shape 12, expected 16 values"), std::string::npos) << m;
   // Right N, but a grid for another length.
   write_initial_fields((dir.path / "ic2.h5").string(), grid(16, 5.0), known_state(16, 5.0));
@@ -317,7 +324,8 @@ TEST(IoSceneReader, IntrinsicFileIsReadAndChecked) {
   Scene sc = read_scene_string(kMinimal + "intrinsic_file = \"shape.h5\"\n", "scene.toml", dir.path.string());
   ASSERT_EQ(sc.rod.Omega0_s.size(), 48u);
   EXPECT_EQ(sc.rod.Omega0_s[1 * 16 + 5], 0.1 + 5);  // component 1 at point 5
-  std::string m = error_of("[rod]\nlength = 6.0\npoints = 20\nintrinsic_file = \"shape.h5\"\n", {}, dir.path.string());
+  std::string m =
+      error_of("[rod]\nlength = 6.0\npoints = 20\nintrinsic_file = \"shape.h5\"\n", {}, dir.path.string());
   EXPECT_NE(m.find("rod.intrinsic_file"), std::string::npos) << m;
   EXPECT_NE(m.find("expected 20 x 3"), std::string::npos) << m;
   m = error_of(kMinimal + "intrinsic_file = \"shape.h5\"\nGamma0 = [0.0, 0.0, 1.0]\n", {}, dir.path.string());
@@ -328,7 +336,8 @@ TEST(IoSceneReader, InitialParametersFollowTheRegistry) {
   // Validated against each kind's own ParamSpec table, whatever it holds.
   for (const auto& kind : initial_kinds()) {
     if (kind.name == "file") continue;
-    std::string base = "[rod]\nlength = 6.283185307179586\npoints = 32\n[initial]\nkind = \"" + kind.name + "\"\n";
+    std::string base =
+        "[rod]\nlength = 6.283185307179586\npoints = 32\n[initial]\nkind = \"" + kind.name + "\"\n";
     std::string required;
     for (const auto& p : kind.numbers)
       if (std::isnan(p.default_value)) {
@@ -366,8 +375,9 @@ TEST(IoSceneReader, InitialParametersFollowTheRegistry) {
 }
 
 TEST(IoSceneReader, OverridesAreAppliedAndValidated) {
-  Scene sc = read_scene_string(kMinimal, "scene.toml", ".",
-                               {"solver.rtol=1e-8", "solver.space=fd4", "output.fields=[\"energy\"]", "rod.points=20"});
+  Scene sc = read_scene_string(
+      kMinimal, "scene.toml", ".",
+      {"solver.rtol=1e-8", "solver.space=fd4", "output.fields=[\"energy\"]", "rod.points=20"});
   EXPECT_EQ(sc.solver.rtol, 1e-8);
   EXPECT_EQ(sc.solver.space, "fd4");
   EXPECT_TRUE(sc.output.energy);
@@ -386,7 +396,8 @@ TEST(IoSceneReader, OverridesAreAppliedAndValidated) {
 
 TEST(IoSceneReader, ResolvedSceneReadsBackIdentically) {
   std::string text =
-      "[rod]\nlength = 6.283185307179586\npoints = 5\nOmega0 = [[0, 0, 0.1], [0, 0, 0.2], [0, 0, 0.3], [0, 0, "
+      "[rod]\nlength = 6.283185307179586\npoints = 5\nOmega0 = [[0, 0, 0.1], [0, 0, 0.2], [0, 0, 0.3], [0, "
+      "0, "
       "0.4], [0, 0, 0.7]]\n[material]\nD = [1.21, 1.21, 2.0207]\n[solver]\nspace = \"fd4\"\nrtol = 3e-9\n"
       "[output]\nt_end = 0.1\nframes = 7\nfields = [\"centerline\", \"energy_parts\"]\n"
       "[checks]\nmax_energy_drift = 1e-6\n";

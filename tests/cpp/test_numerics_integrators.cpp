@@ -93,7 +93,10 @@ TEST(NumericsIntegrators, Dop853TableauOrderConditions) {
   }
   // the error estimators vanish on the polynomial y' = 1 (their weights sum to 0)
   double e5 = 0.0, e3 = 0.0;
-  for (int i = 0; i < 13; ++i) { e5 += kDop853E5[i]; e3 += kDop853E3[i]; }
+  for (int i = 0; i < 13; ++i) {
+    e5 += kDop853E5[i];
+    e3 += kDop853E3[i];
+  }
   EXPECT_NEAR(e5, 0.0, 1e-14);
   EXPECT_NEAR(e3, 0.0, 1e-14);
 }
@@ -120,7 +123,11 @@ INSTANTIATE_TEST_SUITE_P(Steppers, ObservedOrder,
 TEST(NumericsIntegrators, DenseOutputOrders) {
   // local error of the continuous extension: O(h^8) DOP853, O(h^5) DOPRI5,
   // O(h^4) cubic Hermite (RK4)
-  struct C { const char* k; double p; double h; };
+  struct C {
+    const char* k;
+    double p;
+    double h;
+  };
   for (const C c : {C{"dop853", 8, 0.4}, C{"dopri5", 5, 0.1}, C{"rk4", 4, 0.1}, C{"rk4-doubling", 4, 0.1}}) {
     const double e1 = dense_error(c.k, c.h), e2 = dense_error(c.k, c.h / 2);
     EXPECT_GT(std::log2(e1 / e2), c.p - 0.6) << c.k << " " << e1 << " " << e2;
@@ -178,7 +185,12 @@ TEST(NumericsIntegrators, StepUnderflowAndNaNAreErrors) {
     auto in = make_time_integrator(kind, blowup, o);
     const double y0 = 1.0;
     in->reset(0.0, &y0);
-    EXPECT_THROW({ while (in->t() < 2.0) in->step(2.0); }, NumericalError) << kind;
+    EXPECT_THROW(
+        {
+          while (in->t() < 2.0) in->step(2.0);
+        },
+        NumericalError)
+        << kind;
   }
   OdeSystem nan;
   nan.n = 1;
@@ -187,6 +199,10 @@ TEST(NumericsIntegrators, StepUnderflowAndNaNAreErrors) {
   auto in = make_time_integrator("dop853", nan, o);
   const double y0 = 0.0;
   in->reset(0.0, &y0);
-  EXPECT_THROW({ while (in->t() < 1.0) in->step(1.0); }, NumericalError);
+  EXPECT_THROW(
+      {
+        while (in->t() < 1.0) in->step(1.0);
+      },
+      NumericalError);
   EXPECT_THROW(make_time_integrator("euler", limit_cycle(), o), InputError);
 }

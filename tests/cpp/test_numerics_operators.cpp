@@ -90,11 +90,18 @@ TEST(NumericsOperators, SkewSymmetric) {
       const int N = 30;
       auto op = make_derivative_operator(kind, N, 2.5, dealias);
       std::vector<double> u(N), v(N), du(N), dv(N);
-      for (int i = 0; i < N; ++i) { u[i] = nd(gen); v[i] = nd(gen); }
+      for (int i = 0; i < N; ++i) {
+        u[i] = nd(gen);
+        v[i] = nd(gen);
+      }
       op->apply(u.data(), du.data(), 1);
       op->apply(v.data(), dv.data(), 1);
       double a = 0, b = 0, n = 0;
-      for (int i = 0; i < N; ++i) { a += u[i] * dv[i]; b += du[i] * v[i]; n += std::abs(u[i] * dv[i]); }
+      for (int i = 0; i < N; ++i) {
+        a += u[i] * dv[i];
+        b += du[i] * v[i];
+        n += std::abs(u[i] * dv[i]);
+      }
       EXPECT_NEAR(a, -b, 1e-13 * n) << kind;
     }
   }

@@ -31,7 +31,10 @@ Scene base_scene(int N, double L) {
 
 TEST(PhysicsInvariants, IntrinsicShapesAtRestStayAtRest) {
   const double L = 4.0;
-  struct Shape { const char* name; Vec3 G0, O0; };
+  struct Shape {
+    const char* name;
+    Vec3 G0, O0;
+  };
   const Shape shapes[] = {{"straight", {0, 0, 1}, {0, 0, 0}},
                           {"twisted", {0, 0, 1}, {0, 0, 1.3}},
                           {"ring", {0, 0, 1}, {2 * kPi / L, 0, 0}},
@@ -143,8 +146,8 @@ TEST(PhysicsInvariants, ShearOscillationMatchesEqs28to30) {
   // here with classic RK4 and a tiny step.
   const double C1 = 1.0, C3 = 1.19, I2 = 1.0, G03 = 1.0;
   auto f = [&](const std::array<double, 3>& u) {  // (omega2, Gamma1, Gamma3)
-    return std::array<double, 3>{(C1 * u[1] * u[2] - C3 * u[1] * (u[2] - G03)) / I2,
-                                 -u[0] * u[2], u[0] * u[1]};
+    return std::array<double, 3>{(C1 * u[1] * u[2] - C3 * u[1] * (u[2] - G03)) / I2, -u[0] * u[2],
+                                 u[0] * u[1]};
   };
   const double t_end = 3.0;
   std::array<double, 3> u{0.4, 0.5, 1.1};
@@ -201,7 +204,9 @@ TEST(PhysicsInvariants, EnergyConservedAndPartsExact) {
   sc.output.energy_parts = true;
   Simulation sim(sc);
   std::map<std::string, double> parts;
-  sim.run([&](const Frame& f) { if (f.index == 0) parts = f.energy_parts; });
+  sim.run([&](const Frame& f) {
+    if (f.index == 0) parts = f.energy_parts;
+  });
   analytic::TwistedWave w;
   const double L = sc.rod.length;
   EXPECT_NEAR(parts.at("shear"), 0.5 * L * 0.25, 1e-14);

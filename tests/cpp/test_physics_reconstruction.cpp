@@ -39,8 +39,7 @@ TEST(PhysicsReconstruction, RigidHelixIsExact) {
       const Eigen::Matrix4d g = (xi * (i * L / N)).exp();
       for (int a = 0; a < 3; ++a) {
         EXPECT_NEAR(r.centerline[f][3 * i + a], g(a, 3), 1e-12) << "point " << i;
-        for (int k = 0; k < 3; ++k)
-          EXPECT_NEAR(r.directors[f][9 * i + 3 * a + k], g(a, k), 1e-12);
+        for (int k = 0; k < 3; ++k) EXPECT_NEAR(r.directors[f][9 * i + 3 * a + k], g(a, k), 1e-12);
       }
     }
     EXPECT_LT(r.norm_error[f], 1e-13);

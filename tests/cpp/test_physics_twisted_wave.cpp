@@ -127,8 +127,8 @@ TEST_P(TwistedWave, OnePeriodSpectralDop853Within1e9) {
 }
 
 INSTANTIATE_TEST_SUITE_P(AllBranches, TwistedWave,
-                         ::testing::Values(Branch{"p", "plus"}, Branch{"p", "minus"},
-                                           Branch{"m", "plus"}, Branch{"m", "minus"}),
+                         ::testing::Values(Branch{"p", "plus"}, Branch{"p", "minus"}, Branch{"m", "plus"},
+                                           Branch{"m", "minus"}),
                          [](const auto& info) {
                            return std::string(info.param.kappa) + "_" + info.param.branch;
                          });

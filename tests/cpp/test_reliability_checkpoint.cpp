@@ -16,9 +16,9 @@
 
 #include "physics_test_util.hpp"
 #include "rodcore/checkpoint.hpp"
-#include "signals.hpp"  // rodsim's stop signals and schedule (rodcore/cli)
 #include "rodcore/error.hpp"
 #include "rodcore/simulation.hpp"
+#include "signals.hpp"  // rodsim's stop signals and schedule (rodcore/cli)
 #include "temp_dir.hpp"
 
 namespace fs = std::filesystem;
@@ -105,8 +105,7 @@ TEST_P(CheckpointResume, ResumedRunIsBitwiseTheUninterruptedRun) {
 }
 
 INSTANTIATE_TEST_SUITE_P(EveryIntegrator, CheckpointResume,
-                         ::testing::Values("rk4", "rk4-doubling", "dopri5", "dop853"),
-                         [](const auto& info) {
+                         ::testing::Values("rk4", "rk4-doubling", "dopri5", "dop853"), [](const auto& info) {
                            std::string n = info.param;
                            for (auto& ch : n)
                              if (ch == '-') ch = '_';

@@ -87,8 +87,8 @@ class ReducedPlanarOps : public ::testing::TestWithParam<const char*> {};
 TEST_P(ReducedPlanarOps, FullSystemKeepsTheZeroRowsExactlyZero) {
   const std::size_t N = 64;
   Problem p(GetParam(), N);
-  const auto y = integrate("dop853", 12 * N, [&](const double* a, double* b) { (*p.rhs)(a, b); }, p.y0, 5.0,
-                           1e-10, 0.01);
+  const auto y = integrate(
+      "dop853", 12 * N, [&](const double* a, double* b) { (*p.rhs)(a, b); }, p.y0, 5.0, 1e-10, 0.01);
   EXPECT_TRUE(in_planar_subspace(y.data(), N));
   // ... and the state has moved far from the start (the test means something).
   double moved = 0.0;
@@ -100,15 +100,15 @@ TEST_P(ReducedPlanarOps, ReducedEqualsFullWithFixedSteps) {
   const std::size_t N = 64;
   Problem p(GetParam(), N);
   const double dt = 0.01, t_end = 5.0;  // rk4: fixed dt, tolerances unused
-  const auto full = integrate("rk4", 12 * N, [&](const double* a, double* b) { (*p.rhs)(a, b); }, p.y0, t_end,
-                              1e-10, dt);
+  const auto full = integrate(
+      "rk4", 12 * N, [&](const double* a, double* b) { (*p.rhs)(a, b); }, p.y0, t_end, 1e-10, dt);
   std::vector<double> y6(6 * N), back(12 * N);
   double diff = 0.0;
   {
     PlanarRHS planar(*p.rhs);
     planar.reduce(p.y0.data(), y6.data());
-    const auto red = integrate("rk4", 6 * N, [&](const double* a, double* b) { planar(a, b); }, y6, t_end, 1e-10,
-                               dt);
+    const auto red = integrate(
+        "rk4", 6 * N, [&](const double* a, double* b) { planar(a, b); }, y6, t_end, 1e-10, dt);
     planar.expand(red.data(), back.data());
   }
   for (std::size_t j = 0; j < back.size(); ++j) diff = std::max(diff, std::abs(back[j] - full[j]));
@@ -128,13 +128,13 @@ TEST_P(ReducedPlanarOps, ReducedEqualsFullAdaptiveToTolerance) {
   // the step sequence: agreement is at the tolerance, not at round-off.
   const std::size_t N = 64;
   Problem p(GetParam(), N);
-  const auto full = integrate("dop853", 12 * N, [&](const double* a, double* b) { (*p.rhs)(a, b); }, p.y0,
-                              10.0, 1e-12, 0.01);
+  const auto full = integrate(
+      "dop853", 12 * N, [&](const double* a, double* b) { (*p.rhs)(a, b); }, p.y0, 10.0, 1e-12, 0.01);
   PlanarRHS planar(*p.rhs);
   std::vector<double> y6(6 * N), back(12 * N);
   planar.reduce(p.y0.data(), y6.data());
-  const auto red = integrate("dop853", 6 * N, [&](const double* a, double* b) { planar(a, b); }, y6, 10.0,
-                             1e-12, 0.01);
+  const auto red = integrate(
+      "dop853", 6 * N, [&](const double* a, double* b) { planar(a, b); }, y6, 10.0, 1e-12, 0.01);
   planar.expand(red.data(), back.data());
   double diff = 0.0;
   for (std::size_t j = 0; j < back.size(); ++j) diff = std::max(diff, std::abs(back[j] - full[j]));

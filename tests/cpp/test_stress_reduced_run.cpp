@@ -65,7 +65,8 @@ TEST_P(ReducedRun, EqualsTheFullSystemForEveryIntegrator) {
   const auto red = run_scene(untwisted_scene(GetParam(), "auto"));
   EXPECT_FALSE(full.summary.reduced);
   EXPECT_TRUE(red.summary.reduced);
-  EXPECT_NE(red.summary.reduce_note.find("omega2 polarisation"), std::string::npos) << red.summary.reduce_note;
+  EXPECT_NE(red.summary.reduce_note.find("omega2 polarisation"), std::string::npos)
+      << red.summary.reduce_note;
   expect_same_runs(full, red);
   // The full run really kept the out-of-plane rows at zero (the invariance
   // the reduction relies on), and it moved: not a trivial comparison.
@@ -83,7 +84,8 @@ TEST(ReducedRun, OtherPolarisationIsReducedToo) {
   sc.initial.numbers = {{"v2", 0.3}};
   const auto red = run_scene(sc);
   EXPECT_TRUE(red.summary.reduced);
-  EXPECT_NE(red.summary.reduce_note.find("omega1 polarisation"), std::string::npos) << red.summary.reduce_note;
+  EXPECT_NE(red.summary.reduce_note.find("omega1 polarisation"), std::string::npos)
+      << red.summary.reduce_note;
   sc.solver.reduce = "off";
   expect_same_runs(run_scene(sc), red);
 }
@@ -116,7 +118,8 @@ TEST(ReducedRun, ResumeFromACheckpointIsExact) {
     Simulation sim(sc);
     int calls = 0;
     struct Stop {};
-    sim.set_checkpoint_hooks({[&] { return ++calls == 5; }, [&](const Checkpoint& c) {
+    sim.set_checkpoint_hooks({[&] { return ++calls == 5; },
+                              [&](const Checkpoint& c) {
                                 write_checkpoint(path, c);
                                 throw Stop{};
                               }});

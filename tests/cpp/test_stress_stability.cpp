@@ -35,8 +35,8 @@ TEST(LinearSpectralRadius, UntwistedRodEqualsDispersionRelationAtKmax) {
     auto op = make_derivative_operator(space, 32, rod.length);
     RodRHS rhs(rod, m, *op);
     const double k = op->max_wavenumber();
-    const double expected = std::max({analytic::dispersion(k, m.D[0], 1.0, +1), k * std::sqrt(m.C[2]),
-                                      k * std::sqrt(m.D[2] / m.I[2])});
+    const double expected = std::max(
+        {analytic::dispersion(k, m.D[0], 1.0, +1), k * std::sqrt(m.C[2]), k * std::sqrt(m.D[2] / m.I[2])});
     EXPECT_NEAR(linear_spectral_radius(rhs), expected, 1e-9 * expected) << space;
   }
 }

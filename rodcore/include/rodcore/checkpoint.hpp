@@ -49,9 +49,9 @@ struct Checkpoint {
   IntegratorState integrator;  // t, dt_next, y, f, controller memory, counters
   int next_frame = 0;          // output frames 0 .. next_frame-1 are already written
   double E0 = std::numeric_limits<double>::quiet_NaN();  // energy at t = 0
-  double energy_drift = 0.0;   // largest relative drift over the frames so far
-  double wall_seconds = 0.0;   // wall time spent on the run so far
-  std::string reduced;         // "" (full 12-row state) or "omega2"/"omega1" (reduced planar system)
+  double energy_drift = 0.0;                             // largest relative drift over the frames so far
+  double wall_seconds = 0.0;                             // wall time spent on the run so far
+  std::string reduced;  // "" (full 12-row state) or "omega2"/"omega1" (reduced planar system)
 };
 
 // OUT.h5 -> OUT.h5.ckpt

@@ -33,7 +33,7 @@ struct Frame {
   int index = 0;
   double t = 0.0;
   std::size_t N = 0;
-  const double* y = nullptr;  // 12*N state, layout of state.hpp
+  const double* y = nullptr;                   // 12*N state, layout of state.hpp
   std::optional<double> energy;                // when output.energy or output.energy_parts
   std::map<std::string, double> energy_parts;  // kinetic_translational, kinetic_rotational,
                                                // shear, extension, bend, twist

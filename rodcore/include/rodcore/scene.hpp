@@ -29,13 +29,13 @@ struct Material {
   std::vector<double> I_full;  // 9 values row-major (uniform), or empty: diag(I)
   // Per grid point, or empty: K_s N*36 ([i*36 + 6 r + c]), I_s N*9, rho_s N.
   std::vector<double> K_s, I_s, rho_s;
-  std::string file;  // the material file these came from (for records), or empty
+  std::string file;             // the material file these came from (for records), or empty
   bool file_has_shape = false;  // the file also gave rod.Gamma0_s / Omega0_s
 };
 
 struct Rod {
-  double length = 0.0;  // fiducial length L
-  int points = 0;       // N grid points, s_i = i L / N, i = 0..N-1 (periodic)
+  double length = 0.0;         // fiducial length L
+  int points = 0;              // N grid points, s_i = i L / N, i = 0..N-1 (periodic)
   Vec3 Gamma0{0.0, 0.0, 1.0};  // uniform intrinsic shape ...
   Vec3 Omega0{0.0, 0.0, 0.0};
   // ... or, when non-empty, intrinsic shape varying along s: 3*N values each,
@@ -61,20 +61,20 @@ struct SolverOptions {
   std::string time = "auto";   // "auto" | "rk4" | "rk4-doubling" | "dopri5" | "dop853" (auto: dop853)
   double rtol = 1e-10;
   double atol = 1e-10;
-  double dt = 1e-2;        // fixed step, or first step of adaptive schemes
-  double dt_min = 1e-12;   // adaptive step below this: NumericalError
+  double dt = 1e-2;       // fixed step, or first step of adaptive schemes
+  double dt_min = 1e-12;  // adaptive step below this: NumericalError
   long max_steps = 100000000;
   std::string reduce = "auto";  // "auto" | "off": reduced planar system when allowed
 };
 
 struct OutputOptions {
   double t_end = 1.0;
-  int frames = 2;  // equally spaced output times 0..t_end inclusive
-  bool internal = true;      // fields/gamma, omega, Gamma, Omega
-  bool energy = false;       // energy (T)
-  bool energy_parts = false; // energy_parts/<name> (T)
-  bool centerline = false;   // centerline (T x N x 3)
-  bool directors = false;    // directors (T x N x 3 x 3)
+  int frames = 2;                      // equally spaced output times 0..t_end inclusive
+  bool internal = true;                // fields/gamma, omega, Gamma, Omega
+  bool energy = false;                 // energy (T)
+  bool energy_parts = false;           // energy_parts/<name> (T)
+  bool centerline = false;             // centerline (T x N x 3)
+  bool directors = false;              // directors (T x N x 3 x 3)
   double checkpoint_interval_s = 0.0;  // wall seconds between checkpoints (0: off)
 };
 

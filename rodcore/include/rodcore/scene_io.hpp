@@ -21,8 +21,7 @@ Scene read_scene_file(const std::string& path, const std::vector<std::string>& o
 // Reads a scene from TOML text. `source` names it in messages (e.g. "<string>");
 // relative paths are relative to `base_dir`.
 Scene read_scene_string(const std::string& text, const std::string& source = "<string>",
-                        const std::string& base_dir = ".",
-                        const std::vector<std::string>& overrides = {});
+                        const std::string& base_dir = ".", const std::vector<std::string>& overrides = {});
 
 // The fully resolved scene (every key, defaults filled, derived rod values,
 // absolute paths, doubles to 17 digits) as TOML text: reading it back gives

@@ -35,7 +35,7 @@ namespace rodcore {
 struct InitialState {
   std::vector<double> y;
   std::array<double, 4> q0{1.0, 0.0, 0.0, 0.0};  // unit quaternion (w, x, y, z) of the directors at s = 0
-  Vec3 r0{0.0, 0.0, 0.0};                         // r(0, 0)
+  Vec3 r0{0.0, 0.0, 0.0};                        // r(0, 0)
 };
 
 class Simulation {
@@ -94,8 +94,8 @@ class Simulation {
   double time() const;
   // How far the integrator has got (>= time(): steps are not shortened to stop at t).
   double integrator_time() const;
-  int frames_delivered() const;              // output frames handed out so far
-  double frame_time(int index) const;        // time of output frame `index`
+  int frames_delivered() const;        // output frames handed out so far
+  double frame_time(int index) const;  // time of output frame `index`
   // Diagnostics of the state now (Appendix A), computed on demand.
   double energy() const;
   std::map<std::string, double> energy_parts() const;

@@ -20,8 +20,6 @@ inline constexpr const char* kFieldNames[kFields] = {"gamma", "omega", "Gamma", 
 constexpr int row(Field f, int c) { return 3 * static_cast<int>(f) + c; }
 
 inline double* component(double* y, std::size_t N, Field f, int c) { return y + row(f, c) * N; }
-inline const double* component(const double* y, std::size_t N, Field f, int c) {
-  return y + row(f, c) * N;
-}
+inline const double* component(const double* y, std::size_t N, Field f, int c) { return y + row(f, c) * N; }
 
 }  // namespace rodcore

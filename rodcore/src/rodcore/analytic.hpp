@@ -34,8 +34,8 @@ double energy_ratio(double w, double kappa, double D1, double Gamma03);
 // It solves the full nonlinear Eqs 11-14 for any A when C1 = C2 = 1 and
 // I1 = I2 = 1 (the paper's dimensionless material), any D1 = D2, C3, D3, I3.
 struct TwistedWave {
-  double A = 0.5;        // shear amplitude Gamma_1^A
-  double k = 2.0;        // wavenumber
+  double A = 0.5;  // shear amplitude Gamma_1^A
+  double k = 2.0;  // wavenumber
   double Gamma03 = 1.0;
   double Omega03 = 1.0;
   double D1 = dna_units::D_star[0];
@@ -46,7 +46,7 @@ struct TwistedWave {
   double sigma() const;  // -1 for "p", +1 for "m"
   double w() const;      // Eq 26
   double a_w() const;
-  double period() const; // 2 pi / w
+  double period() const;  // 2 pi / w
   Fields at(double s, double t) const;
   Fields d_dt(double s, double t) const;  // exact time derivative
 };

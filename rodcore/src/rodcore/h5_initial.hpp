@@ -21,8 +21,7 @@ namespace rodcore {
 
 // Reads the four fields at the grid points `s` into `y` (resized to 12 N,
 // layout of state.hpp).
-void read_initial_fields(const std::string& path, const std::vector<double>& s,
-                         std::vector<double>& y);
+void read_initial_fields(const std::string& path, const std::vector<double>& s, std::vector<double>& y);
 
 // Reads datasets Gamma0 and Omega0 (N x 3) into component-major arrays of
 // 3 N values ([c * N + i]), the layout of Rod::Gamma0_s / Rod::Omega0_s.

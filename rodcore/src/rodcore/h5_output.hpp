@@ -1,4 +1,5 @@
-// HDF5 output of a run (internal; the public face is the observer H5Writer, h5_writer.hpp) (design.md "Public contracts"; docs/scenes.md "Output file"):
+// HDF5 output of a run (internal; the public face is the observer H5Writer, h5_writer.hpp) (design.md "Public
+// contracts"; docs/scenes.md "Output file"):
 //   time                 (T)            output times (dimensionless)
 //   s                    (N)            grid s_i = i L / N
 //   fields/<name>        (T x N x 3)    gamma, omega, Gamma, Omega (internal frame)
@@ -66,11 +67,11 @@ class H5Output {
   OutputOptions want_;
   std::size_t N_;
   hid_t file_ = H5I_INVALID_HID;
-  std::vector<hid_t> fields_;      // 4 datasets or empty
+  std::vector<hid_t> fields_;  // 4 datasets or empty
   hid_t time_ = H5I_INVALID_HID, energy_ = H5I_INVALID_HID;
   hid_t centerline_ = H5I_INVALID_HID, directors_ = H5I_INVALID_HID;
   std::vector<std::pair<std::string, hid_t>> energy_parts_;
-  std::vector<double> row_;        // N x 3 scratch
+  std::vector<double> row_;  // N x 3 scratch
   int frames_ = 0;
 };
 

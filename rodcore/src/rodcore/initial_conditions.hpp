@@ -37,8 +37,7 @@ struct InitialKind {
   // sets length, Gamma0 and Omega0). set_keys: rod keys given explicitly in
   // the scene ("length", "points", "Gamma0", "Omega0"); an explicit value
   // that disagrees is an InputError.
-  std::function<void(const Initial&, Rod&, Material&, const std::set<std::string>& set_keys)>
-      derive_rod;
+  std::function<void(const Initial&, Rod&, Material&, const std::set<std::string>& set_keys)> derive_rod;
   // Fill y (resized to 12 N) at the grid points s.
   std::function<void(const Scene&, const std::vector<double>& s, std::vector<double>& y)> make;
   // Optional: lab frame (quaternion, position) of the rod at s = 0, t = 0.

@@ -36,8 +36,8 @@ struct OdeSystem {
 struct IntegratorOptions {
   double rtol = 1e-10;
   double atol = 1e-10;
-  double dt = 1e-2;      // fixed step (rk4) or first trial step (adaptive)
-  double dt_min = 1e-12; // adaptive step below this -> NumericalError
+  double dt = 1e-2;       // fixed step (rk4) or first trial step (adaptive)
+  double dt_min = 1e-12;  // adaptive step below this -> NumericalError
   double dt_max = std::numeric_limits<double>::infinity();
   long max_steps = 100000000;
   // Number of components the RMS error norm averages over; 0: the system

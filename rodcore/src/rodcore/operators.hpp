@@ -44,8 +44,7 @@ class DerivativeOperator {
 };
 
 // kind = "fd4" | "spectral"; throws InputError otherwise (or N too small).
-std::unique_ptr<DerivativeOperator> make_derivative_operator(const std::string& kind,
-                                                             std::size_t N, double L,
+std::unique_ptr<DerivativeOperator> make_derivative_operator(const std::string& kind, std::size_t N, double L,
                                                              bool dealias = false);
 
 }  // namespace rodcore

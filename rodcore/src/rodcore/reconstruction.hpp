@@ -55,8 +55,7 @@ class Reconstructor {
     Quat q;
     Vec3 r;
   };
-  End sweep(const double* y, const Quat& q0, const Vec3& r0, double* centerline,
-            double* directors);
+  End sweep(const double* y, const Quat& q0, const Vec3& r0, double* centerline, double* directors);
 
   // Largest | |d_k| - 1 | of the last sweep.
   double max_director_norm_error() const { return norm_error_; }
@@ -71,8 +70,8 @@ class Reconstructor {
   void* spec_ = nullptr;  // fftw_complex
   void* forward_ = nullptr;
   void* backward_ = nullptr;
-  std::vector<double> coef_;               // 6 x M spectrum (re, im interleaved)
-  std::vector<double> at_;  // [substep][gauss point][6 rows][N]
+  std::vector<double> coef_;  // 6 x M spectrum (re, im interleaved)
+  std::vector<double> at_;    // [substep][gauss point][6 rows][N]
   int substeps_ = 1;
   double max_turn_ = 0.05;
   double norm_error_ = 0.0;

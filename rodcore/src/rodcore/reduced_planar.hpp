@@ -4,14 +4,12 @@
 //   gamma1, gamma3, omega2, Gamma1, Gamma3, Omega2
 // stays in that set (every term of Eqs 11-14 that feeds the other six rows is
 // a product containing one of them). A coupled material keeps it only if K and
-// I do not couple the kept components to the others (planar_material_coupling). The other polarisation, bending about
-// d1 instead of d2 (gamma2, gamma3, omega1, Gamma2, Gamma3, Omega1 non-zero),
-// is invariant for the same reason. Integrating only those six rows halves
-// the state; the physics is NOT re-implemented: PlanarRHS calls
-// RodRHS::reduced, the same kernel instantiated with the other six rows
-// fixed at zero at compile time (their terms vanish, their outputs are not
-// formed). While a PlanarRHS exists, RodRHS's full evaluation also skips the
-// derivative of the zero rows (set_nonzero_rows).
+// I do not couple the kept components to the others (planar_material_coupling). The other polarisation,
+// bending about d1 instead of d2 (gamma2, gamma3, omega1, Gamma2, Gamma3, Omega1 non-zero), is invariant for
+// the same reason. Integrating only those six rows halves the state; the physics is NOT re-implemented:
+// PlanarRHS calls RodRHS::reduced, the same kernel instantiated with the other six rows fixed at zero at
+// compile time (their terms vanish, their outputs are not formed). While a PlanarRHS exists, RodRHS's full
+// evaluation also skips the derivative of the zero rows (set_nonzero_rows).
 #pragma once
 #include <array>
 #include <cstddef>

@@ -21,8 +21,12 @@ void put_attr(hid_t loc, const std::string& name, hid_t file_type, hid_t mem_typ
   auto a = h5::attribute(H5Acreate2(loc, name.c_str(), file_type, sp, H5P_DEFAULT, H5P_DEFAULT));
   if (!a.valid() || H5Awrite(a, mem_type, v) < 0) throw Error("checkpoint: cannot write attribute " + name);
 }
-void put(hid_t loc, const std::string& name, double v) { put_attr(loc, name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, &v); }
-void put(hid_t loc, const std::string& name, long long v) { put_attr(loc, name, H5T_STD_I64LE, H5T_NATIVE_LLONG, &v); }
+void put(hid_t loc, const std::string& name, double v) {
+  put_attr(loc, name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, &v);
+}
+void put(hid_t loc, const std::string& name, long long v) {
+  put_attr(loc, name, H5T_STD_I64LE, H5T_NATIVE_LLONG, &v);
+}
 void put(hid_t loc, const std::string& name, const std::string& v) {
   auto t = h5::type(H5Tcopy(H5T_C_S1));
   H5Tset_size(t, H5T_VARIABLE);
@@ -33,7 +37,8 @@ void put(hid_t loc, const std::string& name, const std::string& v) {
 void put(hid_t loc, const std::string& name, const std::vector<double>& v) {
   hsize_t n = v.size();
   auto sp = h5::space(n == 0 ? H5Screate(H5S_NULL) : H5Screate_simple(1, &n, nullptr));
-  auto d = h5::dataset(H5Dcreate2(loc, name.c_str(), H5T_IEEE_F64LE, sp, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT));
+  auto d =
+      h5::dataset(H5Dcreate2(loc, name.c_str(), H5T_IEEE_F64LE, sp, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT));
   if (!d.valid() || (n > 0 && H5Dwrite(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()) < 0))
     throw Error("checkpoint: cannot write dataset " + name);
 }
@@ -148,14 +153,16 @@ Checkpoint read_checkpoint(const std::string& path) {
   h5::QuietErrors quiet;
   if (!std::filesystem::exists(path)) throw InputError("checkpoint '" + path + "' does not exist");
   if (H5Fis_hdf5(path.c_str()) <= 0)
-    throw InputError("checkpoint '" + path + "' is not an HDF5 file (damaged?); delete it and run without --resume");
+    throw InputError("checkpoint '" + path +
+                     "' is not an HDF5 file (damaged?); delete it and run without --resume");
   auto f = h5::file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT));
   if (!f.valid()) throw InputError("checkpoint '" + path + "' cannot be opened");
   Reader r{f, path};
   const long long format = r.integer("format");
   if (format != kCheckpointFormat)
-    throw InputError("checkpoint '" + path + "' has format " + std::to_string(format) + "; this rodsim reads format " +
-                     std::to_string(kCheckpointFormat) + " (resume with the rodsim that wrote it)");
+    throw InputError("checkpoint '" + path + "' has format " + std::to_string(format) +
+                     "; this rodsim reads format " + std::to_string(kCheckpointFormat) +
+                     " (resume with the rodsim that wrote it)");
   Checkpoint c;
   c.scene = r.text("scene");
   c.method = r.text("method");
@@ -177,7 +184,8 @@ Checkpoint read_checkpoint(const std::string& path) {
   c.integrator.controller = r.doubles("controller");
   if (c.integrator.y.empty() || c.integrator.y.size() != c.integrator.f.size())
     r.bad("datasets 'y' and 'f' must be non-empty and of equal length");
-  if (!std::isfinite(c.integrator.t) || !(c.integrator.dt_next > 0.0) || c.next_frame < 1 || !std::isfinite(c.E0))
+  if (!std::isfinite(c.integrator.t) || !(c.integrator.dt_next > 0.0) || c.next_frame < 1 ||
+      !std::isfinite(c.E0))
     r.bad("t, dt_next, next_frame or E0 out of range");
   for (double v : c.integrator.y)
     if (!std::isfinite(v)) r.bad("non-finite value in 'y'");

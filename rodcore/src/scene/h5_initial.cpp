@@ -21,8 +21,7 @@ std::string fmt_double(double v) {
 }
 
 h5::Handle open_for_reading(const std::string& path, const std::string& what) {
-  if (!std::filesystem::exists(path))
-    throw InputError(what + " file '" + path + "' does not exist");
+  if (!std::filesystem::exists(path)) throw InputError(what + " file '" + path + "' does not exist");
   if (H5Fis_hdf5(path.c_str()) <= 0)
     throw InputError(what + " file '" + path + "' is not an HDF5 file (or cannot be read)");
   auto f = h5::file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT));
@@ -81,8 +80,7 @@ std::string nx3(std::size_t N) { return std::to_string(N) + " x 3 (N x 3 with N 
 
 }  // namespace
 
-void read_initial_fields(const std::string& path, const std::vector<double>& s,
-                         std::vector<double>& y) {
+void read_initial_fields(const std::string& path, const std::vector<double>& s, std::vector<double>& y) {
   h5::QuietErrors quiet;
   const std::size_t N = s.size();
   auto f = open_for_reading(path, "initial-condition");
@@ -182,8 +180,8 @@ void write_initial_fields(const std::string& path, const std::vector<double>& s,
   h5::QuietErrors quiet;
   const std::size_t N = s.size();
   if (y.size() != kComponents * N)
-    throw Error("write_initial_fields: state has " + std::to_string(y.size()) + " values, expected 12 N = " +
-                std::to_string(kComponents * N));
+    throw Error("write_initial_fields: state has " + std::to_string(y.size()) +
+                " values, expected 12 N = " + std::to_string(kComponents * N));
   auto f = h5::file(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT));
   if (!f.valid()) throw Error("cannot create HDF5 file '" + path + "'");
   auto write = [&](const std::string& name, const std::vector<hsize_t>& dims, const double* data) {

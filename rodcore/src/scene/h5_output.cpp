@@ -28,7 +28,8 @@ void attr_doubles(hid_t loc, const std::string& name, const double* v, hsize_t n
   auto sp = h5::space(scalar ? H5Screate(H5S_SCALAR) : H5Screate_simple(1, &n, nullptr));
   if (H5Aexists(loc, name.c_str()) > 0) H5Adelete(loc, name.c_str());
   auto a = h5::attribute(H5Acreate2(loc, name.c_str(), H5T_IEEE_F64LE, sp, H5P_DEFAULT, H5P_DEFAULT));
-  if (!a.valid() || H5Awrite(a, H5T_NATIVE_DOUBLE, v) < 0) throw Error("HDF5: cannot write attribute " + name);
+  if (!a.valid() || H5Awrite(a, H5T_NATIVE_DOUBLE, v) < 0)
+    throw Error("HDF5: cannot write attribute " + name);
 }
 void attr(hid_t loc, const std::string& name, double v) { attr_doubles(loc, name, &v, 1, true); }
 void attr(hid_t loc, const std::string& name, const Vec3& v) { attr_doubles(loc, name, v.data(), 3); }
@@ -36,7 +37,8 @@ void attr_int(hid_t loc, const std::string& name, long long v) {
   auto sp = h5::space(H5Screate(H5S_SCALAR));
   if (H5Aexists(loc, name.c_str()) > 0) H5Adelete(loc, name.c_str());
   auto a = h5::attribute(H5Acreate2(loc, name.c_str(), H5T_STD_I64LE, sp, H5P_DEFAULT, H5P_DEFAULT));
-  if (!a.valid() || H5Awrite(a, H5T_NATIVE_LLONG, &v) < 0) throw Error("HDF5: cannot write attribute " + name);
+  if (!a.valid() || H5Awrite(a, H5T_NATIVE_LLONG, &v) < 0)
+    throw Error("HDF5: cannot write attribute " + name);
 }
 // Variable-length UTF-8 strings: h5py reads them as Python str.
 h5::Handle vlen_string_type() {
@@ -74,15 +76,17 @@ void write_scene_attributes(hid_t f, const Scene& sc) {
   attr(f, "tau_ps", dna_units::tau_ps);
   attr(f, "ell_A", dna_units::ell_A);
   attr(f, "velocity_A_per_ps", dna_units::velocity_A_per_ps);
-  attr(f, "units", std::string("dimensionless (paper Sec 2.2): time in tau_ps ps, length in ell_A Angstrom, "
-                               "velocity in velocity_A_per_ps Angstrom/ps"));
+  attr(f, "units",
+       std::string("dimensionless (paper Sec 2.2): time in tau_ps ps, length in ell_A Angstrom, "
+                   "velocity in velocity_A_per_ps Angstrom/ps"));
   attr(f, "rod.length", sc.rod.length);
   attr_int(f, "rod.points", sc.rod.points);
   attr(f, "rod.Gamma0", sc.rod.Gamma0);
   attr(f, "rod.Omega0", sc.rod.Omega0);
-  attr(f, "rod.intrinsic", std::string(sc.rod.Gamma0_s.empty() && sc.rod.Omega0_s.empty()
-                                           ? "uniform"
-                                           : "varying along s: datasets intrinsic/Gamma0, intrinsic/Omega0"));
+  attr(f, "rod.intrinsic",
+       std::string(sc.rod.Gamma0_s.empty() && sc.rod.Omega0_s.empty()
+                       ? "uniform"
+                       : "varying along s: datasets intrinsic/Gamma0, intrinsic/Omega0"));
   const auto N = static_cast<std::size_t>(sc.rod.points);
   for (auto [name, prof, uni] : {std::tuple{"intrinsic/Gamma0", &sc.rod.Gamma0_s, sc.rod.Gamma0},
                                  std::tuple{"intrinsic/Omega0", &sc.rod.Omega0_s, sc.rod.Omega0}}) {
@@ -137,13 +141,15 @@ H5Output::H5Output(const std::string& path, const Scene& scene, const std::vecto
   H5Pset_file_locking(fapl, 0, 1);
   file_ = H5Fcreate(partial_path().c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl);
   if (file_ < 0)
-    throw InputError("cannot create output file '" + partial_path() + "' (does the folder exist, is it writable?)");
+    throw InputError("cannot create output file '" + partial_path() +
+                     "' (does the folder exist, is it writable?)");
   try {
     write_scene_attributes(file_, scene);
     fixed_dataset(file_, "s", {N_}, s.data());
     time_ = extendible("time", {});
     if (want_.internal)
-      for (const char* name : kFieldNames) fields_.push_back(extendible(std::string("fields/") + name, {N_, 3}));
+      for (const char* name : kFieldNames)
+        fields_.push_back(extendible(std::string("fields/") + name, {N_, 3}));
     if (want_.energy) energy_ = extendible("energy", {});
     if (want_.centerline) centerline_ = extendible("centerline", {N_, 3});
     if (want_.directors) directors_ = extendible("directors", {N_, 3, 3});
@@ -165,7 +171,8 @@ H5Output::H5Output(const std::string& path, const Scene& scene, const std::vecto
   H5Pset_file_locking(fapl, 0, 1);
   file_ = H5Fopen(p.c_str(), H5F_ACC_RDWR, fapl);
   if (file_ < 0)
-    throw InputError("cannot resume: '" + p + "' cannot be opened as HDF5 (damaged by the kill?); "
+    throw InputError("cannot resume: '" + p +
+                     "' cannot be opened as HDF5 (damaged by the kill?); "
                      "delete it and its .ckpt and run again without --resume");
   try {
     {
@@ -178,7 +185,8 @@ H5Output::H5Output(const std::string& path, const Scene& scene, const std::vecto
     }
     time_ = reopen("time", resume.frames);
     if (want_.internal)
-      for (const char* name : kFieldNames) fields_.push_back(reopen(std::string("fields/") + name, resume.frames));
+      for (const char* name : kFieldNames)
+        fields_.push_back(reopen(std::string("fields/") + name, resume.frames));
     if (want_.energy) energy_ = reopen("energy", resume.frames);
     if (want_.energy_parts) {
       auto g = h5::group(H5Gopen2(file_, "energy_parts", H5P_DEFAULT));
@@ -225,7 +233,8 @@ hid_t H5Output::reopen(const std::string& name, int frames) {
   dims[0] = static_cast<hsize_t>(frames);
   if (H5Dset_extent(d, dims.data()) < 0) {
     H5Dclose(d);
-    throw Error("HDF5: cannot cut dataset '" + name + "' of '" + partial_path() + "' to " + std::to_string(frames) + " frames");
+    throw Error("HDF5: cannot cut dataset '" + name + "' of '" + partial_path() + "' to " +
+                std::to_string(frames) + " frames");
   }
   return d;
 }
@@ -267,7 +276,8 @@ void H5Output::append(hid_t dataset, const double* row) {
   start[0] = dims[0];
   count[0] = 1;
   dims[0] += 1;
-  if (H5Dset_extent(dataset, dims.data()) < 0) throw Error("HDF5: cannot extend a dataset in '" + partial_path() + "'");
+  if (H5Dset_extent(dataset, dims.data()) < 0)
+    throw Error("HDF5: cannot extend a dataset in '" + partial_path() + "'");
   auto fsp = h5::space(H5Dget_space(dataset));
   H5Sselect_hyperslab(fsp, H5S_SELECT_SET, start.data(), nullptr, count.data(), nullptr);
   auto msp = h5::space(H5Screate_simple(rank, count.data(), nullptr));
@@ -277,7 +287,8 @@ void H5Output::append(hid_t dataset, const double* row) {
 
 void H5Output::write_frame(const Frame& fr) {
   h5::QuietErrors quiet;
-  if (fr.N != N_) throw Error("H5Output: frame has N = " + std::to_string(fr.N) + ", file has N = " + std::to_string(N_));
+  if (fr.N != N_)
+    throw Error("H5Output: frame has N = " + std::to_string(fr.N) + ", file has N = " + std::to_string(N_));
   if (want_.internal) {
     for (int f = 0; f < kFields; ++f) {
       for (int c = 0; c < 3; ++c) {
@@ -294,7 +305,8 @@ void H5Output::write_frame(const Frame& fr) {
   }
   if (want_.energy_parts) {
     if (frames_ == 0)
-      for (const auto& [name, v] : fr.energy_parts) energy_parts_.emplace_back(name, extendible("energy_parts/" + name, {}));
+      for (const auto& [name, v] : fr.energy_parts)
+        energy_parts_.emplace_back(name, extendible("energy_parts/" + name, {}));
     for (auto& [name, d] : energy_parts_) {
       auto it = fr.energy_parts.find(name);
       if (it == fr.energy_parts.end()) throw Error("H5Output: frame lacks energy part " + name);

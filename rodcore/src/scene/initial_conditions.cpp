@@ -8,8 +8,8 @@
 #include "rodcore/analytic.hpp"
 #include "rodcore/dna_units.hpp"
 #include "rodcore/error.hpp"
-#include "rodcore/material.hpp"
 #include "rodcore/h5_initial.hpp"
+#include "rodcore/material.hpp"
 #include "rodcore/rhs.hpp"
 #include "rodcore/state.hpp"
 
@@ -101,8 +101,7 @@ void check_rod_value(const std::set<std::string>& set_keys, const std::string& k
                      double implied, const std::string& kind) {
   if (set_keys.count(key) && std::abs(given - implied) > 1e-9 * std::max(1.0, std::abs(implied)))
     throw InputError("rod." + key + " = " + num(given) + " contradicts initial.kind = \"" + kind +
-                     "\", which implies " + num(implied) + "; remove rod." + key +
-                     " or make it agree");
+                     "\", which implies " + num(implied) + "; remove rod." + key + " or make it agree");
 }
 
 std::vector<InitialKind> build_kinds() {
@@ -116,8 +115,8 @@ std::vector<InitialKind> build_kinds() {
             "rigid translation with lab-frame velocity (v1, v2, v3), i.e. gamma(s) = R(s)^T v "
             "with R(s) the intrinsic directors (d_k(0) = e_k). Stays at rest / translating.";
     for (const char* c : {"v1", "v2", "v3"})
-      r.numbers.push_back({c, 0.0, -kInf, kInf, "l/tau",
-                           std::string("lab-frame translation velocity, component ") + c[1]});
+      r.numbers.push_back(
+          {c, 0.0, -kInf, kInf, "l/tau", std::string("lab-frame translation velocity, component ") + c[1]});
     r.make = [](const Scene& sc, const std::vector<double>& s, std::vector<double>& y) {
       fill_intrinsic(sc, y);
       const Vec3 v{initial_number(sc.initial, "v1"), initial_number(sc.initial, "v2"),
@@ -134,10 +133,12 @@ std::vector<InitialKind> build_kinds() {
       for (int c = 0; c < 3; ++c) {
         const double gL = qe[0][c] * v[0] + qe[1][c] * v[1] + qe[2][c] * v[2];
         if (std::abs(gL - v[c]) > 1e-8 * vn)
-          throw InputError(sc.source + ": initial.kind = \"rest\" with velocity (v1, v2, v3): the "
+          throw InputError(sc.source +
+                           ": initial.kind = \"rest\" with velocity (v1, v2, v3): the "
                            "intrinsic frame does not return to itself over rod.length, so a rigid "
-                           "translation is not periodic (gamma" + std::to_string(c + 1) + " jumps by " +
-                           num(gL - v[c]) + " at s = L). Use a velocity along the axis the frame "
+                           "translation is not periodic (gamma" +
+                           std::to_string(c + 1) + " jumps by " + num(gL - v[c]) +
+                           " at s = L). Use a velocity along the axis the frame "
                            "turns about, or a twist/curvature that closes over L.");
       }
       for (std::size_t i = 0; i < N; ++i)
@@ -210,7 +211,7 @@ std::vector<InitialKind> build_kinds() {
     r.make = [](const Scene& sc, const std::vector<double>& s, std::vector<double>& y) {
       if (!sc.rod.Gamma0_s.empty() || !sc.rod.Omega0_s.empty())
         throw InputError(sc.source + ": initial.kind = \"shear_oscillation\" needs a uniform "
-                         "intrinsic shape (rod.Gamma0, rod.Omega0 vectors)");
+                                     "intrinsic shape (rod.Gamma0, rod.Omega0 vectors)");
       const double O3 = sc.rod.Omega0[2];
       if (O3 != 0.0) {
         // The body frame turns by th = O3 s about d3 relative to the untwisted
@@ -221,18 +222,21 @@ std::vector<InitialKind> build_kinds() {
         if (sc.rod.Omega0[0] != 0.0 || sc.rod.Omega0[1] != 0.0 || sc.rod.Gamma0[0] != 0.0 ||
             sc.rod.Gamma0[1] != 0.0)
           throw InputError(sc.source + ": initial.kind = \"shear_oscillation\" on a twisted rod needs "
-                           "rod.Gamma0 = [0, 0, G03] and rod.Omega0 = [0, 0, O3]");
+                                       "rod.Gamma0 = [0, 0, G03] and rod.Omega0 = [0, 0, O3]");
         if (material_kind(m) != MaterialKind::diagonal)
           throw InputError(sc.source + ": initial.kind = \"shear_oscillation\" on a twisted rod needs a "
-                           "diagonal material (material.C, D, I)");
+                                       "diagonal material (material.C, D, I)");
         if (m.C[0] != m.C[1] || m.I[0] != m.I[1])
-          throw InputError(sc.source + ": initial.kind = \"shear_oscillation\" on a twisted rod needs "
+          throw InputError(sc.source +
+                           ": initial.kind = \"shear_oscillation\" on a twisted rod needs "
                            "material.C[0] = C[1] and material.I[0] = I[1] (an isotropic cross-section)");
         const double turns = O3 * sc.rod.length / (2.0 * kPi);
         if (std::abs(turns - std::round(turns)) > 1e-9)
-          throw InputError(sc.source + ": initial.kind = \"shear_oscillation\" on a twisted rod needs "
+          throw InputError(sc.source +
+                           ": initial.kind = \"shear_oscillation\" on a twisted rod needs "
                            "rod.Omega0[2] * rod.length = 2 pi x integer (the fields turn with the twist "
-                           "and must be periodic); got " + std::to_string(turns) + " turns");
+                           "and must be periodic); got " +
+                           std::to_string(turns) + " turns");
       }
       fill_intrinsic(sc, y);
       const double w2 = initial_number(sc.initial, "omega2");
@@ -330,10 +334,10 @@ std::vector<InitialKind> build_kinds() {
                  {"balanced", 1.0, 0.0, 1.0, "0/1", "1: steady rotation from the force balance"}};
     r.make = [](const Scene& sc, const std::vector<double>& s, std::vector<double>& y) {
       const Rod& rod = sc.rod;
-      if (!rod.Gamma0_s.empty() || !rod.Omega0_s.empty() || rod.Gamma0[0] != 0.0 ||
-          rod.Gamma0[1] != 0.0 || rod.Omega0[1] != 0.0 || rod.Omega0[2] != 0.0)
+      if (!rod.Gamma0_s.empty() || !rod.Omega0_s.empty() || rod.Gamma0[0] != 0.0 || rod.Gamma0[1] != 0.0 ||
+          rod.Omega0[1] != 0.0 || rod.Omega0[2] != 0.0)
         throw InputError(sc.source + ": initial.kind = \"ring_rotating\" needs uniform "
-                         "rod.Gamma0 = [0,0,G03] and rod.Omega0 = [O01,0,0]");
+                                     "rod.Gamma0 = [0,0,G03] and rod.Omega0 = [O01,0,0]");
       const double b = initial_number(sc.initial, "balanced");
       if (b != 0.0 && b != 1.0)
         throw InputError(sc.source + ": initial.balanced must be 0 or 1, got " + num(b));
@@ -342,8 +346,7 @@ std::vector<InitialKind> build_kinds() {
       const double O1 = 2.0 * kPi / rod.length;
       double G3 = G03, w1 = 0.0;
       if (b == 1.0) {
-        if (!(C3 > 0.0))
-          throw InputError(sc.source + ": ring_rotating balanced = 1 needs material.C[2] > 0");
+        if (!(C3 > 0.0)) throw InputError(sc.source + ": ring_rotating balanced = 1 needs material.C[2] > 0");
         G3 = (C3 * G03 + std::sqrt(C3 * C3 * G03 * G03 + 4.0 * C3 * g3 * g3)) / (2.0 * C3);
         w1 = O1 * g3 / G3;
       }
@@ -446,8 +449,8 @@ std::string initial_string(const Initial& initial, const std::string& name) {
       if (a == v) return v;
     std::string allowed;
     for (const auto& a : c.allowed) allowed += (allowed.empty() ? "\"" : ", \"") + a + "\"";
-    throw InputError("initial." + name + " = \"" + v + "\" is not allowed for initial.kind = \"" +
-                     kind.name + "\"; allowed: " + allowed);
+    throw InputError("initial." + name + " = \"" + v + "\" is not allowed for initial.kind = \"" + kind.name +
+                     "\"; allowed: " + allowed);
   }
   throw Error("initial kind \"" + kind.name + "\" has no choice \"" + name + "\"");
 }

@@ -83,8 +83,7 @@ std::string fmt_num(double v) {
 
 std::string join(const std::vector<std::string>& v, const std::string& sep = ", ", bool quote = true) {
   std::string out;
-  for (std::size_t k = 0; k < v.size(); ++k)
-    out += (k ? sep : "") + (quote ? "\"" + v[k] + "\"" : v[k]);
+  for (std::size_t k = 0; k < v.size(); ++k) out += (k ? sep : "") + (quote ? "\"" + v[k] + "\"" : v[k]);
   return out;
 }
 
@@ -180,7 +179,8 @@ class Section {
       auto i = n->as_integer();
       if (!i) fail(k, n, "found " + describe(*n) + "; allowed: " + r.text("an integer"));
       double v = static_cast<double>(i->get());
-      if (!r.contains(v)) fail(k, n, "found " + std::to_string(i->get()) + "; allowed: " + r.text("an integer"));
+      if (!r.contains(v))
+        fail(k, n, "found " + std::to_string(i->get()) + "; allowed: " + r.text("an integer"));
       dst = static_cast<Int>(i->get());
     }
   }
@@ -193,15 +193,17 @@ class Section {
     }
   }
 
-  std::string string_of(const std::string& k, const toml::node& n, const std::vector<std::string>& allowed) const {
+  std::string string_of(const std::string& k, const toml::node& n,
+                        const std::vector<std::string>& allowed) const {
     auto s = n.as_string();
     std::string allowed_text = allowed.empty() ? "a string" : "one of " + join(allowed);
     if (!s) fail(k, &n, "found " + describe(n) + "; allowed: " + allowed_text);
     std::string v = s->get();
     if (!allowed.empty() && std::find(allowed.begin(), allowed.end(), v) == allowed.end()) {
       std::string hint = closest_match(v, allowed);
-      fail(k, &n, "found \"" + v + "\"; allowed: " + allowed_text +
-                      (hint.empty() ? "" : " (did you mean \"" + hint + "\"?)"));
+      fail(k, &n,
+           "found \"" + v + "\"; allowed: " + allowed_text +
+               (hint.empty() ? "" : " (did you mean \"" + hint + "\"?)"));
     }
     return v;
   }
@@ -213,9 +215,11 @@ class Section {
   Vec3 vec3_of(const std::string& k, const toml::node& n, const Range& r) const {
     auto a = n.as_array();
     if (!a || a->size() != 3)
-      fail(k, &n, "found " + describe(n) + "; allowed: an array of 3 numbers [x1, x2, x3], each " + r.text(""));
+      fail(k, &n,
+           "found " + describe(n) + "; allowed: an array of 3 numbers [x1, x2, x3], each " + r.text(""));
     Vec3 v;
-    for (int c = 0; c < 3; ++c) v[c] = number_of(k + "[" + std::to_string(c) + "]", *a->get(c), r, "a number");
+    for (int c = 0; c < 3; ++c)
+      v[c] = number_of(k + "[" + std::to_string(c) + "]", *a->get(c), r, "a number");
     return v;
   }
 
@@ -239,14 +243,16 @@ class Section {
       return;
     }
     if (!a || a->size() != 3)
-      fail(k, n, "found " + describe(*n) +
-                     "; allowed: an array of 3 numbers (uniform), or an array of rod.points arrays of 3 "
-                     "numbers (varying along s)");
+      fail(k, n,
+           "found " + describe(*n) +
+               "; allowed: an array of 3 numbers (uniform), or an array of rod.points arrays of 3 "
+               "numbers (varying along s)");
     uniform = vec3_of(k, *n, Range{});
   }
 
   // An n x n matrix written as n arrays of n numbers, row-major into `out`.
-  std::vector<double> matrix_of(const std::string& k, const toml::node& node, int n, const std::string& allowed) const {
+  std::vector<double> matrix_of(const std::string& k, const toml::node& node, int n,
+                                const std::string& allowed) const {
     auto a = node.as_array();
     const std::string dim = std::to_string(n) + " x " + std::to_string(n);
     if (!a || a->size() != static_cast<std::size_t>(n))
@@ -256,8 +262,8 @@ class Section {
       auto row = a->get(r)->as_array();
       if (!row || row->size() != static_cast<std::size_t>(n))
         fail(k + "[" + std::to_string(r) + "]", a->get(r),
-             "found " + describe(*a->get(r)) + "; allowed: an array of " + std::to_string(n) + " numbers (row " +
-                 std::to_string(r) + " of a " + dim + " matrix)");
+             "found " + describe(*a->get(r)) + "; allowed: an array of " + std::to_string(n) +
+                 " numbers (row " + std::to_string(r) + " of a " + dim + " matrix)");
       for (int c = 0; c < n; ++c)
         out[r * n + c] = number_of(k + "[" + std::to_string(r) + "][" + std::to_string(c) + "]", *row->get(c),
                                    Range{}, "a finite number");
@@ -272,8 +278,10 @@ class Section {
     fs::path full = fs::path(p).is_absolute() ? fs::path(p) : ctx_.base_dir / p;
     full = full.lexically_normal();
     if (!fs::exists(full))
-      fail(k, n, what + " '" + full.string() + "' does not exist" +
-                     (fs::path(p).is_absolute() ? "" : " (relative paths are relative to the scene file's folder)"));
+      fail(
+          k, n,
+          what + " '" + full.string() + "' does not exist" +
+              (fs::path(p).is_absolute() ? "" : " (relative paths are relative to the scene file's folder)"));
     return fs::absolute(full).string();
   }
 
@@ -321,8 +329,8 @@ void apply_overrides(toml::table& table, const std::vector<std::string>& overrid
     if (std::find(kSections.begin(), kSections.end(), sec) == kSections.end()) {
       std::string hint = closest_match(sec, kSections);
       throw InputError(ctx.source + ": --set " + key + ": unknown section [" + sec + "]" +
-                       (hint.empty() ? "" : "; did you mean [" + hint + "]?") + " Allowed sections: " +
-                       join(kSections, ", ", false));
+                       (hint.empty() ? "" : "; did you mean [" + hint + "]?") +
+                       " Allowed sections: " + join(kSections, ", ", false));
     }
     toml::table parsed;
     try {
@@ -348,8 +356,9 @@ Scene build_scene(toml::table& table, Context& ctx) {
     std::string kk(k.str());
     if (std::find(kSections.begin(), kSections.end(), kk) == kSections.end()) {
       std::string hint = closest_match(kk, kSections);
-      ctx.fail(kk, &n, "unknown section" + (hint.empty() ? std::string() : "; did you mean [" + hint + "]?") +
-                           " Allowed sections: " + join(kSections, ", ", false));
+      ctx.fail(kk, &n,
+               "unknown section" + (hint.empty() ? std::string() : "; did you mean [" + hint + "]?") +
+                   " Allowed sections: " + join(kSections, ", ", false));
     }
     if (!n.is_table()) ctx.fail(kk, &n, "found " + describe(n) + "; expected a table [" + kk + "]");
   }
@@ -379,21 +388,24 @@ Scene build_scene(toml::table& table, Context& ctx) {
     if (mat.has(k)) set_keys.insert(k);
   for (const char* k : {"C", "D"})
     if (mat.has(k) && mat.has("K"))
-      mat.fail(k, mat.get(k), "give either material.K (the full 6 x 6 stiffness) or material.C/material.D (its "
-                              "diagonal shorthand), not both");
+      mat.fail(k, mat.get(k),
+               "give either material.K (the full 6 x 6 stiffness) or material.C/material.D (its "
+               "diagonal shorthand), not both");
   mat.vec3("C", sc.material.C, positive());
   mat.vec3("D", sc.material.D, positive());
   if (auto n = mat.get("K")) {
-    sc.material.K = mat.matrix_of("K", *n, 6,
-                                  "a symmetric positive-definite 6 x 6 matrix (6 arrays of 6 numbers), rows and "
-                                  "columns Gamma1, Gamma2, Gamma3, Omega1, Omega2, Omega3");
+    sc.material.K =
+        mat.matrix_of("K", *n, 6,
+                      "a symmetric positive-definite 6 x 6 matrix (6 arrays of 6 numbers), rows and "
+                      "columns Gamma1, Gamma2, Gamma3, Omega1, Omega2, Omega3");
     check_stiffness(sc.material.K.data(), ctx.where(mat.key("K"), n));
   }
   if (auto n = mat.get("I")) {
     auto a = n->as_array();
     if (a && !a->empty() && a->get(0)->is_array()) {
-      sc.material.I_full = mat.matrix_of("I", *n, 3, "3 numbers > 0 (a diagonal I) or a symmetric positive-definite "
-                                                     "3 x 3 matrix (3 arrays of 3 numbers)");
+      sc.material.I_full = mat.matrix_of("I", *n, 3,
+                                         "3 numbers > 0 (a diagonal I) or a symmetric positive-definite "
+                                         "3 x 3 matrix (3 arrays of 3 numbers)");
       check_inertia(sc.material.I_full.data(), ctx.where(mat.key("I"), n));
     } else {
       sc.material.I = mat.vec3_of("I", *n, positive());
@@ -404,8 +416,10 @@ Scene build_scene(toml::table& table, Context& ctx) {
   if (!material_file.empty())
     for (const char* k : {"C", "D", "I", "K", "rho"})
       if (mat.has(k))
-        mat.fail(k, mat.get(k), "give either material.material_file (K, I, rho at every grid point) or "
-                                "material." + std::string(k) + ", not both");
+        mat.fail(k, mat.get(k),
+                 "give either material.material_file (K, I, rho at every grid point) or "
+                 "material." +
+                     std::string(k) + ", not both");
   // A diagonal K or I is the paper's shorthand: store it as C, D / I, so
   // everything that reads C, D, I (the analytic kinds, records) sees it.
   auto off_diagonal_zero = [](const std::vector<double>& A, int n) {
@@ -437,11 +451,11 @@ Scene build_scene(toml::table& table, Context& ctx) {
   sol.integer("max_steps", sc.solver.max_steps, Range{1, 9e18});
   sol.choice("reduce", sc.solver.reduce, {"auto", "off"});
   if (sc.solver.dealias && sc.solver.space != "spectral" && sc.solver.space != "auto")
-    sol.fail("dealias", sol.get("dealias"), "applies only to solver.space = \"spectral\" (found \"" +
-                                                sc.solver.space + "\")");
+    sol.fail("dealias", sol.get("dealias"),
+             "applies only to solver.space = \"spectral\" (found \"" + sc.solver.space + "\")");
   if (sc.solver.dt_min > sc.solver.dt)
-    sol.fail("dt_min", sol.get("dt_min"), "found " + fmt_num(sc.solver.dt_min) + "; must not exceed solver.dt = " +
-                                              fmt_num(sc.solver.dt));
+    sol.fail("dt_min", sol.get("dt_min"),
+             "found " + fmt_num(sc.solver.dt_min) + "; must not exceed solver.dt = " + fmt_num(sc.solver.dt));
 
   // [output]
   Section out = section("output");
@@ -449,7 +463,9 @@ Scene build_scene(toml::table& table, Context& ctx) {
   out.integer("frames", sc.output.frames, Range{2, 1e8});
   if (auto n = out.get("fields")) {
     auto a = n->as_array();
-    if (!a) out.fail("fields", n, "found " + describe(*n) + "; allowed: an array of strings from " + join(kOutputFields));
+    if (!a)
+      out.fail("fields", n,
+               "found " + describe(*n) + "; allowed: an array of strings from " + join(kOutputFields));
     sc.output.internal = sc.output.energy = sc.output.energy_parts = false;
     sc.output.centerline = sc.output.directors = false;
     for (std::size_t i = 0; i < a->size(); ++i) {
@@ -481,8 +497,9 @@ Scene build_scene(toml::table& table, Context& ctx) {
     if (auto n = ini.get(p.name)) {
       sc.initial.numbers[p.name] = ini.number_of(p.name, *n, r, what);
     } else if (std::isnan(p.default_value)) {
-      ini.fail(p.name, nullptr, "is required for initial.kind = \"" + kind.name + "\" (" + p.doc + "); allowed: " +
-                                    r.text(what));
+      ini.fail(
+          p.name, nullptr,
+          "is required for initial.kind = \"" + kind.name + "\" (" + p.doc + "); allowed: " + r.text(what));
     } else {
       sc.initial.numbers[p.name] = p.default_value;
     }
@@ -493,7 +510,9 @@ Scene build_scene(toml::table& table, Context& ctx) {
   }
   if (sc.initial.kind == "file") {
     if (!ini.has("path"))
-      ini.fail("path", nullptr, "is required for initial.kind = \"file\": the HDF5 file with s and fields/{gamma,omega,Gamma,Omega}");
+      ini.fail("path", nullptr,
+               "is required for initial.kind = \"file\": the HDF5 file with s and "
+               "fields/{gamma,omega,Gamma,Omega}");
     sc.initial.path = ini.path("path", "initial-condition file");
   }
 
@@ -551,9 +570,10 @@ Scene build_scene(toml::table& table, Context& ctx) {
     if (!G0.empty() || !O0.empty()) {
       for (const char* k : {"Gamma0", "Omega0", "intrinsic_file"})
         if (rod.has(k))
-          rod.fail(k, table["rod"][k].node(), "the material file '" + material_file +
-                                                  "' holds the intrinsic shape (datasets Gamma0, Omega0): give it "
-                                                  "there or in [rod], not both");
+          rod.fail(k, table["rod"][k].node(),
+                   "the material file '" + material_file +
+                       "' holds the intrinsic shape (datasets Gamma0, Omega0): give it "
+                       "there or in [rod], not both");
       if (!G0.empty()) sc.rod.Gamma0_s = std::move(G0);
       if (!O0.empty()) sc.rod.Omega0_s = std::move(O0);
       sc.material.file_has_shape = true;
@@ -616,8 +636,7 @@ std::string toml_vec(const Vec3& v) {
 }
 std::string toml_profile(const std::vector<double>& p, int N) {
   std::string o = "[\n";
-  for (int i = 0; i < N; ++i)
-    o += "  " + toml_vec({p[0 * N + i], p[1 * N + i], p[2 * N + i]}) + ",\n";
+  for (int i = 0; i < N; ++i) o += "  " + toml_vec({p[0 * N + i], p[1 * N + i], p[2 * N + i]}) + ",\n";
   return o + "]";
 }
 
@@ -651,8 +670,10 @@ std::string scene_to_toml(const Scene& sc) {
   if (m.file_has_shape) {
     o << "# Gamma0, Omega0: from material.material_file\n";
   } else {
-    o << "Gamma0 = " << (r.Gamma0_s.empty() ? toml_vec(r.Gamma0) : toml_profile(r.Gamma0_s, r.points)) << "\n";
-    o << "Omega0 = " << (r.Omega0_s.empty() ? toml_vec(r.Omega0) : toml_profile(r.Omega0_s, r.points)) << "\n";
+    o << "Gamma0 = " << (r.Gamma0_s.empty() ? toml_vec(r.Gamma0) : toml_profile(r.Gamma0_s, r.points))
+      << "\n";
+    o << "Omega0 = " << (r.Omega0_s.empty() ? toml_vec(r.Omega0) : toml_profile(r.Omega0_s, r.points))
+      << "\n";
   }
   auto matrix = [](const std::vector<double>& A, int n) {
     std::string t = "[";
@@ -669,7 +690,8 @@ std::string scene_to_toml(const Scene& sc) {
   } else {
     if (m.K.empty()) o << "C = " << toml_vec(m.C) << "\nD = " << toml_vec(m.D) << "\n";
     else o << "K = " << matrix(m.K, 6) << "\n";
-    o << "I = " << (m.I_full.empty() ? toml_vec(m.I) : matrix(m.I_full, 3)) << "\nrho = " << toml_num(m.rho) << "\n";
+    o << "I = " << (m.I_full.empty() ? toml_vec(m.I) : matrix(m.I_full, 3)) << "\nrho = " << toml_num(m.rho)
+      << "\n";
   }
   o << "\n[initial]\nkind = " << toml_str(sc.initial.kind) << "\n";
   for (const auto& [k, v] : sc.initial.numbers) o << k << " = " << toml_num(v) << "\n";

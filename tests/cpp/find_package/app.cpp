@@ -60,7 +60,8 @@ int main(int argc, char** argv) {
     auto check = [&](double t) {
       double err = 0;
       const double* Gamma1 = sim.state().data() + 6 * N;  // row Gamma1 (state.hpp)
-      for (std::size_t i = 0; i < N; ++i) err = std::fmax(err, std::abs(Gamma1[i] - A * std::cos(w * t - k * s[i])));
+      for (std::size_t i = 0; i < N; ++i)
+        err = std::fmax(err, std::abs(Gamma1[i] - A * std::cos(w * t - k * s[i])));
       const double drift = std::abs(sim.energy() - E0) / std::abs(E0);
       std::printf("t = %.6f: max |Gamma1 - exact| = %.3e, energy drift = %.3e\n", t, err, drift);
       return err <= 1e-7 && drift <= 1e-9;
