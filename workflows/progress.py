@@ -2,8 +2,9 @@
 
 `Progress(label, total, unit)` takes `update(done)` calls and shows them:
 - on a terminal, one line redrawn in place: done/total, percent, rate, time left;
-- anywhere else (a pipe, a Snakemake log), a plain line at most every
-  `every_s` seconds and at the end, so logs show progress without a flood.
+- anywhere else (a pipe, a Snakemake log), a plain line every `every_s` seconds
+  from the first update on, and one at the end if any was written: logs of long
+  steps show progress without a flood, and a short step stays quiet in a pipe.
 The plain line has one fixed format, `LABEL: progress D/T UNIT (P %), RATE, T left`
 (`parse_line` reads it back), so that a command that only sees another
 command's log, e.g. `dnarod compare` watching its MD jobs, can show it too.
@@ -66,8 +67,9 @@ class Progress:
         self.tty = bool(stream is not None and hasattr(stream, "isatty") and stream.isatty()) \
             if redraw is None else redraw
         self._first: tuple[float, float] | None = None   # (time, done) of the first update
-        self._last_plain = -float("inf")
+        self._last_plain: float | None = None             # time of the last plain line
         self._drawn = False
+        self._wrote_plain = False
         self.done = 0.0
 
     def text(self) -> str:
@@ -86,6 +88,8 @@ class Progress:
         now = self.clock()
         if self._first is None:
             self._first = (now, self.done)
+        if self._last_plain is None:
+            self._last_plain = now  # the first plain line comes every_s after the start
         if self.stream is None:
             return
         if self.tty:
@@ -94,6 +98,7 @@ class Progress:
             self._drawn = True
         elif force or now - self._last_plain >= self.every_s:
             self._last_plain = now
+            self._wrote_plain = True
             self.stream.write(self.text() + "\n")
             self.stream.flush()
 
@@ -103,6 +108,6 @@ class Progress:
         if self.tty:
             if self._drawn:
                 self.stream.write("\n")
-        else:
+        elif self._wrote_plain:
             self.stream.write(self.text() + "\n")
         self.stream.flush()

@@ -104,14 +104,6 @@ def test_uniform_paper_rod_exact_solution():
     assert abs(r.tension) < 1e-9 and r.closure_rotation_rad < 1e-9
 
 
-def _rodsim_reads_material(rodsim, scene):
-    p = subprocess.run([str(rodsim), "check", str(scene)], capture_output=True, text=True)
-    if p.returncode != 0 and "material_file" in p.stderr and "unknown key" in p.stderr:
-        return False
-    assert p.returncode == 0, p.stderr
-    return True
-
-
 def test_rest_in_rodsim(rodsim, tmp_path):
     """The issue's Rest test through rodsim: the closed rest state stays at rest to
     1e-10 while its stress is not zero; a perturbed copy does not (control)."""
@@ -119,9 +111,8 @@ def test_rest_in_rodsim(rodsim, tmp_path):
     assert main(["dna-rod", "--random", "21", "--seed", "1", "--params", "olson1998", "--rest", "equilibrium",
                  "--t-end-ps", "5", "-o", str(tmp_path / "r")]) == 0
     scene = tmp_path / "r" / "scene.toml"
-    if not _rodsim_reads_material(rodsim, scene):
-        pytest.skip("rodsim does not read [material] material_file yet (issue 13 items 1-2, engineer "
-                    "'material'): the rest state is checked above against the numpy balance laws")
+    p = subprocess.run([str(rodsim), "check", str(scene)], capture_output=True, text=True)
+    assert p.returncode == 0, p.stderr  # rodsim reads the per-point material file
     out = tmp_path / "r" / "out.h5"
     # tight tolerances: at rest the step-size controller grows the step to its stability
     # limit, where round-off grows to the tolerance (1e-8 drift at rtol = 1e-10)

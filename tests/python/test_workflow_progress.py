@@ -24,18 +24,30 @@ class Tty(io.StringIO):
 def test_rate_and_time_left_in_a_pipe():
     clock, out = Clock(), io.StringIO()
     p = Progress("run-md", 100.0, "ps", stream=out, rate=md_rate, every_s=60.0, clock=clock)
-    p.update(0.0)
+    p.update(0.0)                 # the start: no line yet
     clock.t = 30.0
-    p.update(5.0)                 # within 60 s of the first line: no new line
+    p.update(5.0)                 # within 60 s of the start: no line
     clock.t = 100.0
     p.update(10.0)                # 10 ps in 100 s = 0.1 ps/s = 8.64 ns/day; 90 ps left = 900 s
-    p.close()
+    p.close()                     # a line was written, so the end gets one too
     lines = out.getvalue().splitlines()
-    assert len(lines) == 3
-    assert lines[1] == "run-md: progress 10/100 ps (10.0 %), 8.64 ns/day, 15:00 left"
-    f = parse_line(lines[1])
+    assert len(lines) == 2
+    assert lines[0] == "run-md: progress 10/100 ps (10.0 %), 8.64 ns/day, 15:00 left"
+    assert parse_line(lines[1])["done"] == "10"
+    f = parse_line(lines[0])
     assert (f["label"], float(f["done"]), float(f["total"]), f["unit"], f["left"]) == \
         ("run-md", 10.0, 100.0, "ps", "15:00")
+
+
+def test_a_short_step_is_quiet_in_a_pipe():
+    """Shorter than every_s: nothing at all in a pipe (errors stay the first line)."""
+    clock, out = Clock(), io.StringIO()
+    p = Progress("run-md", 0.2, "ps", stream=out, every_s=60.0, clock=clock)
+    for k in range(3):
+        clock.t = 10.0 * k
+        p.update(0.1 * k)
+    p.close()
+    assert out.getvalue() == ""
 
 
 def test_terminal_redraws_one_line():
