@@ -52,7 +52,7 @@ def main(argv=None) -> int:
                     "--set", 'output.fields=["centerline","directors","internal"]'],
                    check=True, capture_output=True)
     md = work / "md"
-    subprocess.run([dnarod, "build-md", str(scene_path), "-o", str(md), "--ps", "1", "--rod", str(rod)],
+    subprocess.run([dnarod, "build-md", str(scene_path), "-o", str(md), "--ps", "5", "--rod", str(rod)],
                    check=True, capture_output=True)
     rows = {}
     for name, extra in (("coarse", ["--coarse", "-o", str(work / "c.pdb")]),
