@@ -87,7 +87,7 @@ def run(args) -> int:
     out.mkdir(parents=True, exist_ok=True)
     bin_dir = os.environ.get("DNAROD_BIN_DIR") or str(ROOT / "build" / "bin")
     cmd = [sys.executable, "-m", "snakemake", "-s", str(ROOT / "workflows" / "Snakefile"),
-           "--configfile", str(cfg.resolve()), "--config", f"bin_dir={bin_dir}",
+           "--configfile", str(cfg.resolve()), "--config", f"bin_dir={bin_dir}", f"python={sys.executable}",
            "--directory", str(out), "--cores", str(args.cores), "--printshellcmds",
            "--rerun-incomplete", "--keep-going"] + list(args.snakemake_args)
     rc = _run_showing_md_progress(cmd, dict(os.environ), out)
