@@ -34,6 +34,14 @@ from mdbridge.builder.templates import nucleotide_template
 FLIP = np.diag([1.0, -1.0, -1.0])  # strand II base frame relative to the bp frame
 
 
+def base_pairs(n: int) -> list[tuple[int, int]]:
+    """The built duplex's base pairs as (residue I, residue II) numbers: pair k
+    (1..n) joins strand I residue k and strand II residue 2n + 1 - k. Analyses of
+    the toolkit's own MD pass these instead of pairing by distance, which fails
+    as soon as a pair frays in the run."""
+    return [(k, 2 * n + 1 - k) for k in range(1, n + 1)]
+
+
 def _check_frames(origins, R, n: int):
     origins = np.asarray(origins, dtype=float)
     R = np.asarray(R, dtype=float)

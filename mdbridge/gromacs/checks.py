@@ -104,9 +104,9 @@ def wc_pairs(resid, resname, names, n_bp: int):
     """Atom indices (i, j) of N1(purine)-N3(pyrimidine) for each base pair k = 1..n."""
     where = {(int(r), str(a)): k for k, (r, a) in enumerate(zip(resid, names))}
     rn = {int(r): str(n) for r, n in zip(resid, resname)}
+    from mdbridge.builder.duplex import base_pairs
     out = []
-    for k in range(1, n_bp + 1):
-        a, b = k, 2 * n_bp + 1 - k
+    for a, b in base_pairs(n_bp):
         ia = where[(a, "N1" if rn[a] in PURINES else "N3")]
         ib = where[(b, "N1" if rn[b] in PURINES else "N3")]
         out.append((ia, ib))
@@ -121,6 +121,10 @@ def _transverse_whole(x, box, axis):
     y = np.concatenate([x[:1], x[:1] + np.cumsum(d, axis=0)])
     y[:, axis] = x[:, axis]
     return y
+
+
+# The bounded first pass of min_side_image_distance: above any cut-off in use (1.0-1.2 nm).
+SIDE_SEARCH_A = 30.0
 
 
 def min_side_image_distance(x_A, box_A, axis: int) -> float:
@@ -141,18 +145,24 @@ def min_side_image_distance(x_A, box_A, axis: int) -> float:
     lo = y.min(axis=0)
     lo[axis] = 0.0
     tree = cKDTree(y - lo, boxsize=bounds)
-    best = np.inf
-    for a in (-1, 0, 1):
-        for b in (-1, 0, 1):
-            if a == 0 and b == 0:
-                continue
-            shift = np.zeros(3)
-            shift[perp[0]] = a * box[perp[0]]
-            shift[perp[1]] = b * box[perp[1]]
-            q = y - lo + shift
-            dist, _ = tree.query(np.mod(q, bounds))
-            best = min(best, float(dist.min()))
-    return best
+
+    def nearest(upper):
+        best = np.inf
+        for a in (-1, 0, 1):
+            for b in (-1, 0, 1):
+                if a == 0 and b == 0:
+                    continue
+                shift = np.zeros(3)
+                shift[perp[0]] = a * box[perp[0]]
+                shift[perp[1]] = b * box[perp[1]]
+                dist, _ = tree.query(np.mod(y - lo + shift, bounds), distance_upper_bound=upper)
+                best = min(best, float(dist.min()))
+        return best
+    # Exact either way: a bounded search prunes the tree (~30x faster on 158 bp, where an
+    # unbounded one took 0.8 s a frame) and finds the true minimum whenever it lies
+    # below the bound; only when no image comes that close is the full search needed.
+    best = nearest(SIDE_SEARCH_A)
+    return best if np.isfinite(best) else nearest(np.inf)
 
 
 def write_checks(directory: Path, *, gmx: str) -> dict:

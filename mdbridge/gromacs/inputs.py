@@ -115,9 +115,10 @@ def _frames_of_gro(gro_path: Path, n_bp: int):
     with warnings.catch_warnings():   # MDAnalysis 2.4 imports the deprecated xdrlib
         warnings.simplefilter("ignore", DeprecationWarning)
         import MDAnalysis as mda
+    from mdbridge.builder.duplex import base_pairs
     from mdbridge.geometry.structure import BasePairFrames
     u = mda.Universe(str(gro_path))
-    pairs = [(k, 2 * n_bp + 1 - k) for k in range(1, n_bp + 1)]
+    pairs = base_pairs(n_bp)
     with warnings.catch_warnings():   # a single .gro frame has no time step: irrelevant here
         warnings.simplefilter("ignore", UserWarning)
         bp = BasePairFrames(u, pairs=pairs).run()

@@ -127,10 +127,14 @@ def analyse_md(scene_path, md_dir, prefix, n_boot=200):
         if not f.is_file():
             raise InputError(f"{f}: missing; run `dnarod run-md {md_dir}` first")
     u = mda.Universe(str(top), str(xtc))
-    traj = BasePairTrajectory.from_universe(u)
     n_bp = scene_n_bp(scene, scene_path)
-    if traj.n_bp != n_bp:
-        raise InputError(f"{md_dir}: the MD duplex has {traj.n_bp} base pairs, the scene {n_bp}")
+    n_md = len(u.residues) // 2
+    if n_md != n_bp:
+        raise InputError(f"{md_dir}: the MD duplex has {n_md} base pairs, the scene {n_bp}")
+    # The pairs as built (not found by distance: pairs that fray during the run
+    # would otherwise stop the analysis); build-md numbers the residues this way.
+    from mdbridge.builder.duplex import base_pairs
+    traj = BasePairTrajectory.from_universe(u, pairs=base_pairs(n_bp))
     from dnarod.report import matched
     e_in = matched.scene_in_plane(scene, scene_path)
     a = WaveAnalysis(traj, in_plane=e_in, offset=True, n_boot=n_boot).run()
