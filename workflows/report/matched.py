@@ -13,9 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from dna_models.errors import InputError
-from dna_models.units import Units
-
-AMU_KG = 1.66053906660e-27
+from dna_models.units import AMU, Units
 
 
 def scene_in_plane(scene: dict, scene_path=None):
@@ -111,7 +109,7 @@ def md_matched(traj, universe, md_dir: Path, scene: dict, units: Units | None = 
     ax, area = box_axis_and_area(traj.period[0], dims[:3])
     out["box_axis"] = "XYZ"[ax]
     out["cross_section_A2"] = area
-    out["mass_per_length_kg_per_m"] = float(universe.atoms.total_mass() * AMU_KG
+    out["mass_per_length_kg_per_m"] = float(universe.atoms.total_mass() * AMU
                                             / (np.linalg.norm(traj.period[0]) * 1e-10))
     gmx = shutil.which("gmx")
     try:
