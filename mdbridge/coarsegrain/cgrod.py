@@ -136,7 +136,7 @@ def materials(reps: dict, m: int, n_replicas: int | None = None, units: Units | 
     T = float(reps["temperature_K"])
     central = uniform_material(b1["mean"], m * b["stiffness"], T, mass, inertia, m, units)
     n = len(b["mean_boot"]) if n_replicas is None else min(int(n_replicas), len(b["mean_boot"]))
-    out = []
+    out: list[dict | None] = []
     for i in range(n):       # replicate i: the same resampled frames at every m (estimator.py)
         try:
             out.append(uniform_material(b1["mean_boot"][i], m * b["stiffness_boot"][i], T, mass, inertia, m,

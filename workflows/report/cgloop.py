@@ -54,7 +54,7 @@ def coarse_grain_md(md_dir, out_dir, m=None, temperature=None, min_effective=Non
         argv += ["--min-effective", repr(float(min_effective))]
     if discard is not None:
         argv += ["--discard", str(int(discard))]
-    rec = {"md_dir": str(md), "command": "dnarod " + " ".join(argv)}
+    rec: dict = {"md_dir": str(md), "command": "dnarod " + " ".join(argv)}
     try:
         args = build_parser().parse_args(argv)
         args._run(args)
