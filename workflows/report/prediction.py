@@ -53,6 +53,8 @@ def results(cfg: dict, runs: dict, res: dict) -> dict:
     dsp, der = _mean_err([x.get("speed_A_per_ps") for x in d], [x.get("speed_err_A_per_ps") for x in d])
     reasons = sorted({r["reason"] for r in rows
                       if r.get("reason") and not math.isfinite(_num(r.get("speed_A_per_ps")))})
+    if on and not rows:
+        reasons = ["no coarse-grained rod run found (cgrod/seed*/analysis.json)"]
     if not on:
         reasons = ["the loop needs an A_v = 0 MD run (A_v_A_per_ps must hold 0) and coarse_grain.enabled"]
     out = {
@@ -74,13 +76,12 @@ def results(cfg: dict, runs: dict, res: dict) -> dict:
                                             "material's shear, bend and inertia averaged over the two transverse "
                                             "directions, rho as measured; error over all bootstrap replicates"},
     }
-    md, rod = res.get("md_wave_speed_A_per_ps"), res.get("rod_wave_speed_A_per_ps")
-    if math.isfinite(sp) and md is not None and math.isfinite(_num(md)):
-        e = math.hypot(er, _num(res.get("md_wave_speed_err_A_per_ps")))
-        out["cg_rod_minus_md_A_per_ps"] = {"value": sp - _num(md), "err": e,
-                                           "z": (sp - _num(md)) / e if e > 0 else float("nan")}
-    if math.isfinite(sp) and rod is not None and math.isfinite(_num(rod)):
-        out["cg_rod_over_paper_rod"] = sp / _num(rod)
+    # the same keys whatever ran (NaN where a number is missing): runs stay comparable
+    md, rod = _num(res.get("md_wave_speed_A_per_ps")), _num(res.get("rod_wave_speed_A_per_ps"))
+    e = math.hypot(er, _num(res.get("md_wave_speed_err_A_per_ps")))
+    out["cg_rod_minus_md_A_per_ps"] = {"value": sp - md, "err": e,
+                                       "z": (sp - md) / e if e > 0 else float("nan")}
+    out["cg_rod_over_paper_rod"] = sp / rod if rod else float("nan")
     return out
 
 
