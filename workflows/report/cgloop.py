@@ -1,7 +1,7 @@
 """The coarse-graining loop of `dnarod compare`: the rod predicts the MD (issue 14, item 3).
 
     python -m dnarod.report.cgloop coarse-grain MD_DIR OUT_DIR [--m M] [--temperature K]
-        [--min-effective N] [--max-open-fraction F] [--discard N]
+        [--min-effective N] [--max-open-fraction F] [--discard N] [--m-max M]
     python -m dnarod.report.cgloop rod SCENE.toml CG_DIR MD_DIR OUT_DIR --rodsim RODSIM [--m M]
         [--replicas R] [--n-boot B] [--sequence-dependent]
 
@@ -36,7 +36,7 @@ from mdbridge.jsonio import write_json
 
 
 def coarse_grain_md(md_dir, out_dir, m=None, temperature=None, min_effective=None, max_open_fraction=0.0,
-                    discard=None) -> dict:
+                    discard=None, m_max=None) -> dict:
     """`dnarod coarse-grain MD_DIR/md.tpr MD_DIR/md.xtc -o OUT_DIR` with T from md.edr unless
     given; OUT_DIR/cg.json records success or the refusal."""
     from dnarod.cli import build_parser
@@ -54,6 +54,8 @@ def coarse_grain_md(md_dir, out_dir, m=None, temperature=None, min_effective=Non
         argv += ["--min-effective", repr(float(min_effective))]
     if discard is not None:
         argv += ["--discard", str(int(discard))]
+    if m_max is not None:
+        argv += ["--m-max", str(int(m_max))]
     rec: dict = {"md_dir": str(md), "command": "dnarod " + " ".join(argv)}
     try:
         args = build_parser().parse_args(argv)
@@ -233,6 +235,7 @@ def main(argv=None) -> int:
     p.add_argument("--min-effective", type=float, default=None)
     p.add_argument("--max-open-fraction", type=float, default=0.0)
     p.add_argument("--discard", type=int, default=None)
+    p.add_argument("--m-max", type=int, default=None)
     p = sub.add_parser("rod")
     p.add_argument("scene")
     p.add_argument("cg_dir")
@@ -246,7 +249,8 @@ def main(argv=None) -> int:
     a = ap.parse_args(argv)
     try:
         if a.step == "coarse-grain":
-            coarse_grain_md(a.md_dir, a.out_dir, a.m, a.temperature, a.min_effective, a.max_open_fraction, a.discard)
+            coarse_grain_md(a.md_dir, a.out_dir, a.m, a.temperature, a.min_effective, a.max_open_fraction, a.discard,
+                            a.m_max)
         else:
             cg_rod(a.scene, a.cg_dir, a.md_dir, a.out_dir, a.rodsim, a.m, a.replicas, a.n_boot,
                    a.sequence_dependent)
