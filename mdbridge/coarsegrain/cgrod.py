@@ -17,9 +17,10 @@ m F_m is the longer segments' stiffness (nearest-neighbour correlations included
 is not mapped as one constant-strain piece of length m h: an m-step segment of a chain
 is not one (its bends sit in body frames turned by the twist), and that map makes the
 bend stiffness low by about sinc^2 of half the segment's twist (-22 % at m = 3; the
-speed of tests/python/test_coarsegrain_loop.py's rod came out 10 % low). Caveat: the m-step shift and slide also carry the
-bends' lever arms, so the shear block of m F_m is soft for m > 1 (a few % of the
-bend-branch speed of a 42-bp ring, negligible at 158 bp where D k^2 << C1).
+speed of tests/python/test_coarsegrain_loop.py's rod came out 10 % low). Caveat: the
+m-step shift and slide also carry the bends' lever arms, so the shear block of m F_m is
+soft for m > 1 (-15 % at m = 3 on the test's ensemble; felt by a 42-bp ring's bend
+branch at the % level, negligible at 158 bp where D k^2 << C1).
 
 Errors. The coarse-graining's moving-block bootstrap replicates (same frames for every
 step) of p_m and F_m are written next to params.json (`write_replicas`, DIR/replicas.h5);
