@@ -29,21 +29,9 @@ def collect(cfg: dict, out: Path) -> dict:
     return found
 
 
-def _mean_err(vals, errs):
-    """Mean over seeds; error: errors of the mean in quadrature plus the between-seed
-    variance of the mean (as the MD's seeds are combined)."""
-    v, e = np.array([_num(x) for x in vals]), np.array([_num(x) for x in errs])
-    ok = np.isfinite(v)
-    if not ok.any():
-        return float("nan"), float("nan")
-    v, e = v[ok], e[ok]
-    n = len(v)
-    between = np.var(v, ddof=1) / n if n > 1 else 0.0
-    return float(v.mean()), float(math.sqrt(np.nansum(e ** 2) / n ** 2 + between))
-
-
 def results(cfg: dict, runs: dict, res: dict) -> dict:
     """The top-level keys (always present, NaN with the reason when the loop did not run)."""
+    from dnarod.report.report import _combine as _mean_err   # mean over seeds, as for the MD
     cg = cfg.get("coarse_grain", {}) or {}
     on = bool(cg.get("enabled", True)) and 0.0 in [float(a) for a in cfg["A_v_A_per_ps"]] \
         and cfg.get("md", {}).get("enabled", True)
