@@ -48,6 +48,22 @@ def lab_speed_A_per_ps(length_fiducial: float, D1: float, Gamma03: float, branch
     return u.velocity_to_A_per_ps(c)
 
 
+def lab_speed_material_A_per_ps(length_fiducial: float, C1: float, D1: float, I1: float, rho: float,
+                                Gamma03: float = 1.0, branch: str = "minus", mode: int = 1,
+                                units: Units | None = None) -> float:
+    """`lab_speed_A_per_ps` for a rod whose shear C1, bend D1, inertia I1 and density rho (all
+    in the paper's units) are not the paper's 1, D1, 1, 1: Eq (39) in the units of that rod
+    (force C1, length sqrt(I1 / rho), time sqrt(I1 / C1)), where it takes the paper's form
+    with D1' = D1 rho / (I1 C1) and kappa' = kappa sqrt(I1 / rho). Written out, this is the
+    Timoshenko quartic I1 rho w^4 - w^2 (rho D1 k^2 + rho C1 + I1 C1 k^2) + C1 D1 k^4 = 0
+    (Gamma03 = 1), which tests/python/test_coarsegrain_loop.py checks."""
+    u = units or Units.paper()
+    kappa = 2 * np.pi * mode / length_fiducial
+    Dp = D1 * rho / (I1 * C1)
+    w = float(omega_pm(kappa * np.sqrt(I1 / rho), Dp, Gamma03, branch)) / np.sqrt(I1 / C1)
+    return u.velocity_to_A_per_ps(Gamma03 * w / kappa)
+
+
 def bend_modulus_for_speed(speed_A_per_ps: float, length_fiducial: float, Gamma03: float,
                            units: Units | None = None, D1_bounds=(1e-4, 1e4)) -> dict:
     """The bend stiffness that makes the rod's bend-branch speed equal a measured speed

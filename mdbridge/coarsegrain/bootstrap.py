@@ -18,9 +18,10 @@ import math
 import numpy as np
 
 BLOCK_TAUS = 6.0   # b = 6 tau_int. The moving-block variance is low by ~ sum_k k rho(k) / (b tau_int);
-                   # measured on AR(1) series with phi = 0.9 (test_coarsegrain_synthetic.py), the
-                   # scatter over realisations / stated error is 1.18 at b = 4 tau, 1.14 at 6 tau,
-                   # 1.12 at 8 tau, so 6 tau, with T / b >= 8 blocks at the minimum length
+                   # measured on AR(1) series with phi = 0.9 (bench/cg_block_length.py), the scatter
+                   # over realisations / stated error is 1.25 at b = 2 tau, 1.17 at 4, 1.15 at 6,
+                   # 1.14 at 8, 1.12-1.14 from 12 to 26 (= T / 8): a plateau no block length removes,
+                   # so 6 tau, with T / b >= 8 blocks at the minimum length
 
 
 def block_length(tau_max: float, n_frames: int) -> int:

@@ -1,4 +1,5 @@
-"""Physical constants and unit conversions of the coarse-graining (one place).
+"""Physical constants and unit conversions of the coarse-graining (the SI constants, AMU
+included, are dna_models.units': one place for the whole toolkit).
 
 The paper's rod density and inertia (Sec 2.1) come from dna_models.units, so the
 comparison uses the same numbers as the solver."""
@@ -6,9 +7,8 @@ from __future__ import annotations
 
 import math
 
-from dna_models.units import ANGSTROM, BOLTZMANN, Units  # noqa: F401 - re-exported for this package
+from dna_models.units import AMU, ANGSTROM, BOLTZMANN, Units  # noqa: F401 - re-exported for this package
 
-AMU = 1.66053906660e-27           # kg (CODATA 2018)
 DEG = math.pi / 180.0             # rad per degree
 
 

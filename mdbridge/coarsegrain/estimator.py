@@ -254,6 +254,9 @@ class CoarseGrain:
                "cov": cov, "K": K, "K_err": spread(bK), "tau2": tau2, "n_eff2": n2,
                "K_avg": K.mean(axis=0), "K_avg_err": spread(bK.mean(axis=1)),
                "mean_avg": mean.mean(axis=0), "mean_avg_err": spread(bm.mean(axis=1)),
+               # the replicates themselves: the uniform coarse-grained rod's error is the
+               # spread of rods built from them (cgrod.py)
+               "K_avg_boot": bK.mean(axis=1), "mean_avg_boot": bm.mean(axis=1),
                "physical": {k: float(v) for k, v in phys.items()},
                "physical_err": {k: float(spread(v)) for k, v in bphys.items()},
                "physical_boot": bphys, "n_eff_pooled": n_pool}

@@ -52,3 +52,30 @@ def test_bad_config_is_named(tmp_path, dnarod):
                         "--out", str(tmp_path / "o")], capture_output=True, text=True)
     assert p.returncode == 2
     assert "bad.yaml" in p.stderr and "A_v_A_per_ps" in p.stderr
+
+
+def test_coarse_grained_rod_predicts(tiny_run):
+    """The coarse-graining loop end to end: the A_v = 0 MD is coarse-grained (dnarod
+    coarse-grain, closed 21-bp ring), the uniform coarse-grained rod runs the headline
+    scene with its replicate materials, and results.json carries the prediction with a
+    positive error from the coarse-grained parameters next to the paper rod and the MD."""
+    import numpy as np
+    out, _, _ = tiny_run
+    res = json.loads((out / "results.json").read_text())
+    assert res["cg_rod_reason"] is None, res["cg_rod_reason"]
+    for key in ("cg_rod_wave_speed_A_per_ps", "cg_rod_wave_speed_err_A_per_ps",
+                "cg_rod_dispersion_speed_A_per_ps", "cg_rod_dispersion_speed_err_A_per_ps"):
+        assert np.isfinite(res[key]), key
+    assert res["cg_rod_wave_speed_err_A_per_ps"] > 0 and res["cg_rod_dispersion_speed_err_A_per_ps"] > 0
+    run = res["cg_rod"]["runs"][0]
+    assert run["replicates_used"] == 5 and run["speed_err_cg_A_per_ps"] > 0
+    assert run["A_v_A_per_ps"] == res["headline_A_v_A_per_ps"] == 5
+    params = json.loads((out / "cg" / "seed1" / "params.json").read_text())
+    assert params["closed"] and len(params["steps"]) == 21 and params["temperature_source"].startswith("edr")
+    K = np.array(run["material"]["K_star"])
+    assert np.all(np.linalg.eigvalsh(K) > 0)
+    # the rod with the MD's own mass per length: rho* from the atoms (no counterions, hydrogens
+    # included) is within 15 % of the paper's 3.22e-15 kg/m
+    assert abs(run["material"]["rho_star"] - 1) < 0.15
+    page = (out / "report" / "index.html").read_text()
+    assert "predicted (CG rod)" in page and 'id="fig-prediction"' in page

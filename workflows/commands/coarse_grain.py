@@ -28,7 +28,9 @@ Errors: moving-block bootstrap with the block length from the autocorrelation
 times. The equilibration stretch is discarded (Chodera's rule), the remaining
 frames must be worth --min-effective independent samples, the two halves are
 compared, and steps whose base pairs open (N1-N3 > 3.5 A) are excluded and
-listed. Writes DIR/params.json, DIR/convergence.png, DIR/by_length.png and
+listed. Writes DIR/params.json, DIR/convergence.png, DIR/by_length.png,
+DIR/replicas.h5 (the bootstrap replicates of the sequence-averaged mean and
+stiffness at every m, for the coarse-grained rod's error) and
 (with the per-step file module mdbridge.material) DIR/steps.h5 and, for a
 closed duplex, the rod's DIR/material.h5 (docs/coarse-graining.md).
 
@@ -90,6 +92,7 @@ def _universe(structure, trajectories):
 
 
 def run(args):
+    from mdbridge.coarsegrain.cgrod import write_replicas
     from mdbridge.coarsegrain.estimator import MIN_EFFECTIVE, CoarseGrain, default_m_values
     from mdbridge.coarsegrain.figure import convergence_figure, length_figure
     from mdbridge.coarsegrain.params import build_params, write_params
@@ -153,6 +156,8 @@ def run(args):
     length_figure(out / "by_length.png", params)
     params["by_length_figure"] = "by_length.png"
     params["files"] = write_material_files(out, cg, extras, source)
+    write_replicas(out / "replicas.h5", cg, extras)
+    params["files"]["replicas_file"] = "replicas.h5"
     write_params(out / "params.json", params)
     ph = params["physical"]
     print(f"{ens.n_steps} steps ({len(cg.results['excluded_steps'])} excluded), {cg.results['frames_used']} frames "
@@ -162,7 +167,7 @@ def run(args):
         print(f"  {k.replace('_', ' ')} (m = {m_rod}): {ph[k]['value']:.4g} +- {ph[k]['err']:.2g} {ph[k]['unit']}")
     for c in caveats:
         print(f"  caveat: {c}")
-    extra = [f for f in (params["files"].get("steps_file"), params["files"].get("material_file")) if f]
+    extra = [f for f in (params["files"].get("steps_file"), params["files"].get("material_file"), "replicas.h5") if f]
     print(f"wrote {out / 'params.json'}, {out / 'convergence.png'}, {out / 'by_length.png'}"
           + "".join(f", {out / f}" for f in extra))
     return 0

@@ -13,9 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from dna_models.errors import InputError
-from dna_models.units import Units
-
-AMU_KG = 1.66053906660e-27
+from dna_models.units import AMU, Units
 
 
 def scene_in_plane(scene: dict, scene_path=None):
@@ -70,8 +68,17 @@ def rod_matched(traj, run, scene: dict, units: Units | None = None) -> dict:
     rise = float(scene.get("initial", {}).get("rise_A", u.rise_A))
     st = axial_strain(traj, rise)
     G3 = np.asarray(run.fields["Gamma"])[:, :, 2]
-    C = run.attrs.get("material.C")   # the resolved scene the run was made with, else the scene's
-    C3 = float(C[2]) if C is not None else float(scene.get("material", {}).get("C", u.C_star)[2])
+    # the resolved material the run was made with (a full K wins: rodsim then still records
+    # the default C), else the scene's; couplings of a full K to Gamma3 are left out
+    K = run.attrs.get("material.K")
+    C = run.attrs.get("material.C")
+    mat = scene.get("material", {})
+    if K is not None and np.size(K) == 36:
+        C3 = float(np.asarray(K, float).reshape(6, 6)[2, 2])
+    elif "K" in mat:
+        C3 = float(np.asarray(mat["K"], float)[2, 2])
+    else:
+        C3 = float(C[2]) if C is not None else float(mat.get("C", u.C_star)[2])
     F = rod_tension_pN(G3.mean(axis=1), u) * (C3 / u.C_star[2])
     out = {k: v for k, v in st.items() if k != "series"}
     out.update(tension_summary(F))
@@ -111,7 +118,7 @@ def md_matched(traj, universe, md_dir: Path, scene: dict, units: Units | None = 
     ax, area = box_axis_and_area(traj.period[0], dims[:3])
     out["box_axis"] = "XYZ"[ax]
     out["cross_section_A2"] = area
-    out["mass_per_length_kg_per_m"] = float(universe.atoms.total_mass() * AMU_KG
+    out["mass_per_length_kg_per_m"] = float(universe.atoms.total_mass() * AMU
                                             / (np.linalg.norm(traj.period[0]) * 1e-10))
     gmx = shutil.which("gmx")
     try:

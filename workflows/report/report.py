@@ -20,6 +20,8 @@ import numpy as np
 
 from mdbridge.gromacs.checks import DRIFT_TARGET_KJ_MOL_NS_ATOM as DRIFT_TARGET
 from mdbridge.jsonio import write_json
+from dnarod.report import prediction
+from dnarod.report.prediction import CAPTION as PREDICTION_CAPTION
 
 PAPER_MD_RUN_PS = 600.0
 PAPER = {"rod_wave_speed_A_per_ps": 1.4, "md_wave_speed_A_per_ps": 2.2, "md_run_ps": PAPER_MD_RUN_PS,
@@ -101,6 +103,7 @@ def collect(cfg: dict, out: Path) -> dict:
     data["modulus"] = json.loads(fit.read_text()) if fit.is_file() else None
     for av in cfg.get("sweep", {}).get("A_v_A_per_ps", []) or []:
         data["sweep"][float(av)] = _load(out / "sweep" / f"Av{fmt_av(av)}" / "analysis")
+    data["cgrod"] = prediction.collect(cfg, out)
     data["prestrain"] = {}
     for d in sorted((out / "prestrain").glob("Av*")) if (out / "prestrain").is_dir() else []:
         data["prestrain"][d.name] = _load(d / "analysis")
@@ -173,6 +176,7 @@ def results_json(cfg: dict, data: dict) -> dict:
                  "md": [j for j, _ in data["md"].values() if j],
                  "sweep": [j for j, _ in data["sweep"].values() if j]},
     }
+    res.update(prediction.results(cfg, data.get("cgrod", {}), res))
     if rod_j and math.isfinite(md_speed):
         # Eq 39 inverted: only meaningful if the MD wave were small-amplitude (see modulus.py)
         res["bend_modulus_for_md_speed_small_amplitude"] = bend_modulus_for_speed(
@@ -206,6 +210,7 @@ CAPTIONS = {
                            "means the duplex frays and its numbers mean less.",
     "rmsd": "RMSD of the rod's helical axis fitted onto the MD's (Kabsch), per MD frame. It starts "
             "near 0 (the MD is built on the rod); look for how fast the two drift apart.",
+    "prediction": PREDICTION_CAPTION,
     "amplitude": "Rod wave speed against the kick amplitude A_v (sweep), with the small-amplitude "
                  "limit of Eq 39, the paper's values and this run's MD. Look for where the rod leaves "
                  "the linear limit and where the MD point sits on the rod's curve.",
@@ -269,6 +274,9 @@ def figures(cfg: dict, data: dict, res: dict) -> dict:
         ax.set(xlabel="t [ps]", ylabel="RMSD [A]", title=f"rod axis fitted onto MD axis (Kabsch), A_v = {head:g}")
         ax.legend(fontsize=7)
         figs["rmsd"] = fig
+    fig = prediction.figure(res)
+    if fig is not None:
+        figs["prediction"] = fig
     # amplitude dependence
     sw = sorted((av, j) for av, (j, _) in data["sweep"].items() if j)
     if sw:
@@ -318,6 +326,10 @@ def write_html(cfg: dict, res: dict, figs: dict, path: Path):
          f" (check {_f(res['rod_wave_speed_check_A_per_ps'])}; Eq 39: {_f(res['rod_dispersion_speed_A_per_ps'])})", "1.4"),
         (f"MD {html.escape(res.get('md_quantity') or 'wave speed')} [A/ps] ({html.escape(str(res.get('md_regime')))})", f"{_f(res['md_wave_speed_A_per_ps'])} &plusmn; {_f(res['md_wave_speed_err_A_per_ps'], 2)}"
          f" (check {_f(res['md_wave_speed_check_A_per_ps'])})", "2.2 (by eye)"),
+        ("predicted (CG rod) [A/ps]", f"{_f(res.get('cg_rod_wave_speed_A_per_ps'))} &plusmn; "
+         f"{_f(res.get('cg_rod_wave_speed_err_A_per_ps'), 2)} (Eq 39: {_f(res.get('cg_rod_dispersion_speed_A_per_ps'))} "
+         f"&plusmn; {_f(res.get('cg_rod_dispersion_speed_err_A_per_ps'), 2)})"
+         + (f" ({html.escape(res['cg_rod_reason'])})" if res.get("cg_rod_reason") else ""), "-"),
         ("MD energy drift [kJ/mol/ns per atom]", _drift_html(res["md_energy_drift_kJ_mol_per_ns_per_atom"])
          + f" (protocol: {html.escape(', '.join(res['md_protocols']) or 'n/a')})", "not reported"),
         ("rod planarity (out/in RMS)", _f(res["rod_planarity"]), "planar"),
@@ -342,6 +354,7 @@ def write_html(cfg: dict, res: dict, figs: dict, path: Path):
         for j in res["runs"]["rod"] + res["runs"]["md"] + res["runs"]["sweep"])
     from dnarod.report.comparison import html_table
     matched_html = html_table(res["comparison"]) if res.get("comparison") else ""
+    matched_html = prediction.html_section(res) + matched_html
     imgs = "\n".join(f'<figure id="fig-{html.escape(k)}"><img alt="{html.escape(k)}" '
                      f'src="data:image/png;base64,{_png(fig)}"><figcaption><b>{html.escape(k)}.</b> '
                      f'{html.escape(CAPTIONS[k])}</figcaption></figure>'
