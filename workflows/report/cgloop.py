@@ -42,8 +42,14 @@ def coarse_grain_md(md_dir, out_dir, m=None, temperature=None, min_effective=Non
     from dnarod.cli import build_parser
     md, out = Path(md_dir), Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
+    # The pairs as built (mdbridge/builder/duplex.py), not found by distance: in a long
+    # vacuum run some pairs are open in the frame the search would look at.
+    from mdbridge.builder.duplex import base_pairs
+    n_bp = int(json.loads((md / "build.json").read_text())["n_bp"])
+    pairs_file = out / "pairs.dat"
+    pairs_file.write_text("".join(f"{a} {b}\n" for a, b in base_pairs(n_bp)))
     argv = ["coarse-grain", str(md / "md.tpr"), str(md / "md.xtc"), "-o", str(out),
-            "--max-open-fraction", repr(float(max_open_fraction))]
+            "--pairs", str(pairs_file), "--max-open-fraction", repr(float(max_open_fraction))]
     if temperature is not None:
         argv += ["--temperature", repr(float(temperature))]
     elif (md / "md.edr").is_file():
