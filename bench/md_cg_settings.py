@@ -56,6 +56,8 @@ def main(argv=None) -> int:
     ap.add_argument("--gmx", default="gmx")
     ap.add_argument("--gmx-d", default="gmx_d")
     ap.add_argument("--min-effective", type=int, default=50)
+    ap.add_argument("--cg-discard", type=int, default=None, metavar="FRAMES",
+                    help="dnarod coarse-grain --discard (default: its own equilibration rule)")
     ap.add_argument("--out", type=Path, default=REPO / "bench" / "results" / "md_cg_settings.json")
     a = ap.parse_args(argv)
     work = a.work.resolve()
@@ -75,7 +77,7 @@ def main(argv=None) -> int:
         e = energy_drift(d, exe, n_atoms)
         s = tension_series(d, exe)
         cg = coarse_grain(d, "md.tpr", "md.xtc", n, min_effective=a.min_effective,
-                          temperature=["--edr", str(d / "md.edr")])
+                          temperature=["--edr", str(d / "md.edr")], discard=a.cg_discard)
         out["runs"][name] = {
             "gmx": exe, "dt_ps": rec["dt_ps"], "ps": rec["length_ps"], "cpu_s": rec["cpu_s"],
             "ns_per_cpu_day": rec["length_ps"] / 1000.0 / (rec["cpu_s"] / 86400.0),

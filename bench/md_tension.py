@@ -60,6 +60,7 @@ REPO = Path(__file__).resolve().parents[1]
 KB = 1.380649e-23
 SEED = 4
 DISCARD_PS = 20.0
+EQ_FRAME_PS = 0.1        # the equilibration stage writes frames every 0.1 ps (equilibrate.py)
 BUILD = ["--seed", str(SEED), "--constraints", "h-bonds", "--dt", "0.002", "--cutoffs", "smooth",
          "--minimize", "--threads", "1", "--ps", "1"]
 
@@ -119,7 +120,8 @@ CG_ARGS = ["--max-open-fraction", "0.05"]
 
 
 def coarse_grain(d: Path, structure: str, traj: str, n: int, out: str = "cg",
-                 min_effective: int = 50, temperature: list[str] | None = None) -> dict:
+                 min_effective: int = 50, temperature: list[str] | None = None,
+                 discard: int | None = None) -> dict:
     """`dnarod coarse-grain` of D/TRAJ (T = 300 K given unless TEMPERATURE, e.g.
     ["--edr", "md.edr"] for an NVE run)."""
     if not (d / out / "params.json").is_file():
@@ -130,7 +132,8 @@ def coarse_grain(d: Path, structure: str, traj: str, n: int, out: str = "cg",
         try:
             dnarod("coarse-grain", str(d / structure), str(d / traj), *CG_ARGS,
                    "--pairs", str(d / "pairs.txt"), *(temperature or ["--temperature", "300"]),
-                   "--min-effective", str(min_effective), "-o", str(d / out))
+                   "--min-effective", str(min_effective), "-o", str(d / out),
+                   *(["--discard", str(discard)] if discard is not None else []))
         except subprocess.CalledProcessError as e:      # refused (too few samples): say so
             return {"refused": f"dnarod coarse-grain exit status {e.returncode} (its message above)"}
     return json.loads((d / out / "params.json").read_text())
@@ -199,6 +202,8 @@ def main(argv=None) -> int:
                          "its eq.edr/eq.xtc as far as they go instead of building again")
     ap.add_argument("--gmx", default="gmx")
     ap.add_argument("--min-effective", type=int, default=50, help="dnarod coarse-grain's (50)")
+    ap.add_argument("--cg-discard", type=int, default=None, metavar="FRAMES",
+                    help="dnarod coarse-grain --discard (default: its own equilibration rule)")
     ap.add_argument("--out", type=Path, default=REPO / "bench" / "results" / "md_tension.json")
     a = ap.parse_args(argv)
     work = a.work.resolve()
@@ -229,9 +234,11 @@ def main(argv=None) -> int:
                    "ns_per_day": rec.get("ns_per_day"),
                    "tension_pN": mean_with_error(s["time"], s["tension_pN"], discard_ps=min(DISCARD_PS, 0.2 * a.ps)),
                    "tension_instantaneous_std_pN": float(np.std(s["tension_pN"]))}
-        runs[f]["coarse_grain"] = cg_summary(coarse_grain(d, "md.tpr", "md.xtc", n, min_effective=a.min_effective),
+        runs[f]["coarse_grain"] = cg_summary(coarse_grain(d, "md.tpr", "md.xtc", n, min_effective=a.min_effective,
+                                                          discard=a.cg_discard),
                                              n, constrained=True)
-    res["coarse_grain_barostat"] = cg_summary(coarse_grain(baro, "eq.tpr", "eq.xtc", n, min_effective=a.min_effective), n,
+    res["coarse_grain_barostat"] = cg_summary(coarse_grain(baro, "eq.tpr", "eq.xtc", n, min_effective=a.min_effective,
+                     discard=int(round(res["zero_tension"]["discard_ps"] / EQ_FRAME_PS))), n,
                                               constrained=False)
     res["fixed_box"] = {f"{f:.3f}": r for f, r in runs.items()}
     # the comparison
@@ -245,23 +252,27 @@ def main(argv=None) -> int:
            "S_from_dF_pN": dF / strain, "S_from_dF_err_pN": dF_err / strain, "predictions": {}}
     Sb, Sbe = zt["S_from_length_fluctuation_pN"], zt["S_from_length_fluctuation_err_pN"]
     preds = {"barostat length fluctuation": (Sb, Sbe)}
-    for label, cg in (("coarse-grain, barostat run", res["coarse_grain_barostat"]),
-                      ("coarse-grain, built box (fixed-length corrected)", runs[1.0]["coarse_grain"])):
-        for m, r in cg["by_m"].items():
-            preds[f"{label}, m = {m}"] = (r["S_corrected_pN"], r["S_corrected_err_pN"])
+    for f in (1.0, a.stretch):
+        for m, r in runs[f]["coarse_grain"]["by_m"].items():
+            preds[f"coarse-grain, box {f:.3f} (fixed-length corrected), m = {m}"] = (
+                r["S_corrected_pN"], r["S_corrected_err_pN"])
+    for m, r in res["coarse_grain_barostat"]["by_m"].items():
+        preds[f"coarse-grain, barostat run, m = {m}"] = (r["S_pN"], r["S_err_pN"])
     for k, (S, Se) in preds.items():
         p, pe = S * strain, Se * strain
         cmp["predictions"][k] = {"S_pN": S, "S_err_pN": Se, "dF_pred_pN": p, "dF_pred_err_pN": pe,
                                  "z": (dF - p) / math.hypot(dF_err, pe)}
-    # F(L) from L0: F = S (L - L0) / L0, S from the barostat's fluctuations
-    cmp["F_from_L0"] = {}
-    for f, L in ((1.0, L1), (a.stretch, L2)):
-        Fp = Sb * (L - L0) / L0
-        Fpe = math.hypot(Sbe * (L - L0) / L0, Sb * L * L0e / L0 ** 2)
-        Fm = runs[f]["tension_pN"]
-        cmp["F_from_L0"][f"{f:.3f}"] = {"box_length_nm": L, "F_pred_pN": Fp, "F_pred_err_pN": Fpe,
-                                        "F_measured_pN": Fm["mean"], "F_measured_err_pN": Fm["sem"],
-                                        "z": (Fm["mean"] - Fp) / math.hypot(Fm["sem"], Fpe)}
+    # the zero-tension length the two fixed boxes imply (F linear in L between them), against
+    # the barostat's; F1 and F2 are independent runs
+    k = dF / (L2 - L1)                                  # pN/nm
+    L0f = L2 - F2["mean"] / k
+    dL0_dF1 = -F2["mean"] / (dF ** 2) * (L2 - L1)       # d L0f / d F1
+    dL0_dF2 = -(L2 - L1) / dF + F2["mean"] / (dF ** 2) * (L2 - L1)
+    L0f_err = math.hypot(dL0_dF1 * F1["sem"], dL0_dF2 * F2["sem"])
+    cmp["zero_tension_length_from_fixed_boxes_nm"] = {
+        "value": L0f, "err": L0f_err, "barostat": L0, "barostat_err": L0e,
+        "z": (L0f - L0) / math.hypot(L0f_err, L0e),
+        "how": "L2 - F2 (L2 - L1) / (F2 - F1): F linear in L between the two boxes"}
     res["comparison"] = cmp
     res["wall_s"] = time.time() - t0
     res["load_avg_1min"] = os.getloadavg()[0]
