@@ -3,7 +3,7 @@
 Truth: a duplex in a box stretched along its axis pulls on it. The same equilibrated,
 unkicked duplex (300 K, smooth cut-offs, 2 fs, h-bonds) in its built box and in the box
 stretched affinely by 20 % along the helix axis (far beyond linear elasticity: a test of sign, axis
-and cross-section that a few ps can resolve), 6 ps of NVT each, energies every 5 steps:
+and cross-section that a few ps can resolve), 10 ps of NVT each, energies every 5 steps:
 the stretched box must carry a positive tension, many standard errors above the built
 box's. It fails if the sign convention, the axis (the pressure component across the axis
 does not respond like this) or the cross-section were wrong. The validation against the
@@ -23,7 +23,7 @@ from mdbridge.gromacs.tension import mean_with_error, stretch_box, tension_serie
 from test_gromacs_build import table1_rod
 
 STRETCH = 1.20
-PS = 6.0
+PS = 10.0
 
 
 @pytest.fixture(scope="module")
@@ -61,7 +61,8 @@ def test_stretched_box_pulls(two_boxes):
     err = math.hypot(F1["sem"], F2["sem"])
     assert np.isfinite(err) and err > 0
     assert F2["mean"] > 0, F2
-    assert F2["mean"] - F1["mean"] > 4.0 * err, (F1, F2)
+    # measured: 172 +- 21 pN (8.2 sigma); with 6-ps runs 222 +- 44 (5.0)
+    assert F2["mean"] - F1["mean"] > 3.0 * err, (F1, F2)
 
 
 def test_transverse_component_does_not_respond_like_the_axis(two_boxes, gmx):
