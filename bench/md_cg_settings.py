@@ -30,11 +30,10 @@ import math
 import os
 import sys
 import time
-from pathlib import Path
 
 import numpy as np
 
-from md_tension import (REPO, build, cg_summary, coarse_grain, fixed_box_run)
+from md_tension import build, cg_summary, coarse_grain, common_arguments, fixed_box_run
 from mdbridge.gromacs.checks import energy_drift
 from mdbridge.gromacs.tension import mean_with_error, tension_series
 
@@ -51,14 +50,8 @@ def _val(r: dict, q: str):
 
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--work", type=Path, default=Path("/tmp/md_tension"))
-    ap.add_argument("--ps", type=float, default=400.0)
-    ap.add_argument("--gmx", default="gmx")
+    common_arguments(ap, "md_cg_settings.json")
     ap.add_argument("--gmx-d", default="gmx_d")
-    ap.add_argument("--min-effective", type=int, default=50)
-    ap.add_argument("--cg-discard", type=int, default=None, metavar="FRAMES",
-                    help="dnarod coarse-grain --discard (default: its own equilibration rule)")
-    ap.add_argument("--out", type=Path, default=REPO / "bench" / "results" / "md_cg_settings.json")
     a = ap.parse_args(argv)
     work = a.work.resolve()
     work.mkdir(parents=True, exist_ok=True)

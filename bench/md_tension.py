@@ -191,20 +191,25 @@ def zero_tension(baro: Path, gmx: str, ps: float, axis: int) -> dict:
             "none: the stage was stopped before build-md finished (--baro-stopped)"}
 
 
+def common_arguments(ap, results_name: str) -> None:
+    """The options this script and bench/md_cg_settings.py share."""
+    ap.add_argument("--work", type=Path, default=Path("/tmp/md_tension"))
+    ap.add_argument("--ps", type=float, default=400.0, help="length of each fixed-box run, ps")
+    ap.add_argument("--gmx", default="gmx")
+    ap.add_argument("--min-effective", type=int, default=50, help="dnarod coarse-grain's (50)")
+    ap.add_argument("--cg-discard", type=int, default=None, metavar="FRAMES",
+                    help="dnarod coarse-grain --discard (default: its own equilibration rule)")
+    ap.add_argument("--out", type=Path, default=REPO / "bench" / "results" / results_name)
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--work", type=Path, default=Path("/tmp/md_tension"))
-    ap.add_argument("--ps", type=float, default=400.0, help="fixed-box NVT length, ps")
+    common_arguments(ap, "md_tension.json")
     ap.add_argument("--baro-ps", type=float, default=300.0, help="axis-only barostat stage, ps")
     ap.add_argument("--stretch", type=float, default=1.03)
     ap.add_argument("--baro-stopped", action="store_true",
                     help="WORK/baro's stage was stopped early (build-md did not finish): analyse "
                          "its eq.edr/eq.xtc as far as they go instead of building again")
-    ap.add_argument("--gmx", default="gmx")
-    ap.add_argument("--min-effective", type=int, default=50, help="dnarod coarse-grain's (50)")
-    ap.add_argument("--cg-discard", type=int, default=None, metavar="FRAMES",
-                    help="dnarod coarse-grain --discard (default: its own equilibration rule)")
-    ap.add_argument("--out", type=Path, default=REPO / "bench" / "results" / "md_tension.json")
     a = ap.parse_args(argv)
     work = a.work.resolve()
     work.mkdir(parents=True, exist_ok=True)

@@ -52,7 +52,7 @@ def two_boxes(gmx, tmp_path_factory):
 
 def test_stretched_box_pulls(two_boxes):
     d, out = two_boxes
-    (r1, s1, F1), (r2, s2, F2) = out[1.0], out[STRETCH]
+    (_, s1, F1), (r2, s2, F2) = out[1.0], out[STRETCH]
     assert s2["axis"] == 1 and s1["axis"] == 1                     # the scene's helix axis, Y
     assert s2["length_nm"][0] == pytest.approx(STRETCH * s1["length_nm"][0], rel=1e-4)
     assert s2["area_nm2"][0] == pytest.approx(s1["area_nm2"][0], rel=1e-6)
