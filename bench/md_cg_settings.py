@@ -42,6 +42,23 @@ VARIANTS = {"nve_default": ({}, "gmx"), "nve_dt1": ({"dt": 0.001}, "gmx"),
 QUANTITIES = ("S_pN", "bend_persistence_length", "torsional_modulus", "twist_stretch_coupling")
 
 
+def common_step_means(params: dict) -> dict:
+    """Mean rise and twist over the steps that no run excludes (the runs fray differently, so
+    their own sequence averages cover different steps), with errors from the per-step ones."""
+    usable = [{s["step"]: s for s in p["steps"] if "mean" in s and not s.get("excluded")}
+              for p in params.values()]
+    common = sorted(set.intersection(*(set(u) for u in usable)))
+    out: dict = {"steps": common}
+    for name, u in zip(params, usable):
+        row = {}
+        for i, q in ((2, "rise_A"), (5, "twist_deg")):
+            v = [u[k]["mean"][i] for k in common]
+            e = [u[k]["mean_err"][i] for k in common]
+            row[q] = {"value": float(np.mean(v)), "err": float(np.sqrt(np.sum(np.square(e)))) / len(common)}
+        out[name] = row
+    return out
+
+
 def _val(r: dict, q: str):
     if q == "S_pN":
         return r["S_pN"], r["S_err_pN"]
@@ -78,6 +95,16 @@ def main(argv=None) -> int:
             "temperature_K": e["temperature_K"], "cg_temperature_K": cg["temperature_K"],
             "tension_pN": mean_with_error(s["time"], s["tension_pN"], discard_ps=min(20.0, 0.2 * a.ps)),
             "coarse_grain": cg_summary(cg, n, constrained=True)}
+    params = {name: json.loads((work / name / "cg" / "params.json").read_text()) for name in VARIANTS}
+    if (work / "nvt_1.000" / "cg" / "params.json").is_file():     # bench/md_tension.py's NVT run
+        params["nvt_1.000"] = json.loads((work / "nvt_1.000" / "cg" / "params.json").read_text())
+    cs = common_step_means(params)
+    for name in params:
+        if name != "steps" and name != "nve_default":
+            for q in ("rise_A", "twist_deg"):
+                a_, b_ = cs[name][q], cs["nve_default"][q]
+                a_["z_vs_default"] = (a_["value"] - b_["value"]) / math.hypot(a_["err"], b_["err"])
+    out["common_step_means"] = cs
     ref = out["runs"]["nve_default"]["coarse_grain"]
     cmp: dict = {}
     for name in ("nve_dt1", "nve_double"):
