@@ -12,4 +12,5 @@ One concept per module:
 - `inputs`     assemble DIR/conf.gro, topol.top, md.mdp, em.mdp, build.json
 - `run`        grompp + mdrun with progress, outputs that never look finished when they are not
 - `checks`     DIR/checks.json after a run (junctions, drift, pairing, frames, image distance)
+- `tension`    axial tension -P_aa x A from an energy file, its error, a box stretched along the axis
 """
