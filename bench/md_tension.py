@@ -18,7 +18,8 @@ h-bond constraints, mixed precision, 300 K, one thread; each stage is skipped wh
    when the two halves of that window agree within 3 standard errors of their difference),
    and its fluctuation the stretch modulus of the whole periodic duplex at zero tension,
    S_box = kT <L> / var(L) (the isotension ensemble; the barostat's mass sets only the
-   dynamics). The mean tension over the same window must be ~0 (a check of the sign and of
+   dynamics), if the box mode is thermal (it was not in the recorded run: docs/md.md).
+   The mean tension over the same window must be ~0 (a check of the sign and of
    the barostat).
 3. `nvt_1.000`, `nvt_STRETCH`: NVT (v-rescale, tau-t 1 ps) for --ps in the box of `base`
    and in the same box scaled affinely by --stretch along the axis
@@ -29,9 +30,9 @@ h-bond constraints, mixed precision, 300 K, one thread; each stage is skipped wh
    the stretch modulus S_m of m-step segments (summed rise and twist: stiffness at fixed
    twist, which a ligated box holds).
 
-Predictions compared with the measured F: dF = F(stretched) - F(built) against
-S (stretch - 1) (S from the barostat's fluctuations, or from coarse-graining), and
-F(L) against S (L - L0) / L0 from the barostat's L0. The fixed box also fixes the
+Compared: dF = F(stretched) - F(built) against S x strain (strain = box difference / L0; S
+from the barostat's fluctuations and from coarse-graining, per m), and the zero-tension
+length where F, linear between the two boxes, crosses zero, against the barostat's L0. The fixed box also fixes the
 duplex's total length, which removes length fluctuation from long segments: for a
 ring of n independent steps the variance of an m-step sum is m s^2 (1 - m / n), so the
 fixed-box S_m is high by 1 / (1 - m / n) (31 % at m = 5 of 21); the table gives S_m and
