@@ -93,14 +93,14 @@ def build(work: Path, name: str, extra: list[str], gmx: str) -> tuple[Path, floa
 
 
 def fixed_box_run(base: Path, d: Path, factor: float, ps: float, gmx: str, *, keys: dict,
-                  energy_every: int = 5, xtc_ps: float = 0.2) -> dict:
+                  energy_every: int = 5, xtc_ps: float = 0.2, conf: str = "conf.gro") -> dict:
     """--ps of MD of BASE's start in a box scaled by FACTOR along the axis, with the mdp KEYS
     (e.g. the thermostat) and energies every ENERGY_EVERY steps; returns md.done + CPU time."""
     if (d / "md.done").is_file():
         rec = json.loads((d / "md.done").read_text())
         rec["cpu_s"] = json.loads((d / "bench.json").read_text())["cpu_s"]
         return rec
-    stretch_box(base, d, factor)
+    stretch_box(base, d, factor, conf=conf)
     mdp = (d / "md.mdp").read_text()
     dt = float(keys.get("dt") or next(ln.split("=")[1] for ln in mdp.splitlines()
                                       if ln.split("=")[0].strip() == "dt"))
@@ -208,6 +208,9 @@ def main(argv=None) -> int:
     common_arguments(ap, "md_tension.json")
     ap.add_argument("--baro-ps", type=float, default=300.0, help="axis-only barostat stage, ps")
     ap.add_argument("--stretch", type=float, default=1.03)
+    ap.add_argument("--extend-ps", type=float, default=0.0,
+                    help="continue the stretched box from its final state for this long (a check "
+                         "that its tension has relaxed)")
     ap.add_argument("--baro-stopped", action="store_true",
                     help="WORK/baro's stage was stopped early (build-md did not finish): analyse "
                          "its eq.edr/eq.xtc as far as they go instead of building again")
@@ -247,6 +250,14 @@ def main(argv=None) -> int:
                      discard=int(round(res["zero_tension"]["discard_ps"] / EQ_FRAME_PS))), n,
                                               constrained=False)
     res["fixed_box"] = {f"{f:.3f}": r for f, r in runs.items()}
+    if a.extend_ps > 0:                 # the stretched box continued from its confout.gro
+        src = work / f"nvt_{a.stretch:.3f}"
+        d = work / f"nvt_{a.stretch:.3f}_continued"
+        rec = fixed_box_run(src, d, 1.0, a.extend_ps, a.gmx, keys=nvt, conf="confout.gro")
+        res["cpu_s"][d.name] = rec["cpu_s"]
+        s = tension_series(d, a.gmx)
+        res["stretched_continued"] = {"dir": str(d), "ps": rec["length_ps"],
+                                      "tension_pN": mean_with_error(s["time"], s["tension_pN"])}
     # the comparison
     F1, F2 = runs[1.0]["tension_pN"], runs[a.stretch]["tension_pN"]
     dF, dF_err = F2["mean"] - F1["mean"], math.hypot(F1["sem"], F2["sem"])
