@@ -21,7 +21,7 @@ import numpy as np
 
 from dna_models.errors import InputError
 
-from ..analysis.matched import block_sem, md_tension_pN
+from ..analysis.matched import block_sem, md_tension_pN, sem_longest_blocks
 from .checks import read_energies
 from .gro import read_gro, write_gro
 
@@ -59,17 +59,6 @@ def tension_series(directory: Path, gmx: str, *, edr: str = "md.edr", axis: int 
     F = np.array([md_tension_pN([p], a * NM2_TO_A2)[0] for p, a in zip(P, area)])
     return {"time": e["time"], "tension_pN": F, "pressure_bar": P,
             "length_nm": e[f"Box-{xyz[axis]}"], "area_nm2": area, "axis": axis}
-
-
-def sem_longest_blocks(y, min_blocks: int = 8) -> float:
-    """Standard error of the mean from the means of the longest blocks that still leave
-    MIN_BLOCKS of them (halving the series, as `matched.block_sem` does)."""
-    y = np.asarray(y, float)
-    sem = float("nan")
-    while len(y) >= min_blocks:
-        sem = float(np.std(y, ddof=1) / np.sqrt(len(y)))
-        y = 0.5 * (y[: 2 * (len(y) // 2)][0::2] + y[: 2 * (len(y) // 2)][1::2])
-    return sem
 
 
 def mean_with_error(t, y, *, discard_ps: float = 0.0) -> dict:
