@@ -10,9 +10,9 @@
 
 namespace rodcore {
 
-std::string message_number(double x) {
+std::string message_number(double x, int precision) {
   std::ostringstream o;
-  o.precision(6);
+  o.precision(precision);
   o << x;
   return o.str();
 }

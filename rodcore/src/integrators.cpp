@@ -2,20 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
-#include <sstream>
 
 #include "rodcore/error.hpp"
+#include "rodcore/guards.hpp"
 
 namespace rodcore {
 namespace {
 #include "dop853_tableau.inc"
-
-std::string fmt(double x) {
-  std::ostringstream o;
-  o.precision(6);
-  o << x;
-  return o.str();
-}
 
 // RMS norm of err_i / (atol + rtol max(|y0_i|, |y1_i|)).
 double error_norm(const std::vector<double>& err, const std::vector<double>& y0,
@@ -31,8 +24,8 @@ double error_norm(const std::vector<double>& err, const std::vector<double>& y0,
 }
 
 [[noreturn]] void non_finite(const std::string& method, double t, double h) {
-  throw NumericalError(method + ": non-finite numbers (NaN/Inf) in a step at t = " + fmt(t) +
-                       " (dt = " + fmt(h) +
+  throw NumericalError(method + ": non-finite numbers (NaN/Inf) in a step at t = " + message_number(t) +
+                       " (dt = " + message_number(h) +
                        "). The state blew up: check the initial fields, reduce dt or rtol/atol, "
                        "or increase rod.points.");
 }
@@ -148,8 +141,8 @@ class RK4Doubling final : public TimeIntegrator {
     for (std::size_t i = 0; i < n; ++i) y1[i] = y0[i] + h / 6.0 * (f0[i] + 2.0 * (k2_[i] + k3_[i]) + k4_[i]);
   }
   [[noreturn]] void underflow(double h) const {
-    throw NumericalError(name() + ": step size underflow at t = " + fmt(t_) + " (dt = " + fmt(h) +
-                         " < solver.dt_min = " + fmt(opt_.dt_min) +
+    throw NumericalError(name() + ": step size underflow at t = " + message_number(t_) +
+                         " (dt = " + message_number(h) + " < solver.dt_min = " + message_number(opt_.dt_min) +
                          "). The solution is not smooth enough to resolve: increase rod.points, "
                          "loosen rtol/atol, or look for a blow-up in the initial fields.");
   }
@@ -178,8 +171,8 @@ class Embedded : public TimeIntegrator {
       double h = std::min(h_, opt_.dt_max);
       const bool last = clamp(h, t_stop);
       if (!last && h < opt_.dt_min)
-        throw NumericalError(name() + ": step size underflow at t = " + fmt(t_) + " (dt = " + fmt(h) +
-                             " < solver.dt_min = " + fmt(opt_.dt_min) +
+        throw NumericalError(name() + ": step size underflow at t = " + message_number(t_) + " (dt = " +
+                             message_number(h) + " < solver.dt_min = " + message_number(opt_.dt_min) +
                              "). The solution is not smooth enough to resolve: increase "
                              "rod.points, loosen rtol/atol, or look for a blow-up.");
       const double err = attempt(h);
@@ -445,7 +438,7 @@ TimeIntegrator::TimeIntegrator(OdeSystem system, IntegratorOptions options)
     : sys_(std::move(system)), opt_(options) {
   if (sys_.n == 0 || !sys_.f) throw InputError("time integrator: empty ODE system");
   if (!(opt_.dt > 0.0) || !std::isfinite(opt_.dt))
-    throw InputError("solver.dt must be positive and finite, got " + fmt(opt_.dt));
+    throw InputError("solver.dt must be positive and finite, got " + message_number(opt_.dt));
   if (!(opt_.rtol >= 0.0) || !(opt_.atol >= 0.0) || (opt_.rtol == 0.0 && opt_.atol == 0.0))
     throw InputError("solver.rtol and solver.atol must be >= 0 and not both 0");
   y_.resize(sys_.n);
@@ -505,7 +498,8 @@ bool TimeIntegrator::clamp(double& h, double t_stop) const {
 void TimeIntegrator::check_steps() const {
   if (steps_ + rejected_ >= opt_.max_steps)
     throw NumericalError(name() + ": more than solver.max_steps = " + std::to_string(opt_.max_steps) +
-                         " steps at t = " + fmt(t_) + "; raise solver.max_steps or loosen the tolerances.");
+                         " steps at t = " + message_number(t_) +
+                         "; raise solver.max_steps or loosen the tolerances.");
 }
 
 void TimeIntegrator::hermite(double t, double* out) const {

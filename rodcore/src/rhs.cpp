@@ -57,7 +57,7 @@ RodRHS::RodRHS(const Rod& rod, const Material& material, const DerivativeOperato
   stride_ = (N_ % 512 == 0) ? N_ + 8 : N_;
   dy_ds_.assign(12 * stride_, 0.0);
   dy6_.assign(6 * N_, 0.0);
-  if (mf_.kind == MaterialKind::per_point) nm_.assign(6 * N_, 0.0);
+  if (mf_.kind != MaterialKind::diagonal) nm_.assign(6 * N_, 0.0);
   uniform_ = rod.Gamma0_s.empty() && rod.Omega0_s.empty();
 }
 
@@ -84,17 +84,37 @@ constexpr bool zero_row(int planar, int r) {
 struct KernelArgs {
   std::size_t N;
   const double* y[12];      // state rows (unused for zero rows)
-  const double* dy[12];     // their s-derivatives (kPerPoint: rows 6..11 hold dn/ds, dm/ds)
+  const double* dy[12];     // their s-derivatives (kStress, kPerPoint: rows 6..11 hold dn/ds, dm/ds)
   double* f[12];            // d/dt of the rows (unused for zero rows)
   const double* Gamma0[3];  // per-point intrinsic shape and its derivative
   const double* Omega0[3];  // (kUniform: only element [0] of each row is read)
   const double* dGamma0[3];
   const double* dOmega0[3];
-  const double* nm[6];  // kPerPoint: n, m at every point (stress_kernel)
+  const double* nm[6];  // kStress, kPerPoint: n, m at every point (stress_kernel)
   const MaterialField* mf;
 };
 
-enum : int { kDiagonal = 0, kCoupled = 1, kPerPoint = 2 };  // MaterialKind at compile time
+// The grid-point loops are compiled twice, for SSE2 (the x86-64 baseline) and
+// for AVX2, and the CPU picks one when the program loads (GCC function
+// multiversioning). AVX2 without FMA: the same IEEE operations in the same
+// order, 4 points per instruction instead of 2, so both clones give
+// bit-identical results (docs/performance.md, "General material").
+#if defined(__x86_64__) && defined(__GNUC__)
+#define ROD_KERNEL_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define ROD_KERNEL_CLONES
+#endif
+
+// How the kernel obtains n, m and dn/ds, dm/ds (fixed at compile time):
+// kDiagonal  K = diag(C, D), diagonal I, rho = 1, applied in the kernel;
+// kCoupled   a uniform full K applied in the kernel to e and de/ds (the
+//            reduced planar system, whose zero rows have no stress row);
+// kStress    a uniform K, I, rho; n, m formed by stress_kernel, their
+//            derivatives by the operator (one 6 x 6 product per point
+//            instead of two, and fewer live values in the kernel:
+//            docs/performance.md);
+// kPerPoint  the same with K, I, rho at every point.
+enum : int { kDiagonal = 0, kCoupled = 1, kStress = 2, kPerPoint = 3 };
 
 // The constitutive law (n, m) = K e for a symmetric K given by its 21 unique
 // entries (sym6): written once, used by the uniform kernel and the per-point
@@ -102,12 +122,12 @@ enum : int { kDiagonal = 0, kCoupled = 1, kPerPoint = 2 };  // MaterialKind at c
 // Written without loops: GCC vectorises the grid-point loop only if no inner
 // loop is left in its body.
 template <int r, class KFn>
-inline double stress_row(const KFn& K, const double e[6]) {
+[[gnu::always_inline]] inline double stress_row(const KFn& K, const double e[6]) {
   return K(sym6(r, 0)) * e[0] + K(sym6(r, 1)) * e[1] + K(sym6(r, 2)) * e[2] + K(sym6(r, 3)) * e[3] +
          K(sym6(r, 4)) * e[4] + K(sym6(r, 5)) * e[5];
 }
 template <class KFn>
-inline void stress(const KFn& K, const double e[6], double out[6]) {
+[[gnu::always_inline]] inline void stress(const KFn& K, const double e[6], double out[6]) {
   out[0] = stress_row<0>(K, e);
   out[1] = stress_row<1>(K, e);
   out[2] = stress_row<2>(K, e);
@@ -116,13 +136,17 @@ inline void stress(const KFn& K, const double e[6], double out[6]) {
   out[5] = stress_row<5>(K, e);
 }
 
-// Per-point material, pass 1: n and m at every point, which the derivative
-// operator then differentiates (the derivative acts on the stress, not the
-// strain: that keeps the semi-discrete energy exact; docs/numerics.md).
-template <bool kUniform>
-void stress_kernel(const KernelArgs& a, double* nm) {
+// Pass 1 of kStress and kPerPoint: n and m at every point, which the
+// derivative operator then differentiates (the derivative acts on the stress,
+// not the strain: that keeps the semi-discrete energy exact for a per-point
+// K; docs/numerics.md). kUniformK: the 21 entries of a uniform K as locals.
+template <bool kUniform, bool kUniformK>
+ROD_KERNEL_CLONES void stress_kernel(const KernelArgs& a, double* nm) {
   const std::size_t N = a.N;
   const double* Kp = a.mf->K_s.data();
+  double Ku[21];
+  for (int r = 0; r < 6; ++r)
+    for (int c = r; c < 6; ++c) Ku[sym6(r, c)] = a.mf->K[r * 6 + c];
   const double* y = a.y[0];
   const double *G01 = a.Gamma0[0], *G02 = a.Gamma0[1], *G03 = a.Gamma0[2];
   const double *O01 = a.Omega0[0], *O02 = a.Omega0[1], *O03 = a.Omega0[2];
@@ -133,19 +157,18 @@ void stress_kernel(const KernelArgs& a, double* nm) {
         y[8 * N + i] - (kUniform ? G03[0] : G03[i]),  y[9 * N + i] - (kUniform ? O01[0] : O01[i]),
         y[10 * N + i] - (kUniform ? O02[0] : O02[i]), y[11 * N + i] - (kUniform ? O03[0] : O03[i])};
     double out[6];
-    stress([&](int k) { return Kp[k * N + i]; }, e, out);
+    stress([&](int k) { return kUniformK ? Ku[k] : Kp[k * N + i]; }, e, out);
     for (int r = 0; r < 6; ++r) nm[r * N + i] = out[r];
   }
 }
 
 // The rod equations at every grid point: the ONE place the physics is written.
 // kMat: kDiagonal (K = diag(C, D), diagonal I, rho = 1: exactly the paper's
-// Eqs 11-14, the fast path), kCoupled (uniform full K and I), kPerPoint (K, I, rho per
-// point; n, m and their derivatives precomputed). kUniform: the intrinsic
+// Eqs 11-14, the fast path), kCoupled, kStress, kPerPoint (above). kUniform: the intrinsic
 // shape is the same at every point (read once, zero derivative), which
 // removes 12 of the 48 streamed arrays.
 template <int kMat, bool kUniform, int kPlanar>
-void rod_kernel(const KernelArgs& a) {
+ROD_KERNEL_CLONES void rod_kernel(const KernelArgs& a) {
   const std::size_t N = a.N;
   const MaterialField& mf = *a.mf;
   const double C1 = mf.K[0], C2 = mf.K[7], C3 = mf.K[14];
@@ -225,7 +248,7 @@ void rod_kernel(const KernelArgs& a) {
       stress(K, de, ds);
       n1 = s[0], n2 = s[1], n3 = s[2], m1 = s[3], m2 = s[4], m3 = s[5];
       dn1 = ds[0], dn2 = ds[1], dn3 = ds[2], dm1 = ds[3], dm2 = ds[4], dm3 = ds[5];
-    } else {
+    } else {  // kStress, kPerPoint
       n1 = nm[0][i], n2 = nm[1][i], n3 = nm[2][i], m1 = nm[3][i], m2 = nm[4][i], m3 = nm[5][i];
       dn1 = dy[6][i], dn2 = dy[7][i], dn3 = dy[8][i], dm1 = dy[9][i], dm2 = dy[10][i], dm3 = dy[11][i];
     }
@@ -279,12 +302,6 @@ void rod_kernel(const KernelArgs& a) {
 #undef ROD_DSHAPE
 }
 
-template <int kMat, int kPlanar>
-void dispatch_shape(bool uniform, const KernelArgs& a) {
-  if (uniform) rod_kernel<kMat, true, kPlanar>(a);
-  else rod_kernel<kMat, false, kPlanar>(a);
-}
-
 }  // namespace
 
 void RodRHS::operator()(const double* y, double* dydt) const {
@@ -305,10 +322,12 @@ void RodRHS::operator()(const double* y, double* dydt) const {
   }
   a.mf = &mf_;
   for (int r = 0; r < 6; ++r) a.nm[r] = nm_.empty() ? nullptr : nm_.data() + r * N;
-  if (mf_.kind == MaterialKind::per_point) {
-    // d/ds of gamma, omega (rows 0..5) and of n, m (into rows 6..11).
-    if (uniform_) stress_kernel<true>(a, nm_.data());
-    else stress_kernel<false>(a, nm_.data());
+  if (mf_.kind != MaterialKind::diagonal) {
+    // d/ds of gamma, omega (rows 0..5) and of n, m (into rows 6..11): all
+    // of them (nonzero_rows_ would only save work).
+    const bool pp = mf_.kind == MaterialKind::per_point;
+    if (uniform_) pp ? stress_kernel<true, false>(a, nm_.data()) : stress_kernel<true, true>(a, nm_.data());
+    else pp ? stress_kernel<false, false>(a, nm_.data()) : stress_kernel<false, true>(a, nm_.data());
     if (S == N) {
       op_.apply(y, dy_ds_.data(), 6);
       op_.apply(nm_.data(), dy_ds_.data() + 6 * S, 6);
@@ -316,7 +335,8 @@ void RodRHS::operator()(const double* y, double* dydt) const {
       for (std::size_t r = 0; r < 6; ++r) op_.apply(y + r * N, dy_ds_.data() + r * S, 1);
       for (std::size_t r = 0; r < 6; ++r) op_.apply(nm_.data() + r * N, dy_ds_.data() + (6 + r) * S, 1);
     }
-    rod_kernel<kPerPoint, true, 0>(a);  // the shape entered through n, m only
+    // The shape entered through n, m only.
+    pp ? rod_kernel<kPerPoint, true, 0>(a) : rod_kernel<kStress, true, 0>(a);
     return;
   }
   if (nonzero_rows_.empty() && S == N) {
@@ -328,8 +348,8 @@ void RodRHS::operator()(const double* y, double* dydt) const {
   }
   // The zero rows of a planar polarisation are still written (as zeros) so
   // that dydt is the complete 12-row derivative the caller expects.
-  if (mf_.kind == MaterialKind::diagonal) dispatch_shape<kDiagonal, 0>(uniform_, a);
-  else dispatch_shape<kCoupled, 0>(uniform_, a);
+  if (uniform_) rod_kernel<kDiagonal, true, 0>(a);
+  else rod_kernel<kDiagonal, false, 0>(a);
 }
 
 void RodRHS::reduced(int planar, const std::array<int, 6>& rows, const double* y6, double* f6) const {

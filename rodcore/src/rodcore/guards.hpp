@@ -28,7 +28,9 @@ void validate_run_settings(const Scene& scene);
 // Throws InputError naming the first non-finite initial value (component, point, s).
 void check_initial_finite(const Scene& scene, const std::vector<double>& y, const std::vector<double>& s);
 
-// A number in the run loop's messages (6 significant digits).
-std::string message_number(double x);
+// A number in error messages, with `precision` significant digits (6: the
+// run loop's and the integrators' messages; 17: round-trip exact, for values
+// read from files).
+std::string message_number(double x, int precision = 6);
 
 }  // namespace rodcore

@@ -67,7 +67,7 @@ class RodRHS {
   std::size_t stride_ = 0;                       // row stride of dy_ds_ (>= N)
   mutable std::vector<double> dy_ds_;            // 12 rows of stride_
   mutable std::vector<double> dy6_;              // 6 N work array of reduced()
-  mutable std::vector<double> nm_;               // per-point material: n, m (6 N)
+  mutable std::vector<double> nm_;               // non-diagonal material: n, m (6 N)
   std::vector<int> nonzero_rows_;                // empty: differentiate all rows
   bool uniform_ = true;                          // uniform intrinsic shape: fast kernel
 };

@@ -7,18 +7,12 @@
 
 #include "h5_handle.hpp"
 #include "rodcore/error.hpp"
+#include "rodcore/guards.hpp"
 #include "rodcore/material.hpp"
 #include "rodcore/state.hpp"
 
 namespace rodcore {
 namespace {
-
-std::string fmt_double(double v) {
-  std::ostringstream o;
-  o.precision(17);
-  o << v;
-  return o.str();
-}
 
 h5::Handle open_for_reading(const std::string& path, const std::string& what) {
   if (!std::filesystem::exists(path)) throw InputError(what + " file '" + path + "' does not exist");
@@ -70,7 +64,7 @@ std::vector<double> read_dataset(hid_t file, const std::string& path, const std:
       for (std::size_t d = 0; d < idx.size(); ++d) where << (d ? ", " : "") << idx[d];
       where << ']';
       throw InputError("file '" + path + "': dataset '" + name + "' has a non-finite value (" +
-                       fmt_double(v[k]) + ") at index " + where.str());
+                       message_number(v[k], 17) + ") at index " + where.str());
     }
   }
   return v;
@@ -91,8 +85,9 @@ void read_initial_fields(const std::string& path, const std::vector<double>& s, 
   for (std::size_t i = 0; i < N; ++i) {
     if (std::abs(s_file[i] - s[i]) > tol)
       throw InputError("file '" + path + "': dataset 's' does not match the scene's grid s_i = i L / N: s[" +
-                       std::to_string(i) + "] = " + fmt_double(s_file[i]) + ", expected " + fmt_double(s[i]) +
-                       " (tolerance " + fmt_double(tol) + "); check rod.length and rod.points");
+                       std::to_string(i) + "] = " + message_number(s_file[i], 17) + ", expected " +
+                       message_number(s[i], 17) + " (tolerance " + message_number(tol, 17) +
+                       "); check rod.length and rod.points");
   }
   y.assign(kComponents * N, 0.0);
   for (int fi = 0; fi < kFields; ++fi) {
