@@ -202,7 +202,7 @@ def stress(x, g):
     return w[:, :3], w[:, 3:]
 
 
-def _shooting_minimiser(g, L, b, refine=4, tol=1e-11, maxiter=30):
+def _shooting_minimiser(g, L, b, refine=4, tol=1e-10, maxiter=30):
     """Grid strains (N, 6) of the closed energy minimiser of the continuum rod whose
     compliance and intrinsic strains are linear between grid points, by shooting.
 
@@ -210,8 +210,8 @@ def _shooting_minimiser(g, L, b, refine=4, tol=1e-11, maxiter=30):
     closure's multipliers as lab-frame force N and moment M: n = R^T N,
     m = R^T (M - r x N), x = x0 + K^-1 (n, m). Shot along s (midpoint rule on
     SE(3), refine cells per grid cell) for p = (N, M) until R(L) = I, |r(L)| = b
-    and N || r(L); Newton on those 7 conditions (least squares) with a
-    central-difference Jacobian, the 13 shots of one step integrated together."""
+    and N || r(L): Levenberg-Marquardt (scipy, MINPACK) on those 7 conditions with a
+    central-difference Jacobian whose 12 shots are integrated together."""
     N = g["K"].shape[0]
     x0 = np.concatenate([g["Gamma0"], g["Omega0"]], axis=1)
     Cg = np.linalg.inv(g["K"])                               # compliance, SPD
@@ -250,23 +250,19 @@ def _shooting_minimiser(g, L, b, refine=4, tol=1e-11, maxiter=30):
         return np.concatenate([rotation_log(R), np.cross(r, P[:, :3]) / b,
                                (np.linalg.norm(r, axis=1) - b)[:, None]], axis=1)
 
-    p = np.zeros(6)
+    from scipy.optimize import least_squares
     eps = 1e-7
-    for _ in range(maxiter):
-        E = np.vstack([np.zeros(6), eps * np.eye(6), -eps * np.eye(6)])
+    E = np.vstack([eps * np.eye(6), -eps * np.eye(6)])
+
+    def jac(p):
         Rr = resid(p[None] + E)
-        f = Rr[0]
-        if np.max(np.abs(f)) < tol:
-            break
-        Jp = ((Rr[1:7] - Rr[7:]) / (2 * eps)).T
-        dp = np.linalg.lstsq(Jp, -f, rcond=None)[0]
-        # backtracking (the shot is strongly nonlinear in the force for a long rod):
-        # the 8 candidate steps 1, 1/2, ..., 1/128 are shot together
-        lam = 0.5 ** np.arange(8)
-        fl = resid(p[None] + lam[:, None] * dp[None])
-        ok = np.flatnonzero(np.linalg.norm(fl, axis=1) < np.linalg.norm(f))
-        p = p + lam[ok[0] if len(ok) else -1] * dp
-    else:
+        return ((Rr[:6] - Rr[6:]) / (2 * eps)).T
+
+    sol = least_squares(lambda p: resid(p[None])[0], np.zeros(6), jac=jac, method="lm",
+                        xtol=1e-15, ftol=1e-15, gtol=1e-15, max_nfev=50 * maxiter)
+    p = sol.x
+    f = resid(p[None])[0]
+    if np.max(np.abs(f)) > tol:
         raise InputError(f"closed rest state: shooting for the closed minimiser did not converge "
                          f"(closure residual {np.max(np.abs(f)):.3g})")
     return shoot(p[None], grid=True)

@@ -104,8 +104,7 @@ def run(args):
     L = rm.length
     box = L if args.box_A is None else u.length_to_rod(args.box_A)
     print(f"dna-rod: {rm.n_bp} bp, {args.params}, N = {N}; closed rest state ...", file=sys.stderr)
-    rest = closed_rest_state(g, L, box_length=box, space=args.space,
-                             closure_weight=0.0 if args.rest == "equilibrium" else 1e3)
+    rest = closed_rest_state(g, L, box_length=box, space=args.space, mode=args.rest)
     write_steps(out / "steps.h5", sm)
     write_grid_material(out / "material.h5", g, source=sm.source,
                         attrs={"sequence": seq, "interpolation": args.interpolation, "h_A": rm.h_A})
