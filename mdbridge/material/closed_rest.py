@@ -283,6 +283,63 @@ def _closed_step(J, F, C, c, mu=0.0):
     return dx1 + Q[:, k:] @ y2
 
 
+def _equilibrium_from(S, x, tol, maxiter, n_soft=2):
+    """An exact root of the solver's statics near x (Lyapunov-Schmidt reduction).
+
+    The Jacobian at x has n_soft tiny singular values (the soft family), so a Newton
+    step moves far along a curved valley and leaves it. Split with the SVD of J at x,
+    J = U diag(sigma) V^T: for given soft coordinates p (n_soft), the hard equations
+    U_h^T F(x + V_s p + V_h y) = 0 are solved for y by Newton (well conditioned), which
+    keeps the iterate on the valley floor; then g(p) = U_s^T F = 0 by Newton in n_soft
+    unknowns (central-difference Jacobian). Returns (x, Newton steps)."""
+    x0 = np.asarray(x, dtype=float).ravel()
+    F = S.residual(x0).ravel()
+    if np.max(np.abs(F)) < tol:
+        return x0, 0
+    U, sig, Vt = np.linalg.svd(S.jacobian(x0))
+    Us, Vs, Uh, Vh = U[:, -n_soft:], Vt[-n_soft:].T, U[:, :-n_soft], Vt[:-n_soft].T
+    steps = [0]
+    cache = {"y": np.zeros(Vh.shape[1])}
+
+    def valley(p):
+        y = cache["y"].copy()
+        for _ in range(maxiter):
+            x = x0 + Vs @ p + Vh @ y
+            F = S.residual(x).ravel()
+            r = Uh.T @ F
+            steps[0] += 1
+            if np.max(np.abs(r)) < 0.1 * tol:
+                break
+            y = y - np.linalg.solve(Uh.T @ S.jacobian(x) @ Vh, r)
+        else:
+            raise InputError(f"equilibrium rest state: the hard part did not converge (residual "
+                             f"{np.max(np.abs(r)):.3g})")
+        cache["y"] = y
+        return x, Us.T @ F, F
+
+    p = np.zeros(n_soft)
+    x, gp, F = valley(p)
+    for _ in range(maxiter):
+        if np.max(np.abs(F)) < tol:
+            return x, steps[0]
+        h = 1e-4
+        G = np.empty((n_soft, n_soft))
+        for k in range(n_soft):
+            e = np.zeros(n_soft)
+            e[k] = h
+            G[:, k] = (valley(p + e)[1] - valley(p - e)[1]) / (2 * h)
+        dp = np.linalg.solve(G, -gp)
+        for lam in 0.5 ** np.arange(6):          # backtracking on |g|
+            xn, gn, Fn = valley(p + lam * dp)
+            if np.linalg.norm(gn) < np.linalg.norm(gp):
+                break
+        p, x, gp, F = p + lam * dp, xn, gn, Fn
+        if _DEBUG:
+            print("LS", p, np.max(np.abs(F)))
+    raise InputError(f"equilibrium rest state: Newton did not converge in {maxiter} iterations "
+                     f"(residual {np.max(np.abs(F)):.3g})")
+
+
 def closed_rest_state(g, L, box_length=None, space="spectral", refine=8, mode="closed", tol=1e-13,
                       maxiter=40, statics: SolverStatics | None = None):
     """Closed, pre-stressed rest state of the grid material g (steps_to_rod.grid_material).
@@ -326,8 +383,12 @@ def closed_rest_state(g, L, box_length=None, space="spectral", refine=8, mode="c
                 break
             mu = max(10 * mu, 1e-10 * scale)
             if mu > 1e4 * scale:
-                raise InputError(f"closed rest state: no descent (statics residual {np.max(np.abs(F)):.3g}, "
-                                 f"closure defect {np.max(np.abs(c)):.3g})")
+                break
+        if mu > 1e4 * scale:         # no descent left: at the optimum to round-off, or stuck
+            if np.max(np.abs(c)) < 1e-12 * max(1.0, b):
+                break
+            raise InputError(f"closed rest state: no descent (statics residual {np.max(np.abs(F)):.3g}, "
+                             f"closure defect {np.max(np.abs(c)):.3g})")
         gain = phi - phin
         x, F, c, C, phi = xn, Fn, cn, Cn, phin
         mu = mu / 10 if mu > 1e-9 * scale else 0.0
@@ -339,33 +400,7 @@ def closed_rest_state(g, L, box_length=None, space="spectral", refine=8, mode="c
         raise InputError(f"closed rest state: Gauss-Newton did not converge in {maxiter} iterations "
                          f"(last step {np.max(np.abs(dx)):.3g}, closure defect {np.max(np.abs(c)):.3g})")
     if mode == "equilibrium":
-        # Newton on the statics alone (Levenberg-Marquardt safeguard: the soft family
-        # makes J nearly singular, so a full step may overshoot)
-        F = S.residual(x).ravel()
-        mu = 0.0
-        for it2 in range(1, maxiter + 1):
-            if np.max(np.abs(F)) < tol:
-                break
-            J = S.jacobian(x)
-            while True:
-                if mu == 0.0:
-                    dx = np.linalg.solve(J, -F)
-                else:
-                    dx = np.linalg.lstsq(np.vstack([J, np.sqrt(mu) * np.eye(x.size)]),
-                                         -np.concatenate([F, np.zeros(x.size)]), rcond=None)[0]
-                Fn = S.residual(x + dx).ravel()
-                if _DEBUG:
-                    print("N", it2, mu, np.max(np.abs(dx)), np.max(np.abs(F)), np.max(np.abs(Fn)))
-                if np.linalg.norm(Fn) < np.linalg.norm(F):
-                    x, F = x + dx, Fn
-                    mu = 0.0 if mu < 1e-14 else mu / 10
-                    break
-                mu = max(10 * mu, 1e-12 * np.max(np.abs(J)) ** 2)
-                if mu > 1e6 * np.max(np.abs(J)) ** 2:
-                    raise InputError(f"equilibrium rest state: no descent at residual {np.max(np.abs(F)):.3g}")
-        else:
-            raise InputError(f"equilibrium rest state: Newton did not converge in {maxiter} iterations "
-                             f"(residual {np.max(np.abs(F)):.3g})")
+        x, it2 = _equilibrium_from(S, x, tol, maxiter)
         it += it2
     x = x.reshape(N, 6)
     n, m = stress(x, g)

@@ -57,7 +57,7 @@ def olson21():
 def test_rest_state_is_a_prestressed_equilibrium(olson21, space):
     rm, g = olson21
     L = rm.length
-    r = closed_rest_state(g, L, space=space)
+    r = closed_rest_state(g, L, space=space, mode="equilibrium")
     res, n, m = _residual(r.Gamma, r.Omega, g, L, space)
     assert res < 1e-10
     # the stress is not zero, so this can fail (tension 3-27 pN)
@@ -74,11 +74,11 @@ def test_rest_state_is_a_prestressed_equilibrium(olson21, space):
 
 
 def test_closed_mode_closes_exactly(olson21):
-    """closure_weight > 0: closed to round-off, the statics then hold to their
+    """mode = "closed": closed to round-off, the statics then hold to their
     discretisation error, and the stress is that of the equilibrium mode."""
     rm, g = olson21
     L = rm.length
-    r = closed_rest_state(g, L, closure_weight=1e3)
+    r = closed_rest_state(g, L, mode="closed")
     assert r.closure_rotation_rad < 1e-10 and r.closure_length_error < 1e-10
     res, _, _ = _residual(r.Gamma, r.Omega, g, L, "spectral")
     assert 1e-9 < res < 1e-5
