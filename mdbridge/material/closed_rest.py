@@ -202,7 +202,7 @@ def stress(x, g):
     return w[:, :3], w[:, 3:]
 
 
-def _shooting_minimiser(g, L, b, refine=4, tol=1e-10, maxiter=30):
+def _shooting_minimiser(g, L, b, refine=2, tol=1e-8, maxiter=30):
     """Grid strains (N, 6) of the closed energy minimiser of the continuum rod whose
     compliance and intrinsic strains are linear between grid points, by shooting.
 
@@ -259,7 +259,7 @@ def _shooting_minimiser(g, L, b, refine=4, tol=1e-10, maxiter=30):
         return ((Rr[:6] - Rr[6:]) / (2 * eps)).T
 
     sol = least_squares(lambda p: resid(p[None])[0], np.zeros(6), jac=jac, method="lm",
-                        xtol=1e-15, ftol=1e-15, gtol=1e-15, max_nfev=50 * maxiter)
+                        xtol=1e-3 * tol, ftol=1e-3 * tol, gtol=1e-15, max_nfev=50 * maxiter)
     p = sol.x
     f = resid(p[None])[0]
     if np.max(np.abs(f)) > tol:
