@@ -47,11 +47,17 @@ def analyse(h5, n_bp, in_plane):
 
 
 def run(cmd, log):
-    t0 = time.time()
+    import resource
+
+    def child_cpu():
+        r = resource.getrusage(resource.RUSAGE_CHILDREN)
+        return r.ru_utime + r.ru_stime
+    t0, c0 = time.time(), child_cpu()
     p = subprocess.run(cmd, capture_output=True, text=True)
     if p.returncode:
         sys.exit(f"{' '.join(map(str, cmd))} failed:\n{p.stderr}")
     log.append({"cmd": " ".join(map(str, cmd)), "wall_s": round(time.time() - t0, 1),
+                "cpu_s": round(child_cpu() - c0, 1),
                 "stderr_tail": p.stderr.strip().splitlines()[-1:] if p.stderr else []})
     return p
 
@@ -67,10 +73,16 @@ def main():
     import shutil
     from dna_models.units import Units
     dnarod = shutil.which("dnarod") or sys.exit("dnarod not on PATH")
-    for name, kick in (("olson1998_kicked", "1.0"), ("olson1998_rest", "0")):
-        d = a.work / name
-        run([dnarod, "dna-rod", "--random", "158", "--seed", "1", "--params", "olson1998",
-             "--kick", kick, "--t-end-ps", str(a.ps), "-o", str(d)], log)
+    kicked, rest = a.work / "olson1998_kicked", a.work / "olson1998_rest"
+    run([dnarod, "dna-rod", "--random", "158", "--seed", "1", "--params", "olson1998",
+         "--kick", "1.0", "--t-end-ps", str(a.ps), "-o", str(kicked)], log)
+    # the same rest state without the kick (velocities zeroed in a copy of the initial file)
+    import h5py
+    shutil.copytree(kicked, rest, dirs_exist_ok=True)
+    with h5py.File(rest / "rest.h5", "a") as f:
+        f["fields/gamma"][...] = 0.0
+        f["fields/omega"][...] = 0.0
+    for name, d in (("olson1998_kicked", kicked), ("olson1998_rest", rest)):
         run([rodsim(), "run", str(d / "scene.toml"), "-o", str(d / "rod.h5")], log)
         info = json.loads((d / "rest.json").read_text())
         ax = np.array(info["axis0"])

@@ -34,8 +34,8 @@ def _rod_steps(d):
     frames rodcore reconstructs from the closed rest state, the closing frame being
     frame 0 moved by the period vector P = int d_k Gamma_k ds."""
     import rodcore
-    out = rodcore.run(str(d / "rod" / "scene.toml"),
-                      set=["output.t_end=0.01", "output.frames=2", 'output.fields=["internal","centerline","directors"]'])
+    out = rodcore.run(str(d / "rod" / "scene.toml"), set=["output.t_end=0.01", "output.frames=2",
+                                                          'output.fields=["internal","centerline","directors"]'])
     r, D, G = out["centerline"][0], out["directors"][0], out["fields"]["Gamma"][0]
     N = len(out["s"])
     P = np.einsum("ixk,ik->x", D, G) * (out["s"][1] - out["s"][0])

@@ -132,7 +132,8 @@ def run(args):
             "torque_pN_nm": M_pNnm, "statics_residual": rest.statics_residual,
             "closure_rotation_rad": rest.closure_rotation_rad,
             "closure_length_error_A": u.length_to_A(rest.closure_length_error),
-            "rest_iterations": rest.iterations, "elastic_energy": rest.energy, "elastic_energy_kT": rest.energy / u.kT_to_rod(sm.temperature_K),
+            "rest_iterations": rest.iterations, "elastic_energy": rest.energy,
+            "elastic_energy_kT": rest.energy / u.kT_to_rod(sm.temperature_K),
             "axis0": rest.axis0.tolist(), "kick_A_per_ps": args.kick}
     (out / "rest.json").write_text(json.dumps(info, indent=1))
     print(f"dna-rod: rest state tension {T_pN:.2f} pN, torque {M_pNnm:.3f} pN nm, statics residual "
