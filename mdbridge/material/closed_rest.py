@@ -59,7 +59,6 @@ from mdbridge.rodframes import _inverse_left_jacobian, skew, step_exp, trig_inte
 from .composition import cell_matrix as _cell_matrix, compose_cells as _monodromy_cells
 
 MODES = ("closed", "equilibrium")
-_DEBUG = False
 
 
 class SolverStatics:
@@ -354,8 +353,6 @@ def _equilibrium_from(S, x, tol, maxiter, n_soft=2):
             if np.linalg.norm(gn) < np.linalg.norm(gp):
                 break
         p, x, gp, F = p + lam * dp, xn, gn, Fn
-        if _DEBUG:
-            print("LS", p, np.max(np.abs(F)))
     raise InputError(f"equilibrium rest state: Newton did not converge in {maxiter} iterations "
                      f"(residual {np.max(np.abs(F)):.3g})")
 
@@ -397,8 +394,6 @@ def closed_rest_state(g, L, box_length=None, space="spectral", refine=8, mode="c
             Fn = S.residual(xn).ravel()
             cn, Cn = closure_jacobian(xn.reshape(N, 6), L, b, refine)
             phin = merit(Fn, cn)
-            if _DEBUG:
-                print("GN", it, mu, np.max(np.abs(dx)), np.max(np.abs(Fn)), np.max(np.abs(cn)))
             if phin <= phi * (1 + 1e-12):
                 break
             mu = max(10 * mu, 1e-10 * scale)
