@@ -2,44 +2,42 @@
 
 A sequence-dependent intrinsic shape (Gamma0(s), Omega0(s)) composed over one
 period is a screw motion, not the pure translation by the box vector that a
-ligated DNA in a periodic box needs. The rest state is the minimiser of the
-elastic energy
+ligated DNA in a periodic box needs. The rest state is the static equilibrium
+of the solver's own semi-discrete balance laws under the closure constraint:
+the frame at L equals the frame at 0 and the end-to-end vector has the box
+length b (its direction, the helix axis, is free).
 
-    E = sum_j ds/2 (x_j - x0_j)^T K_j (x_j - x0_j),  x = (Gamma, Omega),  ds = L/N
+The balance laws are never written here: the statics residual is rodcore's
+RHS at zero velocity (`SolverStatics`: rho d gamma/dt = D n + Omega x n,
+I d omega/dt = D m + Omega x m + Gamma x n with D the solver's spectral or FD4
+operator), through `rodcore.Simulation(scene).rhs`. At zero velocity that
+residual is a quadratic function of the strains x = (Gamma, Omega) (n, m are
+linear in x, the cross products bilinear), so central differences with UNIT
+steps give its Jacobian exactly (no truncation error; round-off only).
 
-over the grid values, under the closure constraint: the frame at L equals the
-frame at 0 and the end-to-end vector has the box length b (its direction, the
-helix axis, is free). The constraint is evaluated on the trigonometric
-interpolant of the grid fields, refined `refine` times (product of SE(3)
-exponentials of the midpoint strains; error O((ds/refine)^2)).
+The closure is evaluated on the trigonometric interpolant of the grid strains
+(the field the spectral operator sees), composed as the product of SE(3)
+exponentials of its values at the midpoints of `refine` sub-cells per grid
+cell (mdbridge/material/composition.py; error O((ds/refine)^2)). Its
+Jacobian is analytic (`closure_jacobian`): the derivative of the product of
+exponentials through SE(3) adjoints of the suffix products and the right
+Jacobian of each cell's exponential.
 
-A minimiser of the continuum energy satisfies the statics
-D n + Omega x n = 0, D m + Omega x m + Gamma x n = 0 with (n, m) = K (x - x0).
-The semi-discrete statics (D the solver's spectral or FD4 derivative) have,
-near a closed equilibrium, a two-parameter family of nearly-equilibria (the
-continuum's screw motions about the force axis: every stress invariant under
-the monodromy is periodic), which the discretisation breaks only weakly. So
-the exact semi-discrete equilibrium and exact closure cannot both hold at a
-finite N; the two differ by the discretisation error. Two modes:
+Near a closed equilibrium the semi-discrete statics have a two-parameter
+family of near-solutions (the continuum's periodic equilibria: every wrench
+invariant under the monodromy screw, parametrised by its angle and pitch),
+which the discretisation breaks only weakly, so exact statics and exact
+closure cannot both hold at a finite N (docs/scenes.md, "The closed,
+pre-stressed rest state"). Two modes:
 
-The constrained minimiser comes from its stationarity conditions, the
-continuum statics with the closure's multipliers as lab-frame force N and
-moment M: n = R^T N, m = R^T (M - r x N), x = x0 + K^-1 (n, m), shot along s
-for the 6 numbers (N, M) until R(L) = I, |r(L)| = b, N || r(L) (scipy
-least_squares). Then:
-
-* closure_weight = 0 (default, "equilibrium"): the minimiser is polished by Levenberg-Marquardt
-  (scipy least_squares, analytic Jacobian)
-  on the semi-discrete statics:
-  an equilibrium of the solver's equations to round-off (it stays at rest),
-  closed to the discretisation error (measured: ClosedRest.closure_*).
-  The exact semi-discrete root can sit far along the soft family (measured:
-  0.04 rad for 21 bp, 0.09 rad and 1.4 A for 80 bp), so this mode is for
-  checking the solver's rest, not for building MD.
-* closure_weight > 0 ("closed", the `dnarod dna-rod` default): the polish adds
-  the closure (weight / ds): closed to round-off, statics to the
-  discretisation error (1.8e-6 at one point per base pair, 2.9e-7 at two, for
-  21 bp under Olson 1998; 1.2e-5 for 80 bp).
+* rest = "closed" (the `dnarod dna-rod` default, the MD build's): Gauss-Newton
+  from the intrinsic shape on min |statics residual|^2 subject to the closure
+  as an exact equality constraint (null-space method): closed to round-off,
+  the statics to the discretisation error.
+* rest = "equilibrium": then Newton (Levenberg-Marquardt safeguard) on the
+  statics alone, from the closed state: an equilibrium of the solver's
+  equations to round-off (it stays at rest in rodsim), closed only to the
+  discretisation error.
 
 The residual stress: with N = R n and the closure direction b_hat, the tension
 is n . R^T b_hat and the torque about the axis m . R^T b_hat (both constant
@@ -47,70 +45,60 @@ along s at an exact equilibrium with N || b_hat).
 """
 from __future__ import annotations
 
+import tempfile
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 
 from dna_models.errors import InputError
 from dna_models.units import Units
 from mdbridge.geometry.rotations import rotation_log
-from mdbridge.rodframes import skew, step_exp, trig_interpolate
+from mdbridge.rodframes import _inverse_left_jacobian, skew, step_exp, trig_interpolate
 
 from .composition import cell_matrix as _cell_matrix, compose_cells as _monodromy_cells
 
-
-def derivative(f, L, space):
-    """d/ds of periodic grid data f (N, ...) as rodcore does it: Fourier with the
-    Nyquist mode zeroed ("spectral") or the 4th-order central difference ("fd4")."""
-    N = f.shape[0]
-    if space == "spectral":
-        k = np.fft.rfftfreq(N, d=L / N) * 2 * np.pi
-        if N % 2 == 0:
-            k[-1] = 0.0
-        return np.fft.irfft(1j * k.reshape((-1,) + (1,) * (f.ndim - 1)) * np.fft.rfft(f, axis=0), n=N, axis=0)
-    if space == "fd4":
-        h = L / N
-        return (-np.roll(f, -2, 0) + 8 * np.roll(f, -1, 0) - 8 * np.roll(f, 1, 0) + np.roll(f, 2, 0)) / (12 * h)
-    raise InputError(f"space {space!r}: allowed 'spectral', 'fd4'")
+MODES = ("closed", "equilibrium")
 
 
-def derivative_matrix(N, L, space):
-    """The operator of `derivative` as a dense (N, N) matrix."""
-    return derivative(np.eye(N), L, space)
+class SolverStatics:
+    """The solver's statics residual and its exact Jacobian, from rodcore's RHS.
 
+    One rodcore.Simulation of the grid material g (steps_to_rod.grid_material) on
+    a rod of length L with the operator `space`; residual(x) for x (N, 6) =
+    (Gamma, Omega) is (N, 6) = (rho d gamma/dt, I d omega/dt) at zero velocity."""
 
-def statics_jacobian(x, g, L, space, Dmat=None):
-    """d(statics_residual)/dx as (6N, 6N): block (j, i) = D_ji K_i + delta_ij B_j."""
-    N = x.shape[0]
-    D = derivative_matrix(N, L, space) if Dmat is None else Dmat
-    K = g["K"]
-    n, m = stress(x, g)
-    G, O = x[:, :3], x[:, 3:]
-    XO, Xn, Xm, XG = skew(O), skew(n), skew(m), skew(G)
-    B = np.zeros((N, 6, 6))
-    B[:, :3, :] = XO @ K[:, :3, :]
-    B[:, :3, 3:] -= Xn
-    B[:, 3:, :] = XO @ K[:, 3:, :] + XG @ K[:, :3, :]
-    B[:, 3:, 3:] -= Xm
-    B[:, 3:, :3] -= Xn
-    J = D[:, None, :, None] * np.swapaxes(K, 0, 1)[None, :, :, :]      # (j, a, i, b) = D_ji K_i[a, b]
-    J[np.arange(N), :, np.arange(N), :] += B
-    return J.reshape(6 * N, 6 * N)
+    def __init__(self, g, L, space="spectral"):
+        import rodcore
+        from .gridfile import write_grid_material
+        self.N = int(g["K"].shape[0])
+        self.rho = np.asarray(g["rho"], dtype=float)
+        self.I = np.asarray(g["I"], dtype=float)
+        scene = {"rod": {"length": float(L), "points": self.N},
+                 "solver": {"space": space, "reduce": "off"},
+                 "output": {"t_end": 1.0, "frames": 2, "fields": ["internal"]}}
+        with tempfile.TemporaryDirectory(prefix="dnarod-rest-") as d:
+            path = write_grid_material(Path(d) / "material.h5", g, source="closed_rest")
+            scene["material"] = {"material_file": str(path)}
+            self.sim = rodcore.Simulation(scene)          # reads the file now
 
+    def residual(self, x):
+        x = np.asarray(x, dtype=float).reshape(self.N, 6)
+        y = np.concatenate([np.zeros((6, self.N)), x.T]).ravel()   # rows gamma, omega, Gamma, Omega
+        f = np.asarray(self.sim.rhs(y)).reshape(12, self.N)
+        return np.concatenate([self.rho[:, None] * f[0:3].T, np.einsum("jab,bj->ja", self.I, f[3:6])], axis=1)
 
-def stress(x, g):
-    """(n, m) = K (x - x0), (N, 3) each; x (N, 6) = (Gamma, Omega)."""
-    x0 = np.concatenate([g["Gamma0"], g["Omega0"]], axis=1)
-    w = np.einsum("jab,jb->ja", g["K"], x - x0)
-    return w[:, :3], w[:, 3:]
-
-
-def statics_residual(x, g, L, space):
-    """(N, 6): D n + Omega x n and D m + Omega x m + Gamma x n."""
-    n, m = stress(x, g)
-    G, O = x[:, :3], x[:, 3:]
-    return np.concatenate([derivative(n, L, space) + np.cross(O, n),
-                           derivative(m, L, space) + np.cross(O, m) + np.cross(G, n)], axis=1)
+    def jacobian(self, x):
+        """(6N, 6N) d residual / d x, exact: the residual is quadratic in x, so
+        (F(x + e_k) - F(x - e_k)) / 2 is column k with no truncation error."""
+        x = np.asarray(x, dtype=float).ravel()
+        J = np.empty((x.size, x.size))
+        for k in range(x.size):
+            xp, xm = x.copy(), x.copy()
+            xp[k] += 1.0
+            xm[k] -= 1.0
+            J[:, k] = 0.5 * (self.residual(xp) - self.residual(xm)).ravel()
+        return J
 
 
 def monodromy(x, L, refine=16):
@@ -126,6 +114,68 @@ def closure_defect(x, L, box_length, refine=16):
     return np.concatenate([rotation_log(R), [np.linalg.norm(d) - box_length]])
 
 
+def _ad(u):
+    """SE(3) adjoint ad_u (..., 6, 6) of twists u = (rotation, translation)."""
+    A = np.zeros(u.shape[:-1] + (6, 6))
+    W, V = skew(u[..., :3]), skew(u[..., 3:])
+    A[..., :3, :3] = W
+    A[..., 3:, 3:] = W
+    A[..., 3:, :3] = V
+    return A
+
+
+def _right_jacobian_se3(u, terms=14):
+    """J_r(u) = sum_k (-ad_u)^k / (k + 1)!: exp(u + du) = exp(u) exp(J_r(u) du) + O(du^2).
+    The series is for the small cell twists here (|u| < 0.2: 14 terms are exact to round-off)."""
+    A = -_ad(u)
+    term = np.broadcast_to(np.eye(6), A.shape).copy()
+    J = term.copy()
+    for k in range(1, terms):
+        term = term @ A / (k + 1)
+        J += term
+    return J
+
+
+def closure_jacobian(x, L, box_length, refine=16):
+    """Closure defect c (4,) (as closure_defect) and its Jacobian (4, 6N), analytic.
+
+    T = T_1 ... T_M with T_c = exp(h xi_c), xi_c = (Omega, Gamma) of the interpolant
+    at cell c. A change d xi_c moves T to T exp(Ad_{S_c^-1} h J_r(h xi_c) d xi_c),
+    S_c = T_{c+1} ... T_M; the body twist (d theta, d v) gives d log R = J_r^SO3(log R)^-1
+    d theta and d |d| = d_hat . R d v."""
+    N = x.shape[0]
+    M = refine * N
+    h = L / M
+    B = _cell_matrix(N, L, refine)                        # (M, N)
+    xm = B @ x                                            # (M, 6) = (Gamma, Omega)
+    xi = np.concatenate([xm[:, 3:], xm[:, :3]], axis=1)   # (Omega, Gamma): rotation first
+    Rc, dc = step_exp(h * xi[:, :3], h * xi[:, 3:])
+    # suffix products S_c = T_{c+1} ... T_M (S_M = identity), and T = T_1 S_1
+    RS = np.empty((M, 3, 3))
+    pS = np.empty((M, 3))
+    R, p = np.eye(3), np.zeros(3)
+    for c in range(M - 1, -1, -1):
+        RS[c], pS[c] = R, p
+        p = Rc[c] @ p + dc[c]
+        R = Rc[c] @ R
+    RT, dT = R, p
+    # Ad of S^-1 = (R^T, -R^T p): [[R^T, 0], [[-R^T p]x R^T, R^T]]
+    RSt = np.swapaxes(RS, -1, -2)
+    Ad = np.zeros((M, 6, 6))
+    Ad[:, :3, :3] = RSt
+    Ad[:, 3:, 3:] = RSt
+    Ad[:, 3:, :3] = skew(-np.einsum("cji,cj->ci", RS, pS)) @ RSt
+    G = Ad @ _right_jacobian_se3(h * xi) * h              # (M, 6, 6): d body twist / d xi_c
+    G = np.concatenate([G[:, :, 3:], G[:, :, :3]], axis=2)   # columns in (Gamma, Omega) order
+    dzeta = np.einsum("cab,cj->ajb", G, B).reshape(6, 6 * N)  # body twist of T per grid value
+    phi = rotation_log(RT)
+    c = np.concatenate([phi, [np.linalg.norm(dT) - box_length]])
+    C = np.empty((4, 6 * N))
+    C[:3] = _inverse_left_jacobian(-phi) @ dzeta[:3]
+    C[3] = (dT / np.linalg.norm(dT)) @ RT @ dzeta[3:]
+    return c, C
+
+
 @dataclass
 class ClosedRest:
     Gamma: np.ndarray        # (N, 3)
@@ -135,16 +185,32 @@ class ClosedRest:
     axis0: np.ndarray        # unit end-to-end direction in the frame at s = 0
     tension: float           # n . R^T axis (mean over s)
     torque: float            # m . R^T axis (mean over s)
-    statics_residual: float  # max |statics residual| (solver's operator)
+    statics_residual: float  # max |statics residual| (solver's operator, rodcore's RHS)
     closure_rotation_rad: float
     closure_length_error: float
     energy: float
     space: str
+    mode: str = "closed"
+    iterations: int = 0
 
 
-def _shooting_minimiser(g, L, b, refine):
-    """Grid strains (N, 6) of the closed minimiser by shooting (see closed_rest_state)."""
-    from scipy.optimize import least_squares
+def stress(x, g):
+    """(n, m) = K (x - x0), (N, 3) each; x (N, 6) = (Gamma, Omega) (for the report)."""
+    x0 = np.concatenate([g["Gamma0"], g["Omega0"]], axis=1)
+    w = np.einsum("jab,jb->ja", g["K"], x - x0)
+    return w[:, :3], w[:, 3:]
+
+
+def _shooting_minimiser(g, L, b, refine=2, tol=1e-8, maxiter=30):
+    """Grid strains (N, 6) of the closed energy minimiser of the continuum rod whose
+    compliance and intrinsic strains are linear between grid points, by shooting.
+
+    The minimiser's stationarity conditions are the continuum statics with the
+    closure's multipliers as lab-frame force N and moment M: n = R^T N,
+    m = R^T (M - r x N), x = x0 + K^-1 (n, m). Shot along s (midpoint rule on
+    SE(3), refine cells per grid cell) for p = (N, M) until R(L) = I, |r(L)| = b
+    and N || r(L): Levenberg-Marquardt (scipy, MINPACK) on those 7 conditions with a
+    central-difference Jacobian whose 12 shots are integrated together."""
     N = g["K"].shape[0]
     x0 = np.concatenate([g["Gamma0"], g["Omega0"]], axis=1)
     Cg = np.linalg.inv(g["K"])                               # compliance, SPD
@@ -157,120 +223,216 @@ def _shooting_minimiser(g, L, b, refine):
     xc0 = (1 - w) * x0[j0] + w * x0[j1]                       # linear in s: convex, so the
     Cc = (1 - w[..., None]) * Cg[j0] + w[..., None] * Cg[j1]  # compliance stays SPD
 
-    def strains(R, r, Nf, Mm, x0_, C_):
-        st = np.concatenate([R.T @ Nf, R.T @ (Mm - np.cross(r, Nf))])
-        return x0_ + C_ @ st
+    def cross(a, b):
+        return a[:, [1, 2, 0]] * b[:, [2, 0, 1]] - a[:, [2, 0, 1]] * b[:, [1, 2, 0]]
 
-    def shoot(p, grid=False):
-        Nf, Mm = p[:3], p[3:]
-        R, r = np.eye(3), np.zeros(3)
+    def strains(R, r, Nf, Mm, xs0, C_):                      # batched over shots: R (B, 3, 3)
+        st = np.concatenate([np.einsum("bji,bj->bi", R, Nf),
+                             np.einsum("bji,bj->bi", R, Mm - cross(r, Nf))], axis=1)
+        return xs0 + st @ C_.T
+
+    def exp(v, w):
+        """SE(3) exponential (R, J(v) w) of (B, 3) twists, lean (the shot's inner loop)."""
+        t2 = np.einsum("bi,bi->b", v, v)
+        t = np.sqrt(t2)
+        small = t < 1e-3
+        ts = np.where(small, 1.0, t)
+        a = np.where(small, 1 - t2 / 6, np.sin(ts) / ts)
+        bb = np.where(small, 0.5 - t2 / 24, (1 - np.cos(ts)) / ts**2)
+        cc = np.where(small, 1 / 6 - t2 / 120, (ts - np.sin(ts)) / ts**3)
+        V = skew(v)
+        V2 = V @ V
+        R = np.eye(3) + a[:, None, None] * V + bb[:, None, None] * V2
+        Jw = w + bb[:, None] * np.einsum("bij,bj->bi", V, w) + cc[:, None] * np.einsum("bij,bj->bi", V2, w)
+        return R, Jw
+
+    def shoot(P, grid=False):
+        Nf, Mm = P[:, :3], P[:, 3:]
+        R = np.broadcast_to(np.eye(3), (len(P), 3, 3)).copy()
+        r = np.zeros((len(P), 3))
         out = np.empty((N, 6)) if grid else None
         for c in range(M):
             if grid and c % refine == 0:
-                out[c // refine] = strains(R, r, Nf, Mm, x0[c // refine], Cg[c // refine])
-            # midpoint rule: predict the mid-cell frame with the start-of-cell strains
+                out[c // refine] = strains(R, r, Nf, Mm, x0[c // refine], Cg[c // refine])[0]
+            # midpoint rule; the mid-cell frame by a first-order predictor (its O(h^2)
+            # error changes the midpoint strains at the order of the rule itself)
             xs = strains(R, r, Nf, Mm, xc0[c], Cc[c])
-            Rh, dh = step_exp(0.5 * hc * xs[3:], 0.5 * hc * xs[:3])
-            xm = strains(R @ Rh, r + R @ dh, Nf, Mm, xc0[c], Cc[c])
-            Rc, dc = step_exp(hc * xm[3:], hc * xm[:3])
-            r = r + R @ dc
+            Rm = R + 0.5 * hc * R @ skew(xs[:, 3:])
+            xm = strains(Rm, r + 0.5 * hc * np.einsum("bij,bj->bi", R, xs[:, :3]), Nf, Mm, xc0[c], Cc[c])
+            Rc, dc = exp(hc * xm[:, 3:], hc * xm[:, :3])
+            r = r + np.einsum("bij,bj->bi", R, dc)
             R = R @ Rc
         return out if grid else (R, r)
 
-    def resid(p):
-        R, r = shoot(p)
-        Nf = p[:3]
-        return np.concatenate([rotation_log(R), np.cross(r, Nf) / b, [np.linalg.norm(r) - b]])
+    def resid(P):
+        R, r = shoot(P)
+        return np.concatenate([rotation_log(R), np.cross(r, P[:, :3]) / b,
+                               (np.linalg.norm(r, axis=1) - b)[:, None]], axis=1)
 
-    sol = least_squares(resid, np.zeros(6), method="lm", xtol=1e-15, ftol=1e-15, gtol=1e-15)
-    if np.max(np.abs(resid(sol.x))) > 1e-9:
+    from scipy.optimize import least_squares
+    eps = 1e-7
+    E = np.vstack([eps * np.eye(6), -eps * np.eye(6)])
+
+    def jac(p):
+        Rr = resid(p[None] + E)
+        return ((Rr[:6] - Rr[6:]) / (2 * eps)).T
+
+    sol = least_squares(lambda p: resid(p[None])[0], np.zeros(6), jac=jac, method="lm",
+                        xtol=1e-3 * tol, ftol=1e-3 * tol, gtol=1e-15, max_nfev=50 * maxiter)
+    p = sol.x
+    f = resid(p[None])[0]
+    if np.max(np.abs(f)) > tol:
         raise InputError(f"closed rest state: shooting for the closed minimiser did not converge "
-                         f"(closure residual {np.max(np.abs(resid(sol.x))):.3g})")
-    return shoot(sol.x, grid=True)
+                         f"(closure residual {np.max(np.abs(f)):.3g})")
+    return shoot(p[None], grid=True)
 
 
-def closed_rest_state(g, L, box_length=None, space="spectral", refine=8, tol=1e-14, maxiter=100,
-                      closure_weight=0.0, polish_iterations=200):
-    """Closed, pre-stressed equilibrium of the grid material g (steps_to_rod.grid_material).
+def _closed_step(J, F, C, c, mu=0.0):
+    """min |J dx + F|^2 + mu |dx_free|^2 subject to C dx = -c (null-space method: C^T = Q R)."""
+    import scipy.linalg
+    Q, Rr = np.linalg.qr(C.T, mode="complete")
+    k = C.shape[0]
+    dx1 = Q[:, :k] @ np.linalg.solve(Rr[:k].T, -c)
+    A = J @ Q[:, k:]
+    rhs = -(F + J @ dx1)
+    if mu > 0:
+        A = np.vstack([A, np.sqrt(mu) * np.eye(A.shape[1])])
+        rhs = np.concatenate([rhs, np.zeros(A.shape[1])])
+    y2 = scipy.linalg.lstsq(A, rhs, lapack_driver="gelsy", check_finite=False)[0]
+    return dx1 + Q[:, k:] @ y2
+
+
+def _equilibrium_from(S, x, tol, maxiter, n_soft=2):
+    """An exact root of the solver's statics near x (Lyapunov-Schmidt reduction).
+
+    The Jacobian at x has n_soft tiny singular values (the soft family), so a Newton
+    step moves far along a curved valley and leaves it. Split with the SVD of J at x,
+    J = U diag(sigma) V^T: for given soft coordinates p (n_soft), the hard equations
+    U_h^T F(x + V_s p + V_h y) = 0 are solved for y by Newton (well conditioned), which
+    keeps the iterate on the valley floor; then g(p) = U_s^T F = 0 by Newton in n_soft
+    unknowns (central-difference Jacobian). Returns (x, Newton steps)."""
+    x0 = np.asarray(x, dtype=float).ravel()
+    F = S.residual(x0).ravel()
+    if np.max(np.abs(F)) < tol:
+        return x0, 0
+    U, sig, Vt = np.linalg.svd(S.jacobian(x0))
+    Us, Vs, Uh, Vh = U[:, -n_soft:], Vt[-n_soft:].T, U[:, :-n_soft], Vt[:-n_soft].T
+    steps = [0]
+    cache = {"y": np.zeros(Vh.shape[1])}
+
+    def valley(p):
+        y = cache["y"].copy()
+        for _ in range(maxiter):
+            x = x0 + Vs @ p + Vh @ y
+            F = S.residual(x).ravel()
+            r = Uh.T @ F
+            steps[0] += 1
+            if np.max(np.abs(r)) < 0.1 * tol:
+                break
+            y = y - np.linalg.solve(Uh.T @ S.jacobian(x) @ Vh, r)
+        else:
+            raise InputError(f"equilibrium rest state: the hard part did not converge (residual "
+                             f"{np.max(np.abs(r)):.3g})")
+        cache["y"] = y
+        return x, Us.T @ F, F
+
+    p = np.zeros(n_soft)
+    x, gp, F = valley(p)
+    for _ in range(maxiter):
+        if np.max(np.abs(F)) < tol:
+            return x, steps[0]
+        h = 1e-4
+        G = np.empty((n_soft, n_soft))
+        for k in range(n_soft):
+            e = np.zeros(n_soft)
+            e[k] = h
+            G[:, k] = (valley(p + e)[1] - valley(p - e)[1]) / (2 * h)
+        dp = np.linalg.solve(G, -gp)
+        for lam in 0.5 ** np.arange(6):          # backtracking on |g|
+            xn, gn, Fn = valley(p + lam * dp)
+            if np.linalg.norm(gn) < np.linalg.norm(gp):
+                break
+        p, x, gp, F = p + lam * dp, xn, gn, Fn
+    raise InputError(f"equilibrium rest state: Newton did not converge in {maxiter} iterations "
+                     f"(residual {np.max(np.abs(F)):.3g})")
+
+
+def closed_rest_state(g, L, box_length=None, space="spectral", refine=8, mode="closed", tol=1e-13,
+                      maxiter=40, statics: SolverStatics | None = None):
+    """Closed, pre-stressed rest state of the grid material g (steps_to_rod.grid_material).
 
     box_length: end-to-end length (rod units), default L (the fiducial length).
-    Returns a ClosedRest. Raises InputError when scipy does not converge."""
+    mode: "closed" or "equilibrium" (module docstring). Returns a ClosedRest.
+    Raises InputError when the iteration does not converge."""
+    if mode not in MODES:
+        raise InputError(f"rest state mode {mode!r}: allowed {', '.join(MODES)}")
     N = g["K"].shape[0]
     b = float(L if box_length is None else box_length)
-    x0 = np.concatenate([g["Gamma0"], g["Omega0"]], axis=1).ravel()
     ds = L / N
-    Kds = g["K"] * ds
+    S = SolverStatics(g, L, space) if statics is None else statics
+    x0 = np.concatenate([g["Gamma0"], g["Omega0"]], axis=1)
+    # closed: the continuum's closed minimiser (shooting, 6 unknowns), then
+    # Gauss-Newton on the solver's statics with the closure as an equality constraint
+    x = _shooting_minimiser(g, L, b).ravel()
+    # Levenberg-Marquardt on the constrained problem: a step is kept when it lowers
+    # the merit |F|^2 + (w |c|)^2 (w: the closure counts as much as the statics)
+    w = 1e3 / ds
 
-    def energy(z):
-        dx = z.reshape(N, 6) - x0.reshape(N, 6)
-        return 0.5 * np.einsum("ja,jab,jb->", dx, Kds, dx)
+    def merit(F, c):
+        return float(F @ F + (w * c) @ (w * c))
 
-    def c(z):
-        return closure_defect(z.reshape(N, 6), L, b, refine)
-
-    B = _cell_matrix(N, L, refine)
-    hc = L / (refine * N)
-
-    def c_jac(z, eps=1e-5, batch=48):
-        """Closure defect and its central-difference Jacobian (4, 6N), perturbations batched."""
-        xm0 = B @ z.reshape(N, 6)
-        c0 = c(z)
-        Jc = np.empty((4, z.size))
-        for k0 in range(0, z.size, batch):
-            ks = np.arange(k0, min(k0 + batch, z.size))
-            cks = []
-            for sign in (1.0, -1.0):
-                xm = np.repeat(xm0[None], len(ks), axis=0)
-                xm[np.arange(len(ks)), :, ks % 6] += sign * eps * B[:, ks // 6].T
-                R, d = _monodromy_cells(xm, hc)
-                cks.append(np.concatenate([rotation_log(R), (np.linalg.norm(d, axis=-1) - b)[:, None]], axis=1))
-            Jc[:, ks] = ((cks[0] - cks[1]) / (2 * eps)).T
-        return c0, Jc
-
-    # The constrained minimiser: its stationarity conditions are the continuum
-    # statics with lab-frame force N and moment M (the multipliers of the closure):
-    # n(s) = R^T N, m(s) = R^T (M - r x N), x = x0 + K^-1 (n, m). Shooting in s
-    # for (N, M) (6 unknowns) with the closure R(L) = I, |r(L)| = b and N || r(L)
-    # (the axis is free), solved by least squares; the minimiser is unique near
-    # the intrinsic shape (E is strictly convex, the constraint smooth).
-    z = _shooting_minimiser(g, L, b, refine).ravel()
-    from scipy.optimize import least_squares
-    Dmat = derivative_matrix(N, L, space)
-    w_c = closure_weight / ds
-
-    def fun(zz):
-        r = statics_residual(zz.reshape(N, 6), g, L, space).ravel()
-        return np.concatenate([r, w_c * c(zz)]) if w_c > 0 else r
-
-    def jac(zz):
-        J = statics_jacobian(zz.reshape(N, 6), g, L, space, Dmat)
-        return np.vstack([J, w_c * c_jac(zz)[1]]) if w_c > 0 else J
-
-    x = z.copy()
-    if w_c > 0:                 # closed: Gauss-Newton to the least-squares optimum near the start
-        for _ in range(4):
-            x = x + np.linalg.lstsq(jac(x), -fun(x), rcond=1e-13)[0]
-    for _ in range(3 if w_c == 0 else 0):   # equilibrium: restarts, MINPACK stops on its own tolerances
-        ls = least_squares(fun, x, jac=jac, method="lm", xtol=1e-15, ftol=1e-15, gtol=1e-15,
-                           max_nfev=polish_iterations)
-        x = ls.x
-        if np.max(np.abs(statics_residual(x.reshape(N, 6), g, L, space))) < tol:
+    F = S.residual(x).ravel()
+    c, C = closure_jacobian(x.reshape(N, 6), L, b, refine)
+    phi = merit(F, c)
+    mu, it = 0.0, 0
+    for it in range(1, maxiter + 1):
+        J = S.jacobian(x)
+        scale = np.max(np.abs(J)) ** 2
+        while True:
+            dx = _closed_step(J, F, C, c, mu)
+            xn = x + dx
+            Fn = S.residual(xn).ravel()
+            cn, Cn = closure_jacobian(xn.reshape(N, 6), L, b, refine)
+            phin = merit(Fn, cn)
+            if phin <= phi * (1 + 1e-12):
+                break
+            mu = max(10 * mu, 1e-10 * scale)
+            if mu > 1e4 * scale:
+                break
+        if mu > 1e4 * scale:         # no descent left: at the optimum to round-off, or stuck
+            if np.max(np.abs(c)) < 1e-12 * max(1.0, b):
+                break
+            raise InputError(f"closed rest state: no descent (statics residual {np.max(np.abs(F)):.3g}, "
+                             f"closure defect {np.max(np.abs(c)):.3g})")
+        gain = phi - phin
+        x, F, c, C, phi = xn, Fn, cn, Cn, phin
+        mu = mu / 10 if mu > 1e-9 * scale else 0.0
+        # done when closed to round-off and the residual no longer falls (the optimum's
+        # residual is the discretisation error; GN approaches it only linearly)
+        if np.max(np.abs(c)) < 1e-12 * max(1.0, b) and gain <= 1e-6 * phi:
             break
+    else:
+        raise InputError(f"closed rest state: Gauss-Newton did not converge in {maxiter} iterations "
+                         f"(last step {np.max(np.abs(dx)):.3g}, closure defect {np.max(np.abs(c)):.3g})")
+    if mode == "equilibrium":
+        x, it2 = _equilibrium_from(S, x, tol, maxiter)
+        it += it2
     x = x.reshape(N, 6)
     n, m = stress(x, g)
     R, d = monodromy(x, L, refine)
     axis0 = d / np.linalg.norm(d)
-    # director frames at the grid points (same interpolant, refined), to project on the axis
-    Rs = _frames_on_grid(x, L, refine)
+    Rs = _frames_on_grid(x, L, refine)     # director frames at the grid points, to project on the axis
     a_body = np.einsum("jki,k->ji", Rs, axis0)
     cd = closure_defect(x, L, b, refine)
-    n, m = stress(x, g)
+    dx0 = x - x0
     return ClosedRest(Gamma=x[:, :3].copy(), Omega=x[:, 3:].copy(), n=n, m=m, axis0=axis0,
                       tension=float(np.mean(np.sum(n * a_body, axis=1))),
                       torque=float(np.mean(np.sum(m * a_body, axis=1))),
-                      statics_residual=float(np.max(np.abs(statics_residual(x, g, L, space)))),
+                      statics_residual=float(np.max(np.abs(S.residual(x)))),
                       closure_rotation_rad=float(np.linalg.norm(cd[:3])),
-                      closure_length_error=float(abs(cd[3])), energy=float(energy(x.ravel())), space=space)
+                      closure_length_error=float(abs(cd[3])),
+                      energy=float(0.5 * ds * np.einsum("ja,jab,jb->", dx0, g["K"], dx0)), space=space,
+                      mode=mode, iterations=it)
 
 
 def _frames_on_grid(x, L, refine):

@@ -57,7 +57,7 @@ def olson21():
 def test_rest_state_is_a_prestressed_equilibrium(olson21, space):
     rm, g = olson21
     L = rm.length
-    r = closed_rest_state(g, L, space=space)
+    r = closed_rest_state(g, L, space=space, mode="equilibrium")
     res, n, m = _residual(r.Gamma, r.Omega, g, L, space)
     assert res < 1e-10
     # the stress is not zero, so this can fail (tension 3-27 pN)
@@ -74,11 +74,11 @@ def test_rest_state_is_a_prestressed_equilibrium(olson21, space):
 
 
 def test_closed_mode_closes_exactly(olson21):
-    """closure_weight > 0: closed to round-off, the statics then hold to their
+    """mode = "closed": closed to round-off, the statics then hold to their
     discretisation error, and the stress is that of the equilibrium mode."""
     rm, g = olson21
     L = rm.length
-    r = closed_rest_state(g, L, closure_weight=1e3)
+    r = closed_rest_state(g, L, mode="closed")
     assert r.closure_rotation_rad < 1e-10 and r.closure_length_error < 1e-10
     res, _, _ = _residual(r.Gamma, r.Omega, g, L, "spectral")
     assert 1e-9 < res < 1e-5
@@ -132,3 +132,43 @@ def test_rest_in_rodsim(rodsim, tmp_path):
     subprocess.run(run, check=True, capture_output=True)
     with h5py.File(out) as f:
         assert np.max(np.abs(f["fields/gamma"][()])) > 1e-6
+
+
+def test_solver_statics_and_closure_jacobian(olson21):
+    """The statics residual comes from rodcore's RHS: it equals the numpy balance laws
+    built here, and its unit-step Jacobian equals a small-step finite difference of
+    them; the analytic closure Jacobian equals central differences of the composed
+    monodromy (mdbridge/material/composition.py)."""
+    from mdbridge.material.closed_rest import SolverStatics, closure_defect, closure_jacobian
+    rm, g = olson21
+    L = rm.length
+    rng = np.random.default_rng(2)
+    x = np.concatenate([g["Gamma0"], g["Omega0"]], axis=1) + 0.01 * rng.normal(size=(21, 6))
+    S = SolverStatics(g, L, "spectral")
+    F = S.residual(x)
+    D = _D(21, L, "spectral")
+    x0 = np.concatenate([g["Gamma0"], g["Omega0"]], axis=1)
+
+    def numpy_residual(z):
+        w = np.einsum("jab,jb->ja", g["K"], z.reshape(21, 6) - x0)
+        n, m = w[:, :3], w[:, 3:]
+        G, O = z.reshape(21, 6)[:, :3], z.reshape(21, 6)[:, 3:]
+        return np.concatenate([D @ n + np.cross(O, n), D @ m + np.cross(O, m) + np.cross(G, n)], axis=1)
+    assert np.max(np.abs(F - numpy_residual(x))) < 1e-13 * np.max(np.abs(F))
+    J = S.jacobian(x)
+    eps = 1e-6
+    for k in (0, 17, 64, 125):
+        e = np.zeros(x.size)
+        e[k] = eps
+        col = (numpy_residual(x.ravel() + e) - numpy_residual(x.ravel() - e)).ravel() / (2 * eps)
+        assert np.max(np.abs(J[:, k] - col)) < 1e-8 * np.max(np.abs(J))
+    c, C = closure_jacobian(x, L, L, 8)
+    assert np.max(np.abs(c - closure_defect(x, L, L, 8))) < 1e-12   # same product, other order
+    for k in (0, 5, 33, 100, 125):
+        e = np.zeros(x.size)
+        e[k] = 1e-6
+        col = (closure_defect((x.ravel() + e).reshape(21, 6), L, L, 8)
+               - closure_defect((x.ravel() - e).reshape(21, 6), L, L, 8)) / 2e-6
+        assert np.max(np.abs(C[:, k] - col)) < 1e-7 * np.max(np.abs(C))
+    # control: the closure Jacobian is not the identity-like map a wrong adjoint would give
+    assert np.max(np.abs(C[:, 0] - C[:, 6])) > 1e-3

@@ -7,7 +7,6 @@ from scipy.linalg import expm
 from dna_models.sequence import random_sequence
 from dna_models.units import BOLTZMANN, Units
 from mdbridge.geometry import step_parameters
-from mdbridge.material.closed_rest import derivative
 from mdbridge.material.parameter_sets import olson1998_steps, paper_steps
 from mdbridge.material.steps_to_rod import (grid_material, rod_material, rod_stiffness, steps_from_strains,
                                             strains_from_steps)
@@ -121,6 +120,20 @@ def test_grid_values_at_their_points_and_errors():
         grid_material(rm, 30)
     with pytest.raises(InputError, match="allowed trig, smooth, step"):
         grid_material(rm, 24, "linear")
+
+
+def derivative(f, L, space):
+    """d/ds of periodic grid data f (N,) as the solver's operators are defined
+    (docs/numerics.md, "Spatial derivative operators"): Fourier with the Nyquist mode
+    zeroed, or the 4th-order central difference."""
+    N = f.shape[0]
+    if space == "spectral":
+        k = np.fft.rfftfreq(N, d=L / N) * 2 * np.pi
+        if N % 2 == 0:
+            k[-1] = 0.0
+        return np.fft.irfft(1j * k * np.fft.rfft(f), n=N)
+    h = L / N
+    return (-np.roll(f, -2) + 8 * np.roll(f, -1) - 8 * np.roll(f, 1) + np.roll(f, 2)) / (12 * h)
 
 
 def _operator_errors(interp, space, ms, n=16):

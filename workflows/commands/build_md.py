@@ -30,8 +30,13 @@ Writes DIR/conf.gro (coordinates, velocities, box), topol.top (+ per-strand
 scales, the box and why, the junction report, the t = 0 frame check).
 Run it with `dnarod run-md DIR`. See docs/md.md.
 
+A sequence-dependent scene (`dnarod dna-rod`: [material] material_file with the
+sequence, [initial] the closed rest state) builds the duplex of THAT sequence on
+the rod's base-pair frames, its helix axis (the period vector) turned onto lab Y.
+
 Examples:
   dnarod build-md workflows/scenes/dna158.toml -o md158
+  dnarod dna-rod --random 21 --seed 1 --params olson1998 -o rod21 && dnarod build-md rod21/scene.toml -o md21s
   dnarod build-md workflows/scenes/dna21.toml -o md21 --temperature 0 --ps 5
   dnarod build-md workflows/scenes/dna158.toml -o md158n --electrostatics neutral-phosphates --minimize
 """
@@ -41,7 +46,8 @@ def add_arguments(p):
     from mdbridge.gromacs.charges import ELECTROSTATICS
     from mdbridge.gromacs.mdp import CUTOFFS
     from mdbridge.gromacs.topology import FORCEFIELDS
-    p.add_argument("scene", metavar="SCENE.toml", help="rod scene with [initial] kind = \"dna_planar\"")
+    p.add_argument("scene", metavar="SCENE.toml", help="rod scene: [initial] kind = \"dna_planar\" (uniform "
+                   "paper DNA), or a sequence-dependent scene of `dnarod dna-rod` (its DNA is built)")
     p.add_argument("-o", "--output", required=True, metavar="DIR", help="directory to write")
     p.add_argument("--temperature", type=float, default=300.0, metavar="K",
                    help="thermal part of the initial velocities, K (300; 0 = rod motion only)")
@@ -107,7 +113,8 @@ def run(args):
     from mdbridge.gromacs.gmx import find_gmx
     from mdbridge.gromacs.inputs import build_inputs, rod_initial_from_run
     from mdbridge.gromacs.mdp import MdSettings
-    from mdbridge.gromacs.rod import md_scene, rod_for_md
+    from mdbridge.gromacs.rod import (lab_rotation_to_axis, md_scene, rod_for_md, rotate_rod,
+                                        scene_sequence, with_absolute_paths)
     from mdbridge.rodrun import RodRun, load_scene, resolve_scene, run_scene, scene_bp_turns
 
     gmx = find_gmx(args.gmx)
@@ -127,17 +134,31 @@ def run(args):
     protocol = args.protocol or ("equilibrated" if args.temperature > 0 else "paper")
     u = Units.paper()
     scene = load_scene(args.scene)
-    bp, turns = scene_bp_turns(md_scene(scene, md_ps=0, bp=args.bp, turns=args.turns,
-                                        source=args.scene), args.scene)
     seed = args.seed if args.seed is not None else secrets.randbelow(2**31)
-    if args.sequence:
-        seq = validate(args.sequence, "--sequence")
-        if len(seq) != bp:
-            raise InputError(f"--sequence has {len(seq)} bases, the scene has {bp} base pairs")
+    # a sequence-dependent scene (`dnarod dna-rod`) carries its DNA: build THAT sequence
+    scene_seq = scene_sequence(scene, args.scene)
+    n_bp_scene = None
+    if scene_seq is not None:
+        if args.bp is not None or args.turns is not None:
+            raise InputError(f"{args.scene}: a sequence-dependent scene fixes its base pairs and shape "
+                             "(its material file's sequence); drop --bp/--turns")
+        if args.sequence and validate(args.sequence, "--sequence") != scene_seq:
+            raise InputError(f"--sequence differs from the sequence of {args.scene} ({len(scene_seq)} bp, "
+                             f"{scene_seq[:12]}...): the MD must be the rod's DNA; drop --sequence")
+        scene = with_absolute_paths(scene, args.scene)
+        seq, bp, turns, n_bp_scene = scene_seq, len(scene_seq), None, len(scene_seq)
+        print(f"build-md: {bp} bp, the sequence of the scene's material file, seed {seed}", file=sys.stderr)
     else:
-        seq = random_sequence(bp, seed=seed)
-    print(f"build-md: {bp} bp, {turns} turns (twist {360.0 * turns / bp:.4f} deg), seed {seed}",
-          file=sys.stderr)
+        bp, turns = scene_bp_turns(md_scene(scene, md_ps=0, bp=args.bp, turns=args.turns,
+                                            source=args.scene), args.scene)
+        if args.sequence:
+            seq = validate(args.sequence, "--sequence")
+            if len(seq) != bp:
+                raise InputError(f"--sequence has {len(seq)} bases, the scene has {bp} base pairs")
+        else:
+            seq = random_sequence(bp, seed=seed)
+        print(f"build-md: {bp} bp, {turns} turns (twist {360.0 * turns / bp:.4f} deg), seed {seed}",
+              file=sys.stderr)
     if args.rod:
         print(f"build-md: the rod run {args.rod} (box sizing) ...", file=sys.stderr)
         run = rod_for_md(RodRun.read(args.rod), md_ps=args.ps,
@@ -145,8 +166,10 @@ def run(args):
     else:
         print("build-md: running the rod for the MD length (box sizing) ...", file=sys.stderr)
         run = run_scene(md_scene(scene, md_ps=args.ps, bp=args.bp, turns=args.turns, units=u,
-                                 source=args.scene), source=args.scene)
+                                 source=args.scene, n_bp=n_bp_scene), source=args.scene)
     rod, centerline = rod_initial_from_run(run, bp, u)
+    if scene_seq is not None:     # the closed shape's helix axis onto lab Y (orthorhombic box)
+        rod, centerline = rotate_rod(rod, centerline, lab_rotation_to_axis(run, axis=1))
     box = plan_box(centerline, rod.origins_A, rod.closure_length_A, rod_run_ps=args.ps,
                    cutoff_A=settings.cutoff_nm * ANGSTROM_PER_NM, margin_A=args.margin)
     periodic = np.zeros(3)
@@ -162,8 +185,10 @@ def run(args):
                         axial_pressure=args.axial_pressure,
                         meta={"scene": str(Path(args.scene).resolve()), "turns": turns,
                               "rod_run": str(Path(args.rod).resolve()) if args.rod else "run by build-md",
-                              "twist_deg": 360.0 * turns / bp, "md_length_ps": args.ps,
-                              "sequence_source": "given" if args.sequence else f"random, seed {seed}"})
+                              "twist_deg": None if turns is None else 360.0 * turns / bp,
+                              "md_length_ps": args.ps,
+                              "sequence_source": ("the scene's material file" if scene_seq is not None
+                                                  else "given" if args.sequence else f"random, seed {seed}")})
     links = ", ".join(f"{s}: {v['junction']:.3f} A" for s, v in info["junction_O3P_t0_A"].items())
     n_terms = sum(r["junction_total"] for r in info["junctions"])
     fr = info["frames_t0_vs_rod"]

@@ -53,8 +53,9 @@ def add_arguments(p):
                    help="the solver's d/ds the rest state is an equilibrium of (spectral)")
     p.add_argument("--rest", default="closed", choices=("closed", "equilibrium"),
                    help="closed (default): closure to round-off, the solver's statics to the "
-                        "discretisation error; equilibrium: the statics to round-off (stays at rest in "
-                        "rodsim to 1e-10), closure only to the discretisation error (docs/scenes.md)")
+                        "discretisation error; equilibrium: then the nearest exact root of the statics "
+                        "(stays at rest in rodsim), closed only approximately, and possibly the "
+                        "unstressed shape (docs/scenes.md)")
     p.add_argument("--shape", default="interpolated", choices=("interpolated", "exact"),
                    help="intrinsic shape on the grid: interpolated per-step strains, or exact (the rod "
                         "read at its base pairs has the step parameters; even n_bp needs --points-per-bp >= 2)")
@@ -104,8 +105,7 @@ def run(args):
     L = rm.length
     box = L if args.box_A is None else u.length_to_rod(args.box_A)
     print(f"dna-rod: {rm.n_bp} bp, {args.params}, N = {N}; closed rest state ...", file=sys.stderr)
-    rest = closed_rest_state(g, L, box_length=box, space=args.space,
-                             closure_weight=0.0 if args.rest == "equilibrium" else 1e3)
+    rest = closed_rest_state(g, L, box_length=box, space=args.space, mode=args.rest)
     write_steps(out / "steps.h5", sm)
     write_grid_material(out / "material.h5", g, source=sm.source,
                         attrs={"sequence": seq, "interpolation": args.interpolation, "h_A": rm.h_A})
@@ -132,7 +132,8 @@ def run(args):
             "torque_pN_nm": M_pNnm, "statics_residual": rest.statics_residual,
             "closure_rotation_rad": rest.closure_rotation_rad,
             "closure_length_error_A": u.length_to_A(rest.closure_length_error),
-            "elastic_energy": rest.energy, "elastic_energy_kT": rest.energy / u.kT_to_rod(sm.temperature_K),
+            "rest_iterations": rest.iterations, "elastic_energy": rest.energy,
+            "elastic_energy_kT": rest.energy / u.kT_to_rod(sm.temperature_K),
             "axis0": rest.axis0.tolist(), "kick_A_per_ps": args.kick}
     (out / "rest.json").write_text(json.dumps(info, indent=1))
     print(f"dna-rod: rest state tension {T_pN:.2f} pN, torque {M_pNnm:.3f} pN nm, statics residual "
