@@ -110,10 +110,10 @@ def _excluded_keys(universe) -> np.ndarray:
     return np.unique(keys)
 
 
-def closest_nonbonded(universe, xyz, cutoff_A: float = 4.0) -> np.ndarray:
+def closest_nonbonded(universe, xyz, cutoff_A: float = 4.0, progress=None) -> np.ndarray:
     """Closest distance [A] per frame between heavy atoms that are neither bonded nor
     share a bonded neighbour (1-2 and 1-3 excluded), minimum image along the box;
-    inf when no such pair is closer than cutoff_A."""
+    inf when no such pair is closer than cutoff_A. progress(done, total) per frame."""
     from scipy.spatial import cKDTree
     n = universe.atoms.n_atoms
     heavy = np.flatnonzero(~np.char.startswith(universe.atoms.names.astype(str), "H"))
@@ -121,6 +121,8 @@ def closest_nonbonded(universe, xyz, cutoff_A: float = 4.0) -> np.ndarray:
     box = np.asarray(universe.dimensions[:3], dtype=float)
     out = np.full(len(xyz), np.inf)
     for t, x in enumerate(xyz):
+        if progress is not None:
+            progress(t, len(xyz))
         pos = np.mod(x[heavy], box)
         pairs = cKDTree(pos, boxsize=box).query_pairs(cutoff_A, output_type="ndarray")
         if not len(pairs):
@@ -132,6 +134,8 @@ def closest_nonbonded(universe, xyz, cutoff_A: float = 4.0) -> np.ndarray:
             d = pos[pairs[keep, 0]] - pos[pairs[keep, 1]]
             d -= box * np.round(d / box)
             out[t] = np.sqrt((d * d).sum(-1)).min()
+    if progress is not None:
+        progress(len(xyz), len(xyz))
     return out
 
 
@@ -169,10 +173,11 @@ def write_coarse_pdb(path, R, origins, *, tip_A: float = 5.0, box=None) -> None:
     Path(path).write_text("\n".join(lines) + "\n")
 
 
-def relax(md_dir, universe, xyz, *, steps: int, gmx: str, workdir) -> np.ndarray:
+def relax(md_dir, universe, xyz, *, steps: int, gmx: str, workdir, progress=None) -> np.ndarray:
     """A short restrained steepest descent per frame, for viewing only: the MD build's
     own em.mdp (base heavy atoms held by posre_bases_*.itp, -DPOSRES_BASES) with nsteps
-    = steps, each frame its own reference. Returns the relaxed coordinates [A]."""
+    = steps, each frame its own reference. Returns the relaxed coordinates [A].
+    progress, if given: progress(frames_done, frames_total) after each frame."""
     from mdbridge.gromacs.gmx import run_gmx
     md_dir, workdir = Path(md_dir), Path(workdir)
     workdir.mkdir(parents=True, exist_ok=True)
@@ -195,4 +200,6 @@ def relax(md_dir, universe, xyz, *, steps: int, gmx: str, workdir) -> np.ndarray
                 workdir, log_name="gmx_mdrun_relax.log")
         import MDAnalysis as mda
         out[k] = mda.Universe(str(workdir / "relaxed.gro")).atoms.positions
+        if progress is not None:
+            progress(k + 1, len(xyz))
     return out

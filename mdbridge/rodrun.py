@@ -236,22 +236,37 @@ class RodRun:
                       dict(self.attrs), self.source)
 
 
-def run_scene(scene, *, source=None, initial=None, set=(), output=None) -> RodRun:
+def run_scene(scene, *, source=None, initial=None, set=(), output=None, progress=None) -> RodRun:
     """Run SCENE (a dict shaped like the TOML file, TOML text, or a path to a .toml file;
     docs/scenes.md) through rodcore.run. initial: optional dict of (N, 3) arrays
     replacing the [initial] section; set: "section.key=value" overrides; output: also
-    write the HDF5 file rodsim would write. source names the scene in error messages."""
+    write the HDF5 file rodsim would write. source names the scene in error messages.
+    progress, if given, is called as progress(t, t_end) (solver time) at every output
+    frame: the run then goes through rodcore.Simulation with an observer, and its frames
+    are read back from the HDF5 file it writes (the same file rodsim writes)."""
     rodcore = _rodcore()
     if source is None:
         source = str(scene) if isinstance(scene, Path) else "scene"
+    arg = str(scene) if isinstance(scene, Path) else scene
     kwargs = {k: v for k, v in (("initial", initial), ("set", list(set)),
                                 ("output", None if output is None else str(output))) if v}
     try:
-        out = rodcore.run(str(scene) if isinstance(scene, Path) else scene, **kwargs)
+        if progress is None:
+            return RodRun.from_result(rodcore.run(arg, **kwargs), source=source)
+        import tempfile
+        sim = rodcore.Simulation(arg, **{k: v for k, v in kwargs.items() if k != "output"})
+        t_end = float(tomllib.loads(sim.scene)["output"]["t_end"])
+        sim.add_observer(lambda frame: progress(float(frame["t"]), t_end))
+        with tempfile.TemporaryDirectory(prefix="dnarod-rod-") as tmp:
+            path = Path(output) if output is not None else Path(tmp) / "rod.h5"
+            sim.add_output(str(path))
+            sim.run()
+            run = RodRun.read(path)
+        run.source = source
+        return run
     except FloatingPointError as e:   # rodcore.NumericalError
         raise NumericalError(f"{source}: {e}") from None
     except ValueError as e:           # rodcore.InputError
         raise InputError(f"{source}: {e}") from None
     except RuntimeError as e:         # any other rodcore.Error
         raise DnarodError(f"{source}: rod run failed: {e}") from None
-    return RodRun.from_result(out, source=source)

@@ -10,6 +10,12 @@ The plain line has one fixed format, `LABEL: progress D/T UNIT (P %), RATE, T le
 command's log, e.g. `dnarod compare` watching its MD jobs, can show it too.
 
 Rates: `rate` turns units per second into text; `md_rate` gives ns/day for ps.
+
+`Stages(command)` is the progress of a command made of stages (build-md: the rod run,
+the minimisation, the equilibration): called as stages(stage, done, total, unit), it
+keeps one `Progress` labelled `COMMAND: STAGE` and closes it when the next stage
+starts. `Progress.above(text)` prints other output (e.g. Snakemake's, in `dnarod
+compare`) above a live line without breaking it.
 """
 from __future__ import annotations
 
@@ -53,6 +59,9 @@ def last_progress(path) -> dict | None:
     return None
 
 
+REDRAW_S = 0.1   # a live line is redrawn at most this often
+
+
 class Progress:
     def __init__(self, label: str, total: float, unit: str = "", *, stream=sys.stderr,
                  rate=None, every_s: float = 60.0, redraw: bool | None = None,
@@ -69,6 +78,8 @@ class Progress:
         self._first: tuple[float, float] | None = None   # (time, done) of the first update
         self._last_plain: float | None = None             # time of the last plain line
         self._drawn = False
+        self._pending = False                             # an update not yet drawn (tty)
+        self._last_draw: float | None = None
         self._wrote_plain = False
         self.done = 0.0
 
@@ -93,21 +104,84 @@ class Progress:
         if self.stream is None:
             return
         if self.tty:
-            self.stream.write("\r\033[K" + self.text())
-            self.stream.flush()
-            self._drawn = True
+            # redrawn at most every REDRAW_S (mdrun reports every step), the last state at close
+            if force or self._last_draw is None or now - self._last_draw >= REDRAW_S:
+                self._draw(now)
+            else:
+                self._pending = True
         elif force or now - self._last_plain >= self.every_s:
             self._last_plain = now
             self._wrote_plain = True
             self.stream.write(self.text() + "\n")
             self.stream.flush()
 
+    def _draw(self, now: float) -> None:
+        assert self.stream is not None
+        self.stream.write("\r\033[K" + self.text())
+        self.stream.flush()
+        self._drawn, self._pending, self._last_draw = True, False, now
+
+    def above(self, text: str) -> None:
+        """Write TEXT (whole lines) to the stream; on a terminal the live line is wiped
+        first and redrawn after it, so other output and the live line do not mix."""
+        if self.stream is None:
+            return
+        if self.tty and self._drawn:
+            self.stream.write("\r\033[K" + text + ("" if text.endswith("\n") else "\n") + self.text())
+        else:
+            self.stream.write(text + ("" if text.endswith("\n") else "\n"))
+        self.stream.flush()
+
     def close(self) -> None:
         if self.stream is None:
             return
         if self.tty:
+            if self._pending:
+                self._draw(self.clock())
             if self._drawn:
                 self.stream.write("\n")
+                self._drawn = False
         elif self._wrote_plain:
             self.stream.write(self.text() + "\n")
+            self._wrote_plain = False
         self.stream.flush()
+
+
+class Stages:
+    """One Progress per stage of a command: stages(stage, done, total, unit, rate=None)
+    updates the stage's line (label `COMMAND: STAGE`), closing the previous stage's
+    first. Use as a context manager (or call close()) so that the last line is ended
+    before anything else, an error message included, is printed."""
+
+    def __init__(self, command: str, **kwargs):
+        self.command, self.kwargs = command, kwargs
+        self.stage: str | None = None
+        self.bar: Progress | None = None
+
+    def __call__(self, stage: str, done: float, total: float, unit: str = "", rate=None) -> None:
+        if self.bar is None or stage != self.stage:
+            self.close()
+            self.stage = stage
+            self.bar = Progress(f"{self.command}: {stage}", total, unit, rate=rate, **self.kwargs)
+        self.bar.update(done)
+
+    def close(self) -> None:
+        if self.bar is not None:
+            self.bar.close()
+        self.bar = None
+
+    def __enter__(self) -> "Stages":
+        # a warning printed while a live line is drawn would run on from it: end the line
+        import warnings
+        self._showwarning = warnings.showwarning
+
+        def show(*args, **kwargs):
+            self.close()
+            self._showwarning(*args, **kwargs)
+        warnings.showwarning = show
+        return self
+
+    def __exit__(self, *exc) -> None:
+        import warnings
+        warnings.showwarning = self._showwarning
+        self.close()

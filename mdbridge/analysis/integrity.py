@@ -31,8 +31,9 @@ def _central_atom(residue):
 
 
 def bp_intact_fraction(universe, pairs, start=None, stop=None, step=None,
-                       cutoff_A: float = INTACT_CUTOFF_A):
+                       cutoff_A: float = INTACT_CUTOFF_A, progress=None):
     """(times_ps (T,), fraction intact (T,), N1-N3 distances (T, n_bp)).
+    progress, if given: progress(frames_done, frames_total) after each frame.
 
     pairs: [(residue of strand I, residue of strand II)], e.g. `BasePairFrames(u).pairs`.
     """
@@ -40,9 +41,12 @@ def bp_intact_fraction(universe, pairs, start=None, stop=None, step=None,
     a = mda.AtomGroup([_central_atom(r1) for r1, _ in pairs])
     b = mda.AtomGroup([_central_atom(r2) for _, r2 in pairs])
     times, per_frame = [], []
-    for ts in universe.trajectory[start:stop:step]:
+    frames = universe.trajectory[start:stop:step]
+    for ts in frames:
         box = ts.dimensions if ts.dimensions is not None and np.all(ts.dimensions[:3] > 0) else None
         per_frame.append(calc_bonds(a.positions, b.positions, box=box))
         times.append(ts.time)
+        if progress is not None:
+            progress(len(times), len(frames))
     dist = np.array(per_frame)
     return np.array(times), np.mean(dist < cutoff_A, axis=1), dist

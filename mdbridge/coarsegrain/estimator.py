@@ -129,14 +129,16 @@ class CoarseGrain:
 
     block: bootstrap block length in frames (None: from the autocorrelation; 1 treats
     frames as independent). discard: frames to drop at the start (None: the rule in
-    equilibration.py). min_effective: independent frames required.
+    equilibration.py). min_effective: independent frames required. progress, if given:
+    progress("lengths analysed", done, total, "lengths") over the m values.
     """
 
     def __init__(self, ensemble: StepEnsemble, temperature_K: float, m_values=None,
                  m_rod: int | None = None, n_boot: int = 200, seed: int = 0, block: int | None = None,
                  discard: int | None = None, min_effective: float = MIN_EFFECTIVE,
-                 convergence_points: int = 8):
+                 convergence_points: int = 8, progress=None):
         self.ens = ensemble
+        self.progress = progress
         self.T_K = float(temperature_K)
         self.m_values = list(m_values) if m_values is not None else default_m_values(
             ensemble.n_steps, ensemble.closed, excluded=ensemble.excluded)
@@ -196,7 +198,9 @@ class CoarseGrain:
         W_conv = (np.arange(T)[None, :] < n_conv[:, None]).astype(float)
 
         by_m = {}
-        for m in self.m_values:
+        for k, m in enumerate(self.m_values):
+            if self.progress is not None:
+                self.progress("lengths analysed", k, len(self.m_values), "lengths")
             qm, starts = series[m]
             by_m[m] = self._estimate(m, qm, starts, (starts_boot, b), W_half, W_conv, n_conv,
                                       q[:, :, 2].mean(axis=0), window_sums(q, starts, m))
@@ -207,6 +211,8 @@ class CoarseGrain:
                "temperature_K": self.T_K, "used_steps": np.flatnonzero(use),
                "excluded_steps": np.flatnonzero(ens.excluded), "convergence_frames": n_conv,
                "dt_ps": float(np.median(np.diff(ens.times_ps))) if ens.n_frames > 1 else 0.0}
+        if self.progress is not None:
+            self.progress("lengths analysed", len(self.m_values), len(self.m_values), "lengths")
         self.results = res
         return self
 

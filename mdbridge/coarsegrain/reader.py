@@ -38,10 +38,10 @@ def is_ligated(bpf: BasePairFrames) -> bool:
     return bool(d < 4.0)
 
 
-def open_pairs(universe, pairs, start, stop, step, max_fraction=MAX_OPEN_FRACTION):
+def open_pairs(universe, pairs, start, stop, step, max_fraction=MAX_OPEN_FRACTION, progress=None):
     """(opened (n_bp,) bool, fraction of frames open (n_bp,), N1-N3 distances (T, n_bp))."""
     from mdbridge.analysis.integrity import INTACT_CUTOFF_A, bp_intact_fraction
-    _, _, dist = bp_intact_fraction(universe, pairs, start, stop, step)
+    _, _, dist = bp_intact_fraction(universe, pairs, start, stop, step, progress=progress)
     frac = np.mean(dist > INTACT_CUTOFF_A, axis=0)
     return frac > max_fraction, frac, dist
 
@@ -84,19 +84,24 @@ def mass_inertia(bpf: BasePairFrames, frame_index: np.ndarray):
 
 
 def read_ensemble(universe, pairs=None, pair_numbering="resid", closed=None, start=None, stop=None,
-                  step=None, max_open_fraction=MAX_OPEN_FRACTION, source="trajectory"):
+                  step=None, max_open_fraction=MAX_OPEN_FRACTION, source="trajectory", progress=None):
     """StepEnsemble of the duplex in `universe`, with opened base pairs' steps excluded,
-    and a dict of extras (open fractions, mass/inertia, sequence, pairs)."""
+    and a dict of extras (open fractions, mass/inertia, sequence, pairs). progress, if
+    given, is called as progress(stage, done, total, "frames") while the frames are read
+    ("frames read") and read again for the base-pair check ("pairs checked")."""
+    def stage(name):
+        return None if progress is None else (lambda done, total: progress(name, done, total, "frames"))
     bpf = BasePairFrames(universe, pairs=pairs, pair_numbering=pair_numbering)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        bpf.run(start, stop, step)
+        bpf.run(start, stop, step, progress=stage("frames read"))
     if closed is None:
         closed = is_ligated(bpf)
     if closed and bpf.results.box is None:
         raise InputError(f"{source}: a closed (ligated) duplex needs the periodic box in every frame")
     q = bpf.step_parameters(periodic=closed)
-    opened, frac, _ = open_pairs(universe, bpf.pairs, start, stop, step, max_open_fraction)
+    opened, frac, _ = open_pairs(universe, bpf.pairs, start, stop, step, max_open_fraction,
+                                 progress=stage("pairs checked"))
     excluded = steps_of_pairs(opened, closed)
     T = q.shape[0]
     fi = np.unique(np.linspace(0, T - 1, min(T, INERTIA_FRAMES)).astype(int))

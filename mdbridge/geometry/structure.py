@@ -350,12 +350,13 @@ class BasePairFrames:
         return {"R": R, "origins": o, "bp_parameters": bp, "R_base": R_base,
                 "o_base": np.stack([o_I, o_II], axis=1), "rmsd": rmsd}
 
-    def run(self, start=None, stop=None, step=None, chunk=2000):
+    def run(self, start=None, stop=None, step=None, chunk=2000, progress=None):
         """Analyse trajectory frames start:stop:step; results in self.results
         (origins, R, bp_parameters, R_base (T, 2, n_bp, 3, 3) with strand II's
         base frames as fitted, o_base, rmsd, box (T, 6) or None, time, frame).
         Positions are read frame by frame (MDAnalysis) and analysed in chunks
-        of `chunk` frames with vectorised numpy."""
+        of `chunk` frames with vectorised numpy. progress, if given, is called as
+        progress(frames_read, frames_total) after each frame."""
         parts, pos, boxes, all_boxes, times, frames = [], [], [], [], [], []
 
         def flush():
@@ -365,7 +366,9 @@ class BasePairFrames:
                 pos.clear()
                 boxes.clear()
 
-        for ts in self.universe.trajectory[start:stop:step]:
+        frames_in = self.universe.trajectory[start:stop:step]
+        n_total = len(frames_in)
+        for ts in frames_in:
             pos.append(self._atoms.positions.astype(float))
             box = None if ts.dimensions is None else np.array(ts.dimensions, dtype=float)
             boxes.append(box)
@@ -374,6 +377,8 @@ class BasePairFrames:
             frames.append(ts.frame)
             if len(pos) >= chunk:
                 flush()
+            if progress is not None:
+                progress(len(frames), n_total)
         flush()
         if not parts:
             raise InputError("no trajectory frames selected")

@@ -26,7 +26,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .gmx import run_gmx
+from .gmx import run_gmx, run_gmx_with_progress
 from .mdp import MdSettings, render_md
 
 PROTOCOLS = ("equilibrated", "paper")
@@ -101,9 +101,10 @@ def stationarity(t, y) -> dict:
 
 
 def equilibrate(outdir: Path, gmx: str, settings: MdSettings, *, ps: float, temperature_K: float,
-                axis: int, axial_pressure: bool, threads: int, box_nm=(1.0, 1.0, 1.0)) -> dict:
+                axis: int, axial_pressure: bool, threads: int, box_nm=(1.0, 1.0, 1.0),
+                progress=None) -> dict:
     """Run the stage on OUTDIR/eq_in.gro (coordinates, thermal velocities, box); leaves
-    eq.gro (x, v, box).
+    eq.gro (x, v, box). progress, if given: progress("equilibration", ps_done, ps, "ps").
     Returns the build.json record."""
     from .checks import read_energies
     d = Path(outdir)
@@ -112,7 +113,10 @@ def equilibrate(outdir: Path, gmx: str, settings: MdSettings, *, ps: float, temp
                                                    box_nm=box_nm))
     run_gmx(gmx, ["grompp", "-f", "eq.mdp", "-c", "eq_in.gro", "-p", "topol.top", "-o", "eq.tpr",
                   "-po", "eq_out.mdp", "-maxwarn", "0"], d, log_name="gmx_grompp_eq.log")
-    run_gmx(gmx, ["mdrun", "-deffnm", "eq", "-nt", str(threads)], d, log_name="gmx_mdrun_eq.log")
+    run_gmx_with_progress(gmx, ["mdrun", "-v", "-deffnm", "eq", "-nt", str(threads)], d,
+                          log_name="gmx_mdrun_eq.log",
+                          on_step=None if progress is None else
+                          (lambda k: progress("equilibration", k * settings.dt_ps, ps, "ps")))
     e = read_energies(d, gmx, edr="eq.edr")
     t = e["time"]
     rec: dict = {"ps": ps, "thermostat": f"v-rescale, tau-t {TAU_T_PS} ps, ref-t {temperature_K} K",

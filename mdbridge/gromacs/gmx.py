@@ -135,8 +135,8 @@ def run_gmx_with_progress(gmx: str, args: list[str], cwd: Path, *, log_name: str
     """Run gmx (mdrun -v) calling on_step(step) for each of its step reports;
     ExternalToolError on failure.
 
-    mdrun reports "step N, will finish ..." on stderr with carriage returns; we
-    read it as it comes. The whole output goes to cwd/LOG_NAME (appended to it
+    mdrun reports "step N, will finish ..." (dynamics) or "Step=  N, Dmax= ..."
+    (minimisation) on stderr with carriage returns; we read it as it comes. The whole output goes to cwd/LOG_NAME (appended to it
     with append_log, e.g. when a run continues from its checkpoint)."""
     cwd = Path(cwd)
     cmd = [gmx, *args]
@@ -152,7 +152,7 @@ def run_gmx_with_progress(gmx: str, args: list[str], cwd: Path, *, log_name: str
                 break
             chunks.append(c)
             if c in "\r\n":
-                m = re.match(r"\s*(?:imb F\s+\S+\s+)?step\s+(\d+)", buf)
+                m = re.match(r"\s*(?:imb F\s+\S+\s+)?(?:step\s+|Step=\s*)(\d+)", buf)
                 if m and on_step is not None:
                     on_step(int(m.group(1)))
                 buf = ""

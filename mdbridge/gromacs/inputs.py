@@ -26,11 +26,11 @@ from mdbridge.jsonio import write_json
 from . import charges, posres
 from .box import BoxPlan
 from .clashes import CLASH_A, closest_contact
-from .gmx import find_gmx, gmx_version, run_gmx
+from .gmx import find_gmx, gmx_version, run_gmx, run_gmx_with_progress
 from .gro import Gro, read_gro, write_gro
 from .junction import junction_report
 from .equilibrate import PROTOCOLS, equilibrate
-from .mdp import MdSettings, render_em, render_md
+from .mdp import MdSettings, render_em, render_md, read_mdp_value
 from .topology import parse_itp, run_pdb2gmx, write_pdb2gmx_input
 from .velocities import (base_pair_of_residue, kinetic_temperature, rigid_body_velocities,
                          thermal_velocities)
@@ -144,13 +144,16 @@ def build_inputs(outdir: Path, structure, rod: RodInitial, box: BoxPlan, *, sequ
                  temperature_K: float = 300.0, seed: int = 0, settings: MdSettings | None = None,
                  minimize: bool = False, gmx: str | None = None, threads: int = 1,
                  protocol: str = "paper", equilibrate_ps: float = 20.0,
-                 axial_pressure: bool = False, meta: dict | None = None) -> dict:
+                 axial_pressure: bool = False, meta: dict | None = None, progress=None) -> dict:
     """Write every MD input into OUTDIR and return the content of build.json.
     gmx: as find_gmx (the given path, else $DNAROD_GMX, else the project's build, else PATH).
 
     protocol "paper": thermal + rod velocities on the (minimised) build;
     "equilibrated": a thermostatted stage of equilibrate_ps first (equilibrate.py),
-    optionally with the axis-only barostat, then rod velocities added."""
+    optionally with the axis-only barostat, then rod velocities added.
+    progress, if given, is called as progress(stage, done, total, unit) while the
+    minimisation ("minimisation", steps) and the equilibration ("equilibration", ps) run
+    (workflows/progress.py, Stages, draws it)."""
     gmx = find_gmx(gmx)
     outdir = Path(outdir)
     outdir.mkdir(parents=True, exist_ok=True)
@@ -212,7 +215,12 @@ def build_inputs(outdir: Path, structure, rod: RodInitial, box: BoxPlan, *, sequ
         run_gmx(gmx, ["grompp", "-f", "em.mdp", "-c", "em_in.gro", "-r", "em_in.gro", "-p",
                       "topol.top", "-o", "em.tpr", "-po", "em_out.mdp", "-maxwarn", "0"], outdir,
                 log_name="gmx_grompp_em.log")
-        run_gmx(gmx, ["mdrun", "-deffnm", "em", "-nt", str(threads)], outdir, log_name="gmx_mdrun_em.log")
+        em_steps = int(read_mdp_value((outdir / "em.mdp").read_text(), "nsteps") or 0)
+        # -v: mdrun's step reports drive the progress (it stops earlier once converged)
+        run_gmx_with_progress(gmx, ["mdrun", "-v", "-deffnm", "em", "-nt", str(threads)], outdir,
+                              log_name="gmx_mdrun_em.log",
+                              on_step=None if progress is None else
+                              (lambda k: progress("minimisation", k, em_steps, "steps")))
         x_em = _unwrap_against(read_gro(outdir / "em.gro").x, x_nm, box_nm)
         o0, R0 = _frames_of_gro(outdir / "em_in.gro", n)
         write_gro(outdir / "em_whole.gro",
@@ -236,7 +244,7 @@ def build_inputs(outdir: Path, structure, rod: RodInitial, box: BoxPlan, *, sequ
                                                                              seed), box_nm))
         eq = equilibrate(outdir, gmx, settings, ps=equilibrate_ps, temperature_K=temperature_K,
                          axis=box.axis, axial_pressure=axial_pressure, threads=threads,
-                         box_nm=box_nm)
+                         box_nm=box_nm, progress=progress)
         g_eq = read_gro(outdir / "eq.gro")
         box_nm = g_eq.box
         x_nm = _unwrap_against(g_eq.x, x_nm, box_nm)

@@ -98,11 +98,20 @@ def add_arguments(p):
 
 
 def run(args):
-    import secrets
-    import sys
     import warnings
     # MDAnalysis 2.4 (Debian) imports the deprecated xdrlib: noise for a user
     warnings.filterwarnings("ignore", message="'xdrlib' is deprecated")
+    from dnarod.progress import Stages, md_rate
+
+    with Stages("build-md") as stages:
+        return _build(args, stages, md_rate)
+
+
+def _build(args, stages, md_rate):
+    """build-md's steps; STAGES (dnarod.progress.Stages) shows the rod run, the
+    minimisation and the equilibration while they run."""
+    import secrets
+    import sys
 
     import numpy as np
 
@@ -166,7 +175,10 @@ def run(args):
     else:
         print("build-md: running the rod for the MD length (box sizing) ...", file=sys.stderr)
         run = run_scene(md_scene(scene, md_ps=args.ps, bp=args.bp, turns=args.turns, units=u,
-                                 source=args.scene, n_bp=n_bp_scene), source=args.scene)
+                                 source=args.scene, n_bp=n_bp_scene), source=args.scene,
+                        progress=lambda t, t_end: stages("rod run", round(float(u.time_to_ps(t)), 3),
+                                                         round(float(u.time_to_ps(t_end)), 3), "ps"))
+        stages.close()
     rod, centerline = rod_initial_from_run(run, bp, u)
     if scene_seq is not None:     # the closed shape's helix axis onto lab Y (orthorhombic box)
         rod, centerline = rotate_rod(rod, centerline, lab_rotation_to_axis(run, axis=1))
@@ -183,12 +195,15 @@ def run(args):
                         minimize=args.minimize, gmx=gmx, threads=args.threads,
                         protocol=protocol, equilibrate_ps=args.equilibrate_ps,
                         axial_pressure=args.axial_pressure,
+                        progress=lambda stage, done, total, unit: stages(
+                            stage, round(done, 6), total, unit, rate=md_rate if unit == "ps" else None),
                         meta={"scene": str(Path(args.scene).resolve()), "turns": turns,
                               "rod_run": str(Path(args.rod).resolve()) if args.rod else "run by build-md",
                               "twist_deg": None if turns is None else 360.0 * turns / bp,
                               "md_length_ps": args.ps,
                               "sequence_source": ("the scene's material file" if scene_seq is not None
                                                   else "given" if args.sequence else f"random, seed {seed}")})
+    stages.close()
     links = ", ".join(f"{s}: {v['junction']:.3f} A" for s, v in info["junction_O3P_t0_A"].items())
     n_terms = sum(r["junction_total"] for r in info["junctions"])
     fr = info["frames_t0_vs_rod"]

@@ -92,6 +92,24 @@ def _universe(structure, trajectories):
 
 
 def run(args):
+    from mdbridge.geometry.structure import read_pairs_file
+
+    if not (0.0 <= args.max_open_fraction < 1.0):
+        raise InputError(f"--max-open-fraction {args.max_open_fraction}: allowed 0 <= F < 1")
+    u = _universe(args.structure, args.trajectories)
+    source = " + ".join([args.structure] + list(args.trajectories))
+    pairs, numbering = (None, "resid")
+    if args.pairs:
+        pairs, numbering = read_pairs_file(args.pairs)
+    closed = {"auto": None, "yes": True, "no": False}[args.closed]
+    from dnarod.progress import Stages
+    with Stages("coarse-grain") as stages:
+        return _coarse_grain(args, u, source, pairs, numbering, closed, stages)
+
+
+def _coarse_grain(args, u, source, pairs, numbering, closed, stages):
+    """coarse-grain's steps; STAGES (dnarod.progress.Stages) shows the frames read, the
+    base-pair check and the coarse-graining lengths analysed."""
     from mdbridge.coarsegrain.cgrod import write_replicas
     from mdbridge.coarsegrain.estimator import MIN_EFFECTIVE, CoarseGrain, default_m_values
     from mdbridge.coarsegrain.figure import convergence_figure, length_figure
@@ -99,19 +117,11 @@ def run(args):
     from mdbridge.coarsegrain.reader import read_ensemble
     from mdbridge.coarsegrain.stepmaterial import write_material_files
     from mdbridge.coarsegrain.temperature import edr_temperature, kinetic_temperature, parse_temperature
-    from mdbridge.geometry.structure import read_pairs_file
 
-    if not (0.0 <= args.max_open_fraction < 1.0):
-        raise InputError(f"--max-open-fraction {args.max_open_fraction}: allowed 0 <= F < 1")
     out = Path(args.output)
-    u = _universe(args.structure, args.trajectories)
-    source = " + ".join([args.structure] + list(args.trajectories))
-    pairs, numbering = (None, "resid")
-    if args.pairs:
-        pairs, numbering = read_pairs_file(args.pairs)
-    closed = {"auto": None, "yes": True, "no": False}[args.closed]
     ens, extras = read_ensemble(u, pairs, numbering, closed, args.start, args.stop, args.step,
-                                args.max_open_fraction, source)
+                                args.max_open_fraction, source, progress=stages)
+    stages.close()
     extras["max_open_fraction"] = args.max_open_fraction
 
     caveats = []
@@ -147,7 +157,8 @@ def run(args):
     if not extras["mass_inertia"]["hydrogens"]:
         caveats.append("the topology has no hydrogens: masses and inertia are those of the heavy atoms only")
     cg = CoarseGrain(ens, T_K, m_values=m_values, m_rod=m_rod, n_boot=args.bootstrap, seed=args.seed,
-                     discard=args.discard, min_effective=min_eff).run()
+                     discard=args.discard, min_effective=min_eff, progress=stages).run()
+    stages.close()
     params = build_params(cg, T_src, extras, args.tension, args.torque, min_eff, caveats)
     out.mkdir(parents=True, exist_ok=True)
     write_params(out / "params.json", params)

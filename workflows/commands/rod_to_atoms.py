@@ -99,6 +99,21 @@ def run(args) -> int:
         return 0
     if out.suffix.lower() not in (".xtc", ".trr", ".dcd"):
         raise InputError(f"-o {out}: allowed trajectory formats .xtc, .trr, .dcd")
+    if args.relax_steps < 0:
+        raise InputError(f"--relax-steps {args.relax_steps}: must be >= 0")
+    from dnarod.progress import Stages
+    with Stages("rod-to-atoms") as stages:
+        return _atoms(args, md, build, out, R, o, t, stages)
+
+
+# frames placed per call of AtomMap.place: progress granularity, and the memory of one
+# vectorised call stays small
+CHUNK = 25
+
+
+def _atoms(args, md, build, out, R, o, t, stages) -> int:
+    """The all-atom trajectory; STAGES (dnarod.progress.Stages) shows the frames
+    back-mapped, relaxed (--relax-steps), written and checked (chemistry report)."""
     import MDAnalysis as mda
     from mdbridge.backmap import atom_map, closest_nonbonded, link_lengths
     import warnings
@@ -108,13 +123,17 @@ def run(args) -> int:
     u = mda.Universe(str(md / "topol.top"), str(md / "conf.gro"), topology_format="ITP",
                      include_dir=str(gmx_top_dir(gmx)))
     amap = atom_map(u, build["sequence"])
-    xyz = amap.place(R, o).astype(np.float32)
-    if args.relax_steps < 0:
-        raise InputError(f"--relax-steps {args.relax_steps}: must be >= 0")
+    n = len(t)
+    xyz = np.empty((n, u.atoms.n_atoms, 3), dtype=np.float32)
+    for a in range(0, n, CHUNK):
+        xyz[a:a + CHUNK] = amap.place(R[a:a + CHUNK], o[a:a + CHUNK])
+        stages("frames back-mapped", min(n, a + CHUNK), n, "frames")
     if args.relax_steps:
         from mdbridge.backmap import relax
         xyz = relax(md, u, xyz, steps=args.relax_steps, gmx=gmx,
-                    workdir=out.with_name(out.stem + "_relax")).astype(np.float32)
+                    workdir=out.with_name(out.stem + "_relax"),
+                    progress=lambda k, total: stages("frames relaxed", k, total, "frames")
+                    ).astype(np.float32)
     # XTC at 1e-4 nm (GROMACS's default is 1e-3 nm = 0.01 A, which alone tilts a fitted
     # base frame by up to ~0.2 deg): re-analysed frames then equal the rod's to 0.1 deg
     opts = {"precision": 4} if out.suffix.lower() == ".xtc" else {}
@@ -123,6 +142,7 @@ def run(args) -> int:
             u.atoms.positions = xyz[k]
             u.trajectory.ts.time = float(t[k])
             w.write(u.atoms)
+            stages("frames written", k + 1, len(t), "frames")
     u.atoms.positions = xyz[0]
     u.atoms.write(str(out.with_suffix(".gro")))
     with warnings.catch_warnings():  # MDAnalysis lists the PDB columns a .gro lacks
@@ -131,7 +151,8 @@ def run(args) -> int:
     msg = f"rod-to-atoms: {len(t)} frames x {u.atoms.n_atoms} atoms -> {out} (+ {out.with_suffix('.gro').name})"
     if not args.no_chemistry:
         links = link_lengths(u, xyz)
-        contact = closest_nonbonded(u, xyz)
+        contact = closest_nonbonded(u, xyz, progress=lambda k, total: stages("frames checked", k, total,
+                                                                             "frames"))
         report = {"times_ps": t.tolist(), "O3P_min_A": links.min(1).tolist(), "O3P_max_A": links.max(1).tolist(),
                   "closest_nonbonded_heavy_A": [float(c) if np.isfinite(c) else None for c in contact],
                   "definitions": {"O3P": "O3'(i)-P(i+1) bond lengths along both strands, minimum image; "
@@ -142,5 +163,6 @@ def run(args) -> int:
         path.write_text(json.dumps(report, indent=1))
         msg += (f"; O3'-P {links.min():.2f}-{links.max():.2f} A, closest contact "
                 f"{np.nanmin(np.where(np.isfinite(contact), contact, np.nan)):.2f} A ({path.name})")
+    stages.close()
     print(msg)
     return 0
