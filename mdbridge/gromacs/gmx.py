@@ -136,8 +136,9 @@ def run_gmx_with_progress(gmx: str, args: list[str], cwd: Path, *, log_name: str
     ExternalToolError on failure.
 
     mdrun reports "step N, will finish ..." (dynamics) or "Step=  N, Dmax= ..."
-    (minimisation) on stderr with carriage returns; we read it as it comes. The whole output goes to cwd/LOG_NAME (appended to it
-    with append_log, e.g. when a run continues from its checkpoint)."""
+    (minimisation) on stderr with carriage returns; we read it as it comes. The whole
+    output goes to cwd/LOG_NAME (appended to it with append_log, e.g. when a run
+    continues from its checkpoint)."""
     cwd = Path(cwd)
     cmd = [gmx, *args]
     log = cwd / log_name
