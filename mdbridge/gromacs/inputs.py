@@ -216,11 +216,12 @@ def build_inputs(outdir: Path, structure, rod: RodInitial, box: BoxPlan, *, sequ
                       "topol.top", "-o", "em.tpr", "-po", "em_out.mdp", "-maxwarn", "0"], outdir,
                 log_name="gmx_grompp_em.log")
         em_steps = int(read_mdp_value((outdir / "em.mdp").read_text(), "nsteps") or 0)
-        # -v: mdrun's step reports drive the progress (it stops earlier once converged)
+        # -v: mdrun's step reports ("Step= k", 0-based: k + 1 steps made) drive the progress;
+        # it stops earlier once converged
         run_gmx_with_progress(gmx, ["mdrun", "-v", "-deffnm", "em", "-nt", str(threads)], outdir,
                               log_name="gmx_mdrun_em.log",
                               on_step=None if progress is None else
-                              (lambda k: progress("minimisation", k, em_steps, "steps")))
+                              (lambda k: progress("minimisation", k + 1, em_steps, "steps")))
         x_em = _unwrap_against(read_gro(outdir / "em.gro").x, x_nm, box_nm)
         o0, R0 = _frames_of_gro(outdir / "em_in.gro", n)
         write_gro(outdir / "em_whole.gro",
