@@ -165,6 +165,9 @@ class RodRun:
         """A `rodsim run` output file (or one `write` made)."""
         import h5py
         path = Path(path)
+        if not path.is_file():
+            raise InputError(f"{path}: no such rod run (an HDF5 file written by `rodsim run SCENE.toml "
+                             f"-o {path.name}`)")
         try:
             with h5py.File(path, "r") as f:
                 group = (lambda g: {k: f[g][k][()] for k in f[g]} if g in f else {})
@@ -182,7 +185,8 @@ class RodRun:
                            centerline=opt("centerline"), directors=opt("directors"),
                            summary=summary, attrs=attrs, source=str(path))
         except OSError as e:
-            raise InputError(f"{path}: cannot read as HDF5 ({e})") from None
+            raise InputError(f"{path}: cannot read as HDF5 ({e}); a rod run is the HDF5 file "
+                             "`rodsim run SCENE.toml -o ROD.h5` writes (docs/contracts.md)") from None
 
     def write(self, path) -> None:
         """The same layout rodsim writes (datasets and attributes)."""

@@ -171,7 +171,8 @@ class CoarseGrain:
         T = q.shape[0]
         if T < 10:
             raise InputError(f"{ens.source}: {T} frames after discarding {t0}; need far more "
-                             f"(at least {math.ceil(2 * self.min_effective)})")
+                             f"(at least {math.ceil(2 * self.min_effective)}): give the trajectory "
+                             "after the structure (e.g. md.tpr md.xtc), or a longer one")
         series = composite_series(q, self.m_values, ens.closed, ens.excluded)
         m_top = max(self.m_values)
         tau_steps = integrated_time(q[:, use])                     # (n_use, 6)

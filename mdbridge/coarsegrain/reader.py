@@ -100,8 +100,10 @@ def read_ensemble(universe, pairs=None, pair_numbering="resid", closed=None, sta
     if closed and bpf.results.box is None:
         raise InputError(f"{source}: a closed (ligated) duplex needs the periodic box in every frame")
     q = bpf.step_parameters(periodic=closed)
-    opened, frac, _ = open_pairs(universe, bpf.pairs, start, stop, step, max_open_fraction,
-                                 progress=stage("pairs checked"))
+    with warnings.catch_warnings():   # "Reader has no dt information" for PDB models
+        warnings.simplefilter("ignore")
+        opened, frac, _ = open_pairs(universe, bpf.pairs, start, stop, step, max_open_fraction,
+                                     progress=stage("pairs checked"))
     excluded = steps_of_pairs(opened, closed)
     T = q.shape[0]
     fi = np.unique(np.linspace(0, T - 1, min(T, INERTIA_FRAMES)).astype(int))

@@ -87,6 +87,28 @@ def _box(dimensions):
     return d
 
 
+def load_universe(structure, *trajectories):
+    """MDAnalysis Universe of STRUCTURE (+ TRAJECTORIES, concatenated) for the commands:
+    an InputError naming the file for a missing or unreadable one, with the first line
+    of MDAnalysis's reason and the formats to use."""
+    from pathlib import Path
+
+    import MDAnalysis
+    files = [str(structure)] + [str(t) for t in trajectories]
+    for f in files:
+        if not Path(f).is_file():
+            raise InputError(f"{f}: file not found")
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            return MDAnalysis.Universe(*files)
+    except Exception as e:  # noqa: BLE001 - MDAnalysis raises many types for bad files
+        why = (str(e).strip().splitlines() or [""])[0]
+        raise InputError(f"{' + '.join(files)}: MDAnalysis cannot read it ({type(e).__name__}: {why}); "
+                         "give a structure (PDB, GRO, TPR, ...) and trajectories (XTC, TRR, DCD, "
+                         "multi-model PDB, ...) with their usual extensions") from None
+
+
 def read_pairs_file(path):
     """Pairs from a 3DNA bpfile (`find_pair` output) or a plain two-column file.
 

@@ -50,12 +50,28 @@ def _set_keys(mdp_text: str, values: dict) -> str:
     return "\n".join(out) + "\n"
 
 
-def mdrun_diagnosis(output: str, log: str) -> str:
+STOPPED_FROM_OUTSIDE = ("It was stopped from outside (a kill, Ctrl-C, a batch system's time or "
+                        "memory limit), not by the physics.")
+
+
+def mdrun_diagnosis(output: str, log: str, returncode: int | None = None) -> str:
     """Why mdrun stopped, in GROMACS's own lines, for the error message.
 
-    A blown-up system often ends in a segmentation fault with no GROMACS error
-    block, so quote what shows the blow-up: the first LINCS warning (constraints
-    that could not be satisfied) and the last energies mdrun logged."""
+    A TERM/INT signal (GROMACS prints "Received the TERM signal") or a SIGKILL is a
+    stop from outside: say so and how to continue. Otherwise a blown-up system often
+    ends in a segmentation fault with no GROMACS error block, so quote what shows the
+    blow-up: the first LINCS warning (constraints that could not be satisfied) and the
+    last energies mdrun logged."""
+    sig = re.search(r"Received the (\w+) signal", output)
+    if sig or returncode in (-9, -15, -2):
+        how = (f"mdrun received the {sig.group(1)} signal and stopped" if sig else
+               f"mdrun was killed by signal {-int(returncode or 0)}")
+        step = re.findall(r"Writing checkpoint, step (\d+)", log)
+        return (f"{how}. {STOPPED_FROM_OUTSIDE} "
+                + (f"Its last checkpoint is at step {step[-1]}. " if step else "")
+                + "Rerun the same command to continue from the last checkpoint; under a batch "
+                  "system ask for more time (the workflow on SLURM: "
+                  "--set-resources md_run:runtime=MINUTES).")
     out: list[str] = []
     lincs = [i for i, ln in enumerate(output.splitlines()) if "LINCS WARNING" in ln]
     if lincs:
@@ -123,6 +139,8 @@ def run_md(directory: Path, *, ps: float | None = None, steps: int | None = None
             raise InputError(f"{d}: {need} missing; run `dnarod build-md SCENE -o {d}` first")
     if ps is not None and steps is not None:
         raise InputError("give --ps or --steps, not both")
+    if ps is not None and not ps > 0:
+        raise InputError(f"--ps {ps:g}: the MD length must be > 0 ps")
     if not checkpoint_min > 0:
         raise InputError(f"--checkpoint-minutes {checkpoint_min}: must be > 0")
     gmx_path = find_gmx(gmx)
@@ -184,7 +202,8 @@ def run_md(directory: Path, *, ps: float | None = None, steps: int | None = None
     except ExternalToolError as e:
         output = (d / "gmx_mdrun_md.log").read_text(errors="replace")
         log = (d / "md.part.log").read_text(errors="replace") if (d / "md.part.log").exists() else ""
-        raise ExternalToolError(f"{e}\n{mdrun_diagnosis(output, log)}\nNo MD result was kept "
+        raise ExternalToolError(f"{e}\n{mdrun_diagnosis(output, log, getattr(e, 'returncode', None))}"
+                                "\nNo MD result was kept "
                                 f"(no md.done; partial files md.part.* in {d}; rerunning the "
                                 "same command continues from the last checkpoint).") from None
     wall = time.time() - t0

@@ -9,6 +9,7 @@ the MD part is not bitwise reproducible across runs, so only its presence is che
 """
 import json
 import os
+import re
 import shutil
 import socket
 import subprocess
@@ -174,3 +175,86 @@ def test_tiny_comparison_through_slurm(slurm_cluster, tiny_run, dnarod, tmp_path
     # reproducible across runs and loads)
     assert len(res["runs"]["md"]) == len(local["runs"]["md"]) >= 1
     assert 0.0 <= res["md_bp_intact_fraction"] <= 1.0
+
+
+def _md_ps_per_s(md_dir: Path, dnarod: Path, tmp: Path) -> float:
+    """This machine's MD speed now, 1 thread: a 1-ps run of a copy of the tiny build."""
+    copy = tmp / "speed"
+    copy.mkdir()
+    for f in md_dir.iterdir():
+        if f.suffix in (".gro", ".top", ".itp", ".mdp") or f.name == "build.json":
+            shutil.copy(f, copy / f.name)
+    p = subprocess.run([str(dnarod), "run-md", str(copy), "--ps", "1", "--threads", "1", "--no-checks"],
+                       capture_output=True, text=True, timeout=600)
+    assert p.returncode == 0, p.stderr[-2000:]
+    return json.loads((copy / "md.done").read_text())["ns_per_day"] * 1000.0 / 86400.0
+
+
+def test_time_limit_kills_md_and_the_rerun_resumes(slurm_cluster, tiny_run, dnarod, tmp_path):
+    """SLURM kills md_run at a 1-minute time limit; the checkpoint survives Snakemake's
+    clean-up of the failed job; the rerun (default limit) continues the MD from it and
+    the workflow ends with the local tiny run's results.json keys."""
+    import MDAnalysis
+    import numpy as np
+    import yaml
+
+    from dnarod.progress import parse_line
+    from terminal import in_terminal, progress_lines
+
+    env = slurm_cluster
+    local_out = tiny_run[0]
+    # the MD must outlast the limit: slurmctld checks limits every 30 s, so the job is killed
+    # 60-90 s after it starts; 150 s of MD at the speed measured now (>= 10 ps)
+    rate = _md_ps_per_s(local_out / "md" / "Av5_seed1", dnarod, tmp_path)
+    md_ps = round(max(10.0, 0.2 * np.ceil(rate * 150.0 / 0.2)), 1)
+    cfg = yaml.safe_load((ROOT / "workflows" / "config" / "tiny.yaml").read_text())
+    cfg["rod"]["run_ps"] = max(cfg["rod"]["run_ps"], md_ps)       # the rod covers the MD
+    cfg["md"].update(run_ps=md_ps, threads=1,
+                     run_args="--threads 1 --output-ps 0.2 --checkpoint-minutes 0.2")
+    config = tmp_path / "timelimit.yaml"
+    config.write_text(yaml.safe_dump(cfg))
+    out = tmp_path / "timelimit"
+    md = out / "md" / "Av5_seed1"
+    base = [str(dnarod), "compare", "--config", str(config), "--out", str(out), "--cores", str(_cpus()),
+            "--", "--profile", str(PROFILE)]
+
+    t0 = time.time()
+    rc, seen = in_terminal(base + ["--set-resources", "md_run:runtime=1"], env=env, timeout=1800)
+    t_first = time.time() - t0
+    assert rc == 2, seen[-3000:]
+    assert "Error in rule md_run" in seen
+    jobs = sorted((out / "slurm").glob("md_run-*.out"))
+    assert len(jobs) == 1, jobs
+    job = jobs[0].stem.split("-")[-1]
+    state = subprocess.run(["scontrol", "show", "job", "-o", job], env=env, capture_output=True,
+                           text=True).stdout
+    assert "JobState=TIMEOUT" in state and "TimeLimit=00:01:00" in state, state
+    assert "DUE TO TIME LIMIT" in jobs[0].read_text()
+    # the live line counted jobs and named the MD while it ran
+    assert any(p["label"] == "compare [running md_run (av=5, seed=1)]" for p in progress_lines(seen))
+    # Snakemake removed nothing of the unfinished MD but its declared outputs
+    assert not (md / "md.done").exists() and not (md / "md.xtc").exists()
+    assert (md / "md.part.cpt").is_file() and (md / "md.run.json").is_file()
+    step = [int(s) for s in re.findall(r"Writing checkpoint, step (\d+)", (md / "md.part.log").read_text())]
+    assert step and 0 < step[-1] < json.loads((md / "md.run.json").read_text())["steps"]
+
+    t0 = time.time()
+    p = subprocess.run(base, env=env, capture_output=True, text=True, timeout=1800)
+    t_second = time.time() - t0
+    assert p.returncode == 0, p.stdout[-3000:] + p.stderr[-3000:]
+    done = json.loads((md / "md.done").read_text())
+    assert done["resumed_from_checkpoint"] is True and done["length_ps"] == pytest.approx(md_ps)
+    assert re.search(r"continuing from the checkpoint md\.part\.cpt \(step \d+", (md / "run-md.log").read_text())
+    # every frame once, times continuous across the resume: 0, 0.2, ..., md_ps
+    u = MDAnalysis.Universe(str(md / "md.tpr"), str(md / "md.xtc"))
+    times = np.array([ts.time for ts in u.trajectory])
+    n = int(round(md_ps / 0.2)) + 1
+    assert len(times) == n and np.allclose(times, 0.2 * np.arange(n), atol=1e-4)
+    assert len(list((out / "slurm").glob("md_run-*.out"))) == 2
+    res = json.loads((out / "results.json").read_text())
+    assert set(res) == set(json.loads((local_out / "results.json").read_text()))
+    assert res["md_run_ps"] == pytest.approx(md_ps)
+    # no plain progress line of the workflow is lost in the pipe: each parses
+    assert all(parse_line(ln) for ln in p.stderr.splitlines() if ": progress " in ln)
+    print(f"time-limit test: MD {md_ps:g} ps at {rate * 86400 / 1000:.3g} ns/day (1 thread); killed run "
+          f"{t_first:.0f} s, resumed run {t_second:.0f} s")

@@ -4,7 +4,6 @@ mass and inertia), each number with its error (mdbridge.coarsegrain)."""
 from __future__ import annotations
 
 import math
-import warnings
 from pathlib import Path
 
 from dna_models.errors import InputError
@@ -77,26 +76,12 @@ def add_arguments(p):
     p.add_argument("--step", type=int, default=None, help="take every STEP-th frame")
 
 
-def _universe(structure, trajectories):
-    import MDAnalysis
-    files = [structure] + list(trajectories)
-    for f in files:
-        if not Path(f).is_file():
-            raise InputError(f"{f}: file not found")
-    try:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            return MDAnalysis.Universe(structure, *trajectories) if trajectories else MDAnalysis.Universe(structure)
-    except Exception as e:  # noqa: BLE001 - MDAnalysis raises many types for bad files
-        raise InputError(f"{' + '.join(files)}: MDAnalysis cannot read it ({type(e).__name__}: {e})") from None
-
-
 def run(args):
-    from mdbridge.geometry.structure import read_pairs_file
+    from mdbridge.geometry.structure import load_universe, read_pairs_file
 
     if not (0.0 <= args.max_open_fraction < 1.0):
         raise InputError(f"--max-open-fraction {args.max_open_fraction}: allowed 0 <= F < 1")
-    u = _universe(args.structure, args.trajectories)
+    u = load_universe(args.structure, *args.trajectories)
     source = " + ".join([args.structure] + list(args.trajectories))
     pairs, numbering = (None, "resid")
     if args.pairs:

@@ -5,7 +5,6 @@ from __future__ import annotations
 import sys
 import warnings
 
-from dna_models.errors import InputError
 
 NAME = "helical-params"
 HELP = "base-pair step parameters (shift, slide, rise, tilt, roll, twist) of a DNA duplex"
@@ -45,25 +44,12 @@ def add_arguments(p):
     p.add_argument("--step", type=int, default=None, help="take every STEP-th frame")
 
 
-def load_universe(structure, trajectory=None):
-    """MDAnalysis Universe with a clear InputError on unreadable files."""
-    import MDAnalysis
-    files = [structure] + ([trajectory] if trajectory else [])
-    try:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            return MDAnalysis.Universe(*files)
-    except FileNotFoundError as e:
-        raise InputError(f"{e.filename or ' '.join(files)}: file not found") from None
-    except Exception as e:  # noqa: BLE001 - MDAnalysis raises many types for bad files
-        raise InputError(f"{' + '.join(files)}: MDAnalysis cannot read it ({type(e).__name__}: {e})") from None
-
-
 def run(args):
     import numpy as np
     from mdbridge.geometry.structure import BasePairFrames, read_pairs_file
 
-    u = load_universe(args.structure, args.trajectory)
+    from mdbridge.geometry.structure import load_universe
+    u = load_universe(args.structure, *([args.trajectory] if args.trajectory else []))
     pairs, numbering = (None, "resid")
     if args.pairs:
         pairs, numbering = read_pairs_file(args.pairs)
