@@ -12,7 +12,12 @@ class InputError(DnarodError):
 
 
 class ExternalToolError(DnarodError):
-    """An external program (gmx) failed; the message quotes its relevant lines."""
+    """An external program (gmx) failed; the message quotes its relevant lines.
+    returncode: the program's exit status where known (negative: killed by that signal)."""
+
+    def __init__(self, message: str, returncode: int | None = None):
+        super().__init__(message)
+        self.returncode = returncode
 
 
 class NumericalError(DnarodError, FloatingPointError):

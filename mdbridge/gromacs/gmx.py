@@ -164,7 +164,5 @@ def run_gmx_with_progress(gmx: str, args: list[str], cwd: Path, *, log_name: str
     with open(log, "a" if append_log else "w") as f:
         f.write(f"$ {' '.join(cmd)}\n{text}")
     if rc != 0:
-        err = ExternalToolError(f"`gmx {args[0]}` failed ({exit_text(rc)}) in {cwd}; full output in "
-                                f"{log}:\n" + error_block(text))
-        err.returncode = rc   # type: ignore[attr-defined]  (run-md tells a signal from a blow-up)
-        raise err
+        raise ExternalToolError(f"`gmx {args[0]}` failed ({exit_text(rc)}) in {cwd}; full output in "
+                                f"{log}:\n" + error_block(text), returncode=rc)

@@ -202,7 +202,7 @@ def run_md(directory: Path, *, ps: float | None = None, steps: int | None = None
     except ExternalToolError as e:
         output = (d / "gmx_mdrun_md.log").read_text(errors="replace")
         log = (d / "md.part.log").read_text(errors="replace") if (d / "md.part.log").exists() else ""
-        raise ExternalToolError(f"{e}\n{mdrun_diagnosis(output, log, getattr(e, 'returncode', None))}"
+        raise ExternalToolError(f"{e}\n{mdrun_diagnosis(output, log, e.returncode)}"
                                 "\nNo MD result was kept "
                                 f"(no md.done; partial files md.part.* in {d}; rerunning the "
                                 "same command continues from the last checkpoint).") from None
