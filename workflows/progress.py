@@ -19,6 +19,7 @@ compare`) above a live line without breaking it.
 """
 from __future__ import annotations
 
+import os
 import re
 import sys
 import time
@@ -115,9 +116,19 @@ class Progress:
             self.stream.write(self.text() + "\n")
             self.stream.flush()
 
+    def _live(self) -> str:
+        """The live line, cut to the terminal's width: a wrapped line could not be
+        redrawn in place."""
+        text = self.text()
+        try:
+            width = os.get_terminal_size(self.stream.fileno()).columns
+        except (AttributeError, OSError, ValueError):
+            width = 0
+        return text[:width - 1] if width > 20 and len(text) >= width else text
+
     def _draw(self, now: float) -> None:
         assert self.stream is not None
-        self.stream.write("\r\033[K" + self.text())
+        self.stream.write("\r\033[K" + self._live())
         self.stream.flush()
         self._drawn, self._pending, self._last_draw = True, False, now
 
@@ -127,7 +138,7 @@ class Progress:
         if self.stream is None:
             return
         if self.tty and self._drawn:
-            self.stream.write("\r\033[K" + text + ("" if text.endswith("\n") else "\n") + self.text())
+            self.stream.write("\r\033[K" + text + ("" if text.endswith("\n") else "\n") + self._live())
         else:
             self.stream.write(text + ("" if text.endswith("\n") else "\n"))
         self.stream.flush()

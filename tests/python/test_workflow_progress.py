@@ -71,3 +71,53 @@ def test_last_progress_of_a_log_and_a_control(tmp_path):
     assert last_progress(tmp_path / "missing.log") is None
     assert parse_line("step 100, will finish Tue Dec  1") is None
     assert duration(3733) == "1:02:13" and duration(59.6) == "1:00"
+
+
+def test_terminal_redraws_at_most_every_tenth_of_a_second_and_ends_on_the_last_state():
+    clock, out = Clock(), Tty()
+    p = Progress("x", 100, "steps", stream=out, clock=clock)
+    for k in range(101):          # 100 updates within 0.1 s: one drawn, the rest pending
+        clock.t = k * 0.0009
+        p.update(k)
+    p.close()
+    text = out.getvalue()
+    assert text.count("\r") == 2, text       # the first update and, at close, the last state
+    assert text.rstrip().endswith("x: progress 100/100 steps (100.0 %), 1.11e+03 steps/s, 0:00 left")
+
+
+def test_other_output_goes_above_the_live_line():
+    clock, out = Clock(), Tty()
+    p = Progress("x", 4, "jobs", stream=out, clock=clock)
+    p.above("before any line")
+    p.update(1)
+    p.above("rule md_run:")
+    p.close()
+    assert out.getvalue() == ("before any line\n\r\033[Kx: progress 1/4 jobs (25.0 %)"
+                              "\r\033[Krule md_run:\nx: progress 1/4 jobs (25.0 %)\n")
+    pipe = io.StringIO()
+    q = Progress("x", 4, "jobs", stream=pipe, clock=clock)
+    q.update(1)
+    q.above("rule md_run:")
+    q.close()
+    assert pipe.getvalue() == "rule md_run:\n"
+
+
+def test_stages_close_the_previous_stage_and_end_the_line_before_a_warning():
+    import warnings
+    from dnarod.progress import Stages
+    clock, out = Clock(), Tty()
+    saved = warnings.showwarning
+    # what warnings.warn calls to print a warning, here writing where the progress goes
+    warnings.showwarning = lambda message, *args, **kw: out.write(f"warning: {message}\n")
+    try:
+        with Stages("build-md", stream=out, clock=clock) as stages:
+            stages("minimisation", 10, 5000, "steps")
+            warnings.showwarning("em did not converge", UserWarning, "inputs.py", 1)
+            clock.t = 1.0
+            stages("equilibration", 0.1, 0.2, "ps")
+    finally:
+        warnings.showwarning = saved
+    text = out.getvalue()
+    # the minimisation line ends before the warning; the equilibration line is ended at exit
+    assert "build-md: minimisation: progress 10/5000 steps (0.2 %)\nwarning: em did not converge\n" in text
+    assert text.endswith("build-md: equilibration: progress 0.1/0.2 ps (50.0 %)\n")
