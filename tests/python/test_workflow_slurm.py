@@ -190,7 +190,7 @@ def _md_ps_per_s(md_dir: Path, dnarod: Path, tmp: Path) -> float:
     return json.loads((copy / "md.done").read_text())["ns_per_day"] * 1000.0 / 86400.0
 
 
-def test_time_limit_kills_md_and_the_rerun_resumes(slurm_cluster, tiny_run, dnarod, tmp_path):
+def test_time_limit_kills_md_and_the_rerun_resumes(slurm_cluster, tiny_run, dnarod, rodsim, tmp_path):
     """SLURM kills md_run at a 1-minute time limit; the checkpoint survives Snakemake's
     clean-up of the failed job; the rerun (default limit) continues the MD from it and
     the workflow ends with the local tiny run's results.json keys."""
@@ -201,7 +201,7 @@ def test_time_limit_kills_md_and_the_rerun_resumes(slurm_cluster, tiny_run, dnar
     from dnarod.progress import parse_line
     from terminal import in_terminal, progress_lines
 
-    env = slurm_cluster
+    env = dict(slurm_cluster, DNAROD_BIN_DIR=str(rodsim.parent))
     local_out = tiny_run[0]
     # the MD must outlast the limit: slurmctld checks limits every 30 s, so the job is killed
     # 60-90 s after it starts, the MD ~10 s after the job; 130 s of MD at the speed measured
@@ -253,7 +253,10 @@ def test_time_limit_kills_md_and_the_rerun_resumes(slurm_cluster, tiny_run, dnar
     assert len(times) == n and np.allclose(times, 0.2 * np.arange(n), atol=1e-4)
     assert len(list((out / "slurm").glob("md_run-*.out"))) == 2
     res = json.loads((out / "results.json").read_text())
-    assert set(res) == set(json.loads((local_out / "results.json").read_text()))
+    # the local tiny run's keys; its 4-ps MD gives no finite wave speed, this longer one may, and
+    # then the report adds the speed's Eq-39 modulus (workflows/report/report.py)
+    optional = {"bend_modulus_for_md_speed_small_amplitude"}
+    assert set(res) - optional == set(json.loads((local_out / "results.json").read_text())) - optional
     assert res["md_run_ps"] == pytest.approx(md_ps)
     # no plain progress line of the workflow is lost in the pipe: each parses
     assert all(parse_line(ln) for ln in p.stderr.splitlines() if ": progress " in ln)
