@@ -61,20 +61,22 @@ def last_progress(path) -> dict | None:
 
 
 REDRAW_S = 0.1   # a live line is redrawn at most this often
+STDERR = object()   # the default stream: sys.stderr at the time a Progress is made
 
 
 class Progress:
-    def __init__(self, label: str, total: float, unit: str = "", *, stream=sys.stderr,
+    def __init__(self, label: str, total: float, unit: str = "", *, stream=STDERR,
                  rate=None, every_s: float = 60.0, redraw: bool | None = None,
                  clock=time.monotonic):
         self.label, self.total, self.unit = label, float(total), unit
-        self.stream = stream
+        # sys.stderr as it is now (a caller may have replaced it), None for silence
+        self.stream = sys.stderr if stream is STDERR else stream
         self.rate = rate or (lambda per_s: f"{per_s:.3g} {unit}/s")
         self.every_s = every_s
         self.clock = clock
         # redraw in place on a terminal unless told otherwise (several concurrent
         # progress lines, e.g. `dnarod compare`, use plain lines on a terminal too)
-        self.tty = bool(stream is not None and hasattr(stream, "isatty") and stream.isatty()) \
+        self.tty = bool(self.stream is not None and hasattr(self.stream, "isatty") and self.stream.isatty()) \
             if redraw is None else redraw
         self._first: tuple[float, float] | None = None   # (time, done) of the first update
         self._last_plain: float | None = None             # time of the last plain line

@@ -66,9 +66,9 @@ class WorkflowProgress:
     unchanged (above the live line on a terminal); `line_stream` is where other
     progress lines (the MD's) go so that they do not break the live line."""
 
-    def __init__(self, stream=sys.stderr, every_s: float = 60.0):
+    def __init__(self, stream=None, every_s: float = 60.0):
         from dnarod.progress import Progress
-        self.stream = stream
+        self.stream = stream = stream if stream is not None else sys.stderr
         self.lock = threading.Lock()
         self.running: dict[str, str] = {}
         self._block: tuple[str, str | None] | None = None   # ("rule"|"error", jobid) being read
