@@ -209,6 +209,9 @@ def test_time_limit_kills_md_and_the_rerun_resumes(slurm_cluster, tiny_run, dnar
     rate = _md_ps_per_s(local_out / "md" / "Av5_seed1", dnarod, tmp_path)
     md_ps = round(float(max(10.0, 0.2 * np.ceil(rate * 130.0 / 0.2))), 1)
     cfg = yaml.safe_load((ROOT / "workflows" / "config" / "tiny.yaml").read_text())
+    # one MD job, the kicked one (without the unkicked run the coarse-graining loop is off)
+    cfg["A_v_A_per_ps"] = [cfg["headline_A_v_A_per_ps"]]
+    cfg["md"].pop("run_ps_per_A_v", None)
     cfg["rod"]["run_ps"] = max(cfg["rod"]["run_ps"], md_ps)       # the rod covers the MD
     cfg["md"].update(run_ps=md_ps, threads=1,
                      run_args="--threads 1 --output-ps 0.2 --checkpoint-minutes 0.2")
