@@ -16,8 +16,8 @@
 #
 # Why Debian's source package and not a tarball from gromacs.org: it is the exact
 # source, patches included, of the `gmx` that setup.sh installs, it is signed by
-# the Debian archive, and its build dependencies come from the same archive
-# (`apt-get build-dep`), so nothing outside Debian is downloaded.
+# the Debian archive, and its build dependencies come from the same archive, so
+# nothing outside Debian is downloaded.
 #
 # Why a prefix inside the checkout (.local/gromacs by default): no root is
 # needed for the install, it lives and dies with the checkout (`git clean -X`),
@@ -115,11 +115,18 @@ grep -q "$VERSION" "$srcdir/debian/changelog" || {
   echo "build_gromacs: $srcdir is not GROMACS $VERSION (see its debian/changelog)" >&2; exit 1; }
 debver="$(cd "$srcdir" && dpkg-parsechangelog -S version)"
 
-# 3. Build dependencies of the binary packages (not of the documentation); root
-#    only if one is missing.
-if ! (cd "$srcdir" && dpkg-checkbuilddeps -B >/dev/null 2>&1); then
-  echo "build_gromacs: installing Debian's build dependencies of gromacs"
-  $SUDO apt-get build-dep -y -q --arch-only gromacs
+# 3. The build dependencies of Debian's gromacs that this configuration uses (not
+#    MPI, X11 or the documentation's); scripts/setup.sh installs them, so root is
+#    needed here only if one is missing.
+deps=(build-essential cmake dpkg-dev libfftw3-dev libhwloc-dev libmuparser-dev
+      libblas-dev liblapack-dev zlib1g-dev)
+missing=()
+for p in "${deps[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "build_gromacs: installing ${missing[*]}"
+  $SUDO apt-get install -y -q --no-install-recommends "${missing[@]}"
 fi
 
 # 4. Configure and build. The options, and why (docs/md.md "GROMACS built for the
