@@ -31,8 +31,9 @@ def add_arguments(p):
     length = p.add_mutually_exclusive_group()
     length.add_argument("--ps", type=float, help="MD length, ps (default: the build's --ps)")
     length.add_argument("--steps", type=int, help="MD length in steps")
-    p.add_argument("--gmx", metavar="PATH", help="gmx: a path, or a name (gmx_d) looked up in the project's build, then PATH "
-                   "(default: $DNAROD_GMX, else the project's build, else PATH)")
+    p.add_argument("--gmx", metavar="PATH",
+                   help="gmx: a path, or a name (gmx_d) looked up in the project's build, then PATH "
+                        "(default: $DNAROD_GMX, else the project's build, else PATH)")
     p.add_argument("--threads", type=int, default=None, help="mdrun -nt (default: mdrun decides)")
     p.add_argument("--output-ps", type=float, default=None,
                    help="interval of coordinates/energies, ps (default: md.mdp's, 1 ps)")
