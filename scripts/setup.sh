@@ -13,6 +13,9 @@ PACKAGES=(
   clang libclang-rt-14-dev
   # molecular dynamics
   gromacs
+  # what scripts/build_gromacs.sh (opt-in: GROMACS built for this CPU from Debian's
+  # source) links besides FFTW, so that it needs no root after this script
+  libhwloc-dev libmuparser-dev libblas-dev liblapack-dev zlib1g-dev
   # Python side, all on Debian's /usr/bin/python3
   python3 python3-dev python3-numpy python3-scipy python3-matplotlib
   python3-h5py python3-mdanalysis python3-pytest python3-hypothesis

@@ -1,10 +1,15 @@
 """Find the user's `gmx` and run it; GROMACS failures become ExternalToolError.
 
-Order of precedence: an explicit path (--gmx), the environment variable
-DNAROD_GMX, then the project's own GROMACS built for this machine by
-scripts/build_gromacs.sh (in $DNAROD_GROMACS_PREFIX, default <checkout>/.local/gromacs),
-then `gmx` on PATH. Debian's GROMACS is built for SSE4.1 only, so a user with
-an optimised build must be able to point dnarod at it.
+Order of precedence: --gmx, then the environment variable DNAROD_GMX, then the
+project's own GROMACS built for this machine by scripts/build_gromacs.sh (in
+$DNAROD_GROMACS_PREFIX, default <checkout>/.local/gromacs), then `gmx` on PATH.
+Debian's GROMACS is built for SSE4.1 only, hence the project's build first.
+
+--gmx and DNAROD_GMX take a path (anything with a "/": used as given) or a
+bare command name such as `gmx_d`, which is looked up like a command with the
+project's build directory ahead of PATH: `--gmx gmx_d` (paper.yaml) runs the
+project's double-precision build when it exists, Debian's /usr/bin/gmx_d
+otherwise. To force Debian's binary, give its path (/usr/bin/gmx).
 """
 from __future__ import annotations
 
@@ -32,22 +37,34 @@ def built_gmx_prefix() -> Path:
 
 def built_gmx(double: bool = False) -> str | None:
     """The project's machine-specific build, if scripts/build_gromacs.sh made one."""
-    exe = built_gmx_prefix() / "bin" / ("gmx_d" if double else "gmx")
-    return str(exe) if exe.is_file() and os.access(exe, os.X_OK) else None
+    return _executable(built_gmx_prefix() / "bin" / ("gmx_d" if double else "gmx"))
+
+
+def _executable(path: Path) -> str | None:
+    return str(path) if path.is_file() and os.access(path, os.X_OK) else None
+
+
+def _lookup(name: str) -> str | None:
+    """A path as given; a bare command name in the project's build, then on PATH."""
+    if os.sep in name:
+        return _executable(Path(name))
+    return _executable(built_gmx_prefix() / "bin" / name) or shutil.which(name)
 
 
 def find_gmx(explicit: str | None = None) -> str:
     """Path of the gmx executable to use, or ExternalToolError saying how to get one."""
     for source, cand in (("--gmx", explicit), ("DNAROD_GMX", os.environ.get("DNAROD_GMX"))):
         if cand:
-            path = shutil.which(cand) or (cand if os.access(cand, os.X_OK) else None)
+            path = _lookup(cand)
             if path is None:
-                raise ExternalToolError(f"gmx given by {source} ({cand!r}) is not an executable "
-                                        f"file; {INSTALL_HINT}")
+                raise ExternalToolError(
+                    f"gmx given by {source} ({cand!r}) is not an executable file (a bare name is "
+                    f"looked up in {built_gmx_prefix() / 'bin'}, then on PATH); {INSTALL_HINT}")
             return path
-    path = built_gmx() or shutil.which("gmx")
+    path = _lookup("gmx")
     if path is None:
-        raise ExternalToolError(f"GROMACS `gmx` not found on PATH; {INSTALL_HINT}")
+        raise ExternalToolError(f"GROMACS `gmx` not found on PATH (nor in {built_gmx_prefix() / 'bin'}, "
+                                f"where scripts/build_gromacs.sh installs); {INSTALL_HINT}")
     return path
 
 

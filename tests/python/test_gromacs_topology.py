@@ -95,6 +95,7 @@ def test_gmx_discovery_errors_say_how_to_fix(monkeypatch):
         find_gmx()
     monkeypatch.delenv("DNAROD_GMX")
     monkeypatch.setenv("PATH", "/nonexistent")
+    monkeypatch.setenv("DNAROD_GROMACS_PREFIX", "/nonexistent")   # nor a project build
     with pytest.raises(ExternalToolError, match="not found on PATH.*--gmx"):
         find_gmx()
     with pytest.raises(ExternalToolError, match="--gmx"):

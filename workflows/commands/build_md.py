@@ -93,7 +93,9 @@ def add_arguments(p):
                    help="restrained steepest descent (base heavy atoms held) before velocities")
     p.add_argument("--margin", type=float, default=10.0,
                    help="extra box margin across the axis, A (10)")
-    p.add_argument("--gmx", metavar="PATH", help="gmx executable (else $DNAROD_GMX, else PATH)")
+    p.add_argument("--gmx", metavar="PATH",
+                   help="gmx: a path, or a name (gmx_d) looked up in the project's build, then PATH "
+                        "(default: $DNAROD_GMX, else the project's build, else PATH)")
     p.add_argument("--threads", type=int, default=2, help="threads for the minimisation (2)")
 
 

@@ -16,8 +16,9 @@ time limit) continues from it (mdrun -cpi -append), every frame written once.
 --fresh starts from step 0 instead. Progress (ps done, ns/day, time left) is
 shown on a terminal and written as a plain line every minute into a log.
 
-gmx: --gmx PATH, else $DNAROD_GMX, else the build of scripts/build_gromacs.sh
-if it exists, else `gmx` on PATH (Debian's build is SSE4.1-only).
+gmx: --gmx, else $DNAROD_GMX, else the build of scripts/build_gromacs.sh if it
+exists, else `gmx` on PATH (Debian's build is SSE4.1-only). A bare name such as
+`--gmx gmx_d` is looked up in that build first, then on PATH; a path is used as given.
 
 Examples:
   dnarod run-md md21 --ps 5
@@ -30,7 +31,9 @@ def add_arguments(p):
     length = p.add_mutually_exclusive_group()
     length.add_argument("--ps", type=float, help="MD length, ps (default: the build's --ps)")
     length.add_argument("--steps", type=int, help="MD length in steps")
-    p.add_argument("--gmx", metavar="PATH", help="gmx executable (else $DNAROD_GMX, else PATH)")
+    p.add_argument("--gmx", metavar="PATH",
+                   help="gmx: a path, or a name (gmx_d) looked up in the project's build, then PATH "
+                        "(default: $DNAROD_GMX, else the project's build, else PATH)")
     p.add_argument("--threads", type=int, default=None, help="mdrun -nt (default: mdrun decides)")
     p.add_argument("--output-ps", type=float, default=None,
                    help="interval of coordinates/energies, ps (default: md.mdp's, 1 ps)")

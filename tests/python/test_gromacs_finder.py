@@ -1,0 +1,129 @@
+"""Which gmx runs (mdbridge/gromacs/gmx.py: find_gmx; docs/md.md "Using your own
+GROMACS"): --gmx, else DNAROD_GMX, else the project's own build of
+scripts/build_gromacs.sh when it exists, else `gmx` on PATH.
+
+The real build takes ~20 min, so here the project's build is stood in for by
+wrapper executables in a temporary prefix, given by DNAROD_GROMACS_PREFIX (the
+variable the build script installs into). Each wrapper appends its name and
+arguments to a log and then runs the real GROMACS, so `dnarod build-md` and
+`dnarod run-md` really work through it and the log shows which binary did the
+work. The controls: without the prefix (or with a non-executable file in it)
+the same calls resolve to Debian's gmx, so a finder that ignored the project's
+build fails these tests.
+"""
+import json
+import os
+import shlex
+import shutil
+import subprocess
+from pathlib import Path
+
+import pytest
+import yaml
+
+from mdbridge.gromacs.gmx import built_gmx, built_gmx_prefix, find_gmx
+
+ROOT = Path(__file__).resolve().parents[2]
+SCRIPT = ROOT / "scripts" / "build_gromacs.sh"
+
+
+def real_gmx(name: str) -> str:
+    """The real binary a wrapper hands over to (Debian's, or the project's build if
+    the checkout has one): resolved before the test points the finder elsewhere."""
+    return find_gmx(name)
+
+
+@pytest.fixture
+def prefix(tmp_path, monkeypatch, gmx):
+    """A stand-in project build: PREFIX/bin/gmx and gmx_d, logging wrappers."""
+    targets = {"gmx": real_gmx("gmx"), "gmx_d": real_gmx("gmx_d")}
+    p = tmp_path / "prefix"
+    (p / "bin").mkdir(parents=True)
+    log = tmp_path / "wrapper.log"
+    for name, target in targets.items():
+        w = p / "bin" / name
+        w.write_text(f'#!/bin/sh\necho "{name} $1" >> {shlex.quote(str(log))}\n'
+                     f'exec {shlex.quote(target)} "$@"\n')
+        w.chmod(0o755)
+    monkeypatch.delenv("DNAROD_GMX", raising=False)
+    monkeypatch.setenv("DNAROD_GROMACS_PREFIX", str(p))
+    return p, log, targets
+
+
+def test_the_finder_looks_where_the_build_script_installs(tmp_path):
+    """The script's --print-prefix and the finder agree, by default (the checkout's
+    .local/gromacs: the installed package must be this checkout) and when
+    DNAROD_GROMACS_PREFIX is set."""
+    env = {k: v for k, v in os.environ.items() if k != "DNAROD_GROMACS_PREFIX"}
+    out = subprocess.run(["bash", str(SCRIPT), "--print-prefix"], env=env, capture_output=True,
+                         text=True, check=True).stdout.strip()
+    assert out == str(ROOT / ".local" / "gromacs")
+    old = os.environ.pop("DNAROD_GROMACS_PREFIX", None)
+    try:
+        assert built_gmx_prefix() == Path(out)
+    finally:
+        if old is not None:
+            os.environ["DNAROD_GROMACS_PREFIX"] = old
+    env["DNAROD_GROMACS_PREFIX"] = str(tmp_path / "elsewhere")
+    out = subprocess.run(["bash", str(SCRIPT), "--print-prefix"], env=env, capture_output=True,
+                         text=True, check=True).stdout.strip()
+    assert out == str(tmp_path / "elsewhere")
+
+
+def test_project_build_first_and_overrides(prefix, monkeypatch, tmp_path):
+    p, _, targets = prefix
+    assert find_gmx() == str(p / "bin" / "gmx") == built_gmx()
+    assert built_gmx(double=True) == str(p / "bin" / "gmx_d")
+    # a bare name (paper.yaml's `--gmx gmx_d`) is a command looked up in the build first
+    assert find_gmx("gmx_d") == str(p / "bin" / "gmx_d")
+    monkeypatch.setenv("DNAROD_GMX", "gmx_d")
+    assert find_gmx() == str(p / "bin" / "gmx_d")
+    # a path overrides the project's build: DNAROD_GMX, and --gmx over DNAROD_GMX
+    monkeypatch.setenv("DNAROD_GMX", targets["gmx"])
+    assert find_gmx() == targets["gmx"]
+    assert find_gmx(targets["gmx_d"]) == targets["gmx_d"]
+    monkeypatch.delenv("DNAROD_GMX")
+    # controls: no project build, or a file there that is not executable -> PATH
+    (p / "bin" / "gmx").chmod(0o644)
+    assert find_gmx() == shutil.which("gmx") != str(p / "bin" / "gmx")
+    monkeypatch.setenv("DNAROD_GROMACS_PREFIX", str(tmp_path / "empty"))
+    assert find_gmx() == shutil.which("gmx")
+    assert find_gmx("gmx_d") == shutil.which("gmx_d") != str(p / "bin" / "gmx_d")
+    assert built_gmx() is None
+
+
+def test_build_md_and_run_md_run_the_project_build(prefix, dnarod, tmp_path):
+    """The commands, as a user (and the workflow's rules) call them: no --gmx."""
+    p, log, _ = prefix
+    scene = ROOT / "workflows" / "scenes" / "dna21.toml"
+    out = tmp_path / "md21"
+    for cmd in (["build-md", str(scene), "-o", str(out), "--ps", "0.1", "--temperature", "0",
+                 "--seed", "3"],
+                ["run-md", str(out), "--steps", "50", "--threads", "1", "--output-ps", "0.05",
+                 "--no-checks"]):
+        r = subprocess.run([str(dnarod), *cmd], capture_output=True, text=True, timeout=600)
+        assert r.returncode == 0, r.stderr[-3000:]
+    tools = log.read_text().split("\n")
+    assert {"gmx pdb2gmx", "gmx grompp", "gmx mdrun"} <= set(tools), tools
+    assert json.loads((out / "build.json").read_text())["gmx"]["path"] == str(p / "bin" / "gmx")
+    assert json.loads((out / "md.done").read_text())["gmx"]["path"] == str(p / "bin" / "gmx")
+
+
+def test_the_workflow_passes_no_path_that_bypasses_the_project_build(prefix):
+    """The workflow's MD rules run `dnarod build-md` / `run-md` with the shipped
+    configuration's build_args / run_args and nothing else about gmx: every --gmx
+    they give must resolve to the project's build when it exists."""
+    p, _, _ = prefix
+    snakefile = (ROOT / "workflows" / "Snakefile").read_text()
+    assert "--gmx" not in snakefile and "DNAROD_GMX" not in snakefile
+    given = {}
+    for cfg in sorted((ROOT / "workflows" / "config").glob("*.yaml")):
+        md = (yaml.safe_load(cfg.read_text()) or {}).get("md") or {}
+        for key in ("build_args", "run_args"):
+            words = shlex.split(md.get(key) or "")
+            for i, w in enumerate(words):
+                if w == "--gmx" or w.startswith("--gmx="):
+                    name = w.split("=", 1)[1] if "=" in w else words[i + 1]
+                    given[f"{cfg.name}: md.{key}"] = name
+                    assert Path(find_gmx(name)).parent == p / "bin", (cfg.name, key, name)
+    assert given.get("paper.yaml: md.run_args") == "gmx_d"   # the one shipped --gmx, checked above
