@@ -20,9 +20,13 @@ PYMOL = [sys.executable, "-m", "pymol"]
 
 @pytest.fixture(scope="module")
 def tiny_paths(tiny_run):
+    # the kicked (headline) run: the tiny comparison also has an unkicked A_v = 0 run,
+    # whose rod does not move
+    from dnarod.report.report import fmt_av
     out = tiny_run[0]
-    rod = next(iter(sorted((out / "rod").glob("Av*/rod.h5"))))
-    md = next(iter(sorted((out / "md").glob("Av*_seed*"))))
+    head = fmt_av(json.loads((out / "results.json").read_text())["headline_A_v_A_per_ps"])
+    rod = out / "rod" / f"Av{head}" / "rod.h5"
+    md = next(iter(sorted((out / "md").glob(f"Av{head}_seed*"))))
     return rod, md
 
 

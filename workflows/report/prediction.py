@@ -118,7 +118,8 @@ def figure(res: dict):
         if math.isfinite(_num(v)):
             ax.axhline(_num(v), color="k", ls=ls, lw=0.8, label=name)
     ax.set_xticks(range(3), [n for n, _, _ in vals])
-    ax.set(ylabel="speed [A/ps]", title=f"A_v = {_num(res.get('headline_A_v_A_per_ps')):g} A/ps")
+    ax.set(xlabel="model [MD, paper rod, coarse-grained rod]", ylabel="speed [A/ps]",
+           title=f"A_v = {_num(res.get('headline_A_v_A_per_ps')):g} A/ps")
     ax.legend(fontsize=7)
     return fig
 
