@@ -99,7 +99,8 @@ struct KernelArgs {
 // multiversioning). AVX2 without FMA: the same IEEE operations in the same
 // order, 4 points per instruction instead of 2, so both clones give
 // bit-identical results (docs/performance.md, "General material").
-#if defined(__x86_64__) && defined(__GNUC__)
+// GCC only: clang (the fuzz build) does not multiversion function templates.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
 #define ROD_KERNEL_CLONES __attribute__((target_clones("avx2", "default")))
 #else
 #define ROD_KERNEL_CLONES
