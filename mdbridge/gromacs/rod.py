@@ -123,7 +123,8 @@ def lab_rotation_to_axis(run: RodRun, axis: int = 1) -> np.ndarray:
     dna-rod scene starts with the frame at s = 0 equal to the lab frame, and its
     helix axis is wherever the sequence's closed shape puts it. The smallest rotation."""
     run.require("s", "directors", "fields/Gamma")
-    ds = float(run.s[1] - run.s[0])
+    s = np.asarray(run.s, float)   # present: require() raised otherwise
+    ds = float(s[1] - s[0])
     P = np.einsum("ixk,ik->x", np.asarray(run.directors, float)[0], np.asarray(run.fields["Gamma"], float)[0]) * ds
     a = P / np.linalg.norm(P)
     e = np.zeros(3)
