@@ -95,3 +95,24 @@ def test_compare_refuses_before_snakemake_runs(tmp_path, dnarod):
     assert str(path) in p.stderr and "missing key 'md.run_ps'" in p.stderr and "did you mean 'md.run_ps'" in p.stderr
     assert "Snakefile" not in p.stderr and "Traceback" not in p.stderr
     assert not (tmp_path / "o" / ".snakemake").exists()
+
+
+def test_per_amplitude_md_arguments_and_the_rod_covering_its_md(tmp_path, dnarod):
+    """md.build_args_per_A_v reaches build-md of that A_v only, and the rod run an MD starts
+    from is lengthened to cover a longer per-A_v MD (build-md refuses a rod run shorter than
+    the MD): read from the jobs Snakemake would run (--dry-run), not from the Snakefile."""
+    cfg = dict(GOOD, A_v_A_per_ps=[0, 5], md={"run_ps": 4, "run_ps_per_A_v": {0: 30},
+                                               "build_args": "--seed {seed}",
+                                               "build_args_per_A_v": {0: "--thermostat"}})
+    path = tmp_path / "per.yaml"
+    path.write_text(yaml.safe_dump(cfg))
+    p = subprocess.run([str(dnarod), "compare", "--config", str(path), "--out", str(tmp_path / "o"),
+                        "--", "--dry-run"], capture_output=True, text=True)
+    assert p.returncode == 0, p.stderr + p.stdout
+    builds = {m.group(1): m.group(0) for m in re.finditer(r"build-md rod/Av([0-9.]+)/scene\.toml.*", p.stdout)}
+    assert set(builds) == {"0", "5"}, p.stdout
+    assert "--seed 1 --thermostat" in builds["0"] and "--ps 30" in builds["0"]
+    assert "--thermostat" not in builds["5"] and "--seed 1" in builds["5"] and "--ps 4" in builds["5"]
+    scenes = dict(re.findall(r"steps scene \S+ rod/Av([0-9.]+)/scene\.toml --A-v \S+ --run-ps ([0-9.]+)", p.stdout))
+    assert float(scenes["0"]) == 30.0            # lengthened to its MD
+    assert float(scenes["5"]) == 20.0            # rod.run_ps, already longer than its MD

@@ -30,6 +30,8 @@ Configuration (YAML): workflows/config/default.yaml documents every key. Shipped
   default.yaml  the 158-bp scene: A_v = 1 A/ps with 600 ps of MD (a wave period) and an
                 A_v = 0 equilibrium run of 150 ps (estimated ~55 min with setup, 2 cores)
   paper.yaml    the paper's 600 ps of MD for A_v = 0, 1, 5, three seeds (~38 h, 2 cores)
+  prediction.yaml  default.yaml with a 1200-ps thermostatted A_v = 0 run: enough for the
+                coarse-grained rod's prediction (~2 h, 2 cores)
   tiny.yaml     21 bp, a few ps (CI)
 
 Examples:
