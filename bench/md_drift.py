@@ -52,6 +52,7 @@ VARIANTS = {
     "smooth_double_dt0.5": ({**SMOOTH, **HALF}, "double"),
     "smooth_double_noconstr": ({**SMOOTH, **NOCON}, "double"),
     "smooth_double_dt2": ({**SMOOTH, **DT2}, "double"),
+    "smooth_noconstr_dt0.5": ({**SMOOTH, **NOCON, **HALF}, "mixed"),
     "smooth_dt2_lincs8x2": ({**SMOOTH, **DT2, **LINCS}, "mixed"),
     "paper_noconstr": (NOCON, "mixed"),
 }

@@ -163,3 +163,12 @@ def test_rod_runs_predict_the_known_material(tmp_path, rodsim):
             err = spread(np.array([b["K_star"][i, j] for b in b3 if b is not None]))
         assert abs(got - K_TRUE[i, j]) < 3.5 * err, (i, got, err, K_TRUE[i, j])
     assert json.loads((tmp_path / "cgrod" / "analysis.json").read_text())["replicates_used"] == 8
+
+
+def test_the_loop_step_without_an_md_folder_says_what_is_missing(tmp_path, capsys):
+    """The workflow's coarse-graining step given a folder that build-md did not write:
+    exit 2 and a message naming the missing file, not a traceback (dnarod.report.steps.run_step)."""
+    from dnarod.report import cgloop
+    assert cgloop.main(["coarse-grain", str(tmp_path / "md"), str(tmp_path / "cg")]) == 2
+    err = capsys.readouterr().err
+    assert f"{tmp_path / 'md' / 'build.json'}: missing" in err and "Traceback" not in err

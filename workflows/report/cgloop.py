@@ -34,6 +34,8 @@ import numpy as np
 from dna_models.errors import DnarodError, InputError
 from mdbridge.jsonio import write_json
 
+from dnarod.report.steps import run_step
+
 
 def coarse_grain_md(md_dir, out_dir, m=None, temperature=None, min_effective=None, max_open_fraction=0.0,
                     discard=None, m_max=None) -> dict:
@@ -45,6 +47,8 @@ def coarse_grain_md(md_dir, out_dir, m=None, temperature=None, min_effective=Non
     # The pairs as built (mdbridge/builder/duplex.py), not found by distance: in a long
     # vacuum run some pairs are open in the frame the search would look at.
     from mdbridge.builder.duplex import base_pairs
+    if not (md / "build.json").is_file():
+        raise InputError(f"{md / 'build.json'}: missing; coarse-graining needs a `dnarod build-md` folder")
     n_bp = int(json.loads((md / "build.json").read_text())["n_bp"])
     pairs_file = out / "pairs.dat"
     pairs_file.write_text("".join(f"{a} {b}\n" for a, b in base_pairs(n_bp)))
@@ -253,17 +257,15 @@ def main(argv=None) -> int:
     p.add_argument("--n-boot", type=int, default=200)
     p.add_argument("--sequence-dependent", action="store_true")
     a = ap.parse_args(argv)
-    try:
+
+    def step():
         if a.step == "coarse-grain":
             coarse_grain_md(a.md_dir, a.out_dir, a.m, a.temperature, a.min_effective, a.max_open_fraction, a.discard,
                             a.m_max)
         else:
             cg_rod(a.scene, a.cg_dir, a.md_dir, a.out_dir, a.rodsim, a.m, a.replicas, a.n_boot,
                    a.sequence_dependent)
-    except DnarodError as e:
-        print(f"dnarod compare (cg {a.step}): error: {e}", file=sys.stderr)
-        return 2
-    return 0
+    return run_step(f"cg {a.step}", step)
 
 
 if __name__ == "__main__":

@@ -186,6 +186,18 @@ def fit_moduli(scene_path, md_jsons, out_json, which=("bend", "stretch")):
     return res
 
 
+def run_step(label: str, step) -> int:
+    """Run one workflow step (a callable) as a command: 0 when it succeeds, 2 with the
+    error on stderr when it raises a DnarodError (bad input, a refused fit), so the
+    Snakemake log names what failed and why; any other exception is a bug and propagates."""
+    try:
+        step()
+    except DnarodError as e:
+        print(f"dnarod compare ({label}): error: {e}", file=sys.stderr)
+        return 2
+    return 0
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(prog="python -m dnarod.report.steps", description=__doc__.splitlines()[0])
     sub = ap.add_subparsers(dest="step", required=True)
@@ -210,7 +222,8 @@ def main(argv=None) -> int:
     p.add_argument("out")
     p.add_argument("md_json", nargs="+")
     a = ap.parse_args(argv)
-    try:
+
+    def step():
         if a.step == "scene":
             make_scene(a.base, a.out, a.A_v, a.run_ps, a.every_ps)
         elif a.step == "prestrain-scene":
@@ -226,10 +239,7 @@ def main(argv=None) -> int:
             analyse_rod(a.scene, a.input, a.prefix, a.n_boot)
         else:
             analyse_md(a.scene, a.input, a.prefix, a.n_boot)
-    except DnarodError as e:
-        print(f"dnarod compare ({a.step}): error: {e}", file=sys.stderr)
-        return 2
-    return 0
+    return run_step(a.step, step)
 
 
 if __name__ == "__main__":
