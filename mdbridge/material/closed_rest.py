@@ -480,13 +480,26 @@ def closed_rest_state(g, L, box_length=None, space="spectral", refine=8, mode="c
             rho = gain / predicted if predicted > 0 else 0.0
             mu, nu = mu * max(1 / 3, 1 - (2 * rho - 1) ** 3), 2.0
         x, F, c, C, phi = xn, Fn, cn, Cn, phin
-        # done when closed to round-off and the residual no longer falls (the optimum's
-        # residual is the discretisation error; GN approaches it only linearly)
-        if np.max(np.abs(c)) < 1e-12 * max(1.0, b) and gain <= 1e-6 * phi:
+        # done when nearly closed and the residual no longer falls (the optimum's residual
+        # is the discretisation error; GN approaches it only linearly, and so the closure)
+        if np.max(np.abs(c)) < 1e-8 * max(1.0, b) and gain <= 1e-6 * phi:
             break
     else:
-        raise InputError(f"closed rest state: Gauss-Newton did not converge in {maxiter} iterations "
-                         f"(last step {np.max(np.abs(dx)):.3g}, closure defect {np.max(np.abs(c)):.3g})")
+        # the cap: along the soft family the residual can keep falling slowly for many
+        # iterations (158 bp) while it is already at its discretisation-error floor;
+        # nearly closed is accepted then, anything else is a failure
+        if not np.max(np.abs(c)) < 1e-8 * max(1.0, b):
+            raise InputError(f"closed rest state: Gauss-Newton did not converge in {maxiter} iterations "
+                             f"(last step {np.max(np.abs(dx)):.3g}, closure defect {np.max(np.abs(c)):.3g})")
+    # the last digits of the closure: minimum-norm Newton steps on c alone (quadratic; a
+    # step of the closure's size moves the statics residual far below its discretisation error)
+    for _ in range(8):
+        if np.max(np.abs(c)) < 1e-12 * max(1.0, b):
+            break
+        x = x + np.linalg.lstsq(C, -c, rcond=None)[0]
+        c, C = closure_jacobian(x.reshape(N, 6), L, b, refine)
+    else:
+        raise InputError(f"closed rest state: the closure did not converge (defect {np.max(np.abs(c)):.3g})")
     if mode == "equilibrium":
         x, it2 = _equilibrium_from(S, x, tol, maxiter)
         it += it2
