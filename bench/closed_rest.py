@@ -5,7 +5,7 @@ parameter set at a time), side by side, for random sequences (seed 1) under
 Olson 1998 at one point per base pair, spectral operator. The old method runs
 only at the sizes given by --old-sizes (at 158 bp it did not finish in 9 CPU
 minutes). CPU time is process time (the machine is shared: wall time is not
-the cost). Writes results/closed_rest.json.
+the cost). Writes results/closed_rest.json (rows of sizes not run are kept).
 
   nice -n 15 python bench/closed_rest.py [--sizes 21 40 80 158] [--old-sizes 21 40]
 """
@@ -67,8 +67,13 @@ def main():
                    "tension_pN": round(T, 3), "torque_pN_nm": round(M, 3)}
             rows.append(row)
             print(json.dumps(row), flush=True)
+    # rows of sizes not run now are kept from the previous file (each row says what it measured)
     a.out.mkdir(parents=True, exist_ok=True)
-    (a.out / "closed_rest.json").write_text(json.dumps({"rows": rows, "old_commit": OLD_COMMIT}, indent=1))
+    f = a.out / "closed_rest.json"
+    done = {(r["n_bp"], r["method"]) for r in rows}
+    kept = [r for r in json.loads(f.read_text())["rows"] if (r["n_bp"], r["method"]) not in done] if f.exists() else []
+    rows = sorted(kept + rows, key=lambda r: (r["n_bp"], r["method"]))
+    f.write_text(json.dumps({"rows": rows, "old_commit": OLD_COMMIT}, indent=1))
 
 
 if __name__ == "__main__":

@@ -31,13 +31,32 @@ closure cannot both hold at a finite N (docs/scenes.md, "The closed,
 pre-stressed rest state"). Two modes:
 
 * rest = "closed" (the `dnarod dna-rod` default, the MD build's): Gauss-Newton
-  from the intrinsic shape on min |statics residual|^2 subject to the closure
-  as an exact equality constraint (null-space method): closed to round-off,
-  the statics to the discretisation error.
+  on min |statics residual|^2 subject to the closure as an exact equality
+  constraint (null-space method), from the continuum's closed energy minimiser
+  (below): closed to round-off, the statics to the discretisation error.
 * rest = "equilibrium": then Newton (Levenberg-Marquardt safeguard) on the
   statics alone, from the closed state: an equilibrium of the solver's
   equations to round-off (it stays at rest in rodsim), closed only to the
   discretisation error.
+
+The start, the continuum's closed minimiser, is found by multiple shooting
+(`_shooting_minimiser`): its unknowns are the six numbers of the lab force N
+and moment M (the closure's multipliers) and, per segment after the first,
+its starting frame and position; the segments are matched at the joins. One
+shot over the whole period (the single shooting, K = 1) fails for long rods:
+under the tension T the closure causes, the linearised statics are hyperbolic
+(a bent rod under tension: perturbations grow like exp(s sqrt(T / B)), B the
+bend stiffness): at 158 bp (tension 0.03 C, B ~ 1.4 C l^2, L = 107 l) the
+estimate is exp(L sqrt(T / B)) ~ 1e7 for the whole period, and Levenberg-
+Marquardt on the six numbers did not converge (docs/scenes.md). Segments of at
+most SEGMENT_LENGTH = 16 l (8 nm, 24 bp; growth ~10 at that tension) keep
+each shot well conditioned, all segments are shot together (a batch), and
+the 6 K unknowns are few enough for a dense Jacobian. Rods up to 16 l (21 bp)
+are one segment, i.e. the single shooting. The alternatives were not taken:
+the constrained Gauss-Newton started from the intrinsic shape converges at
+158 bp but not at 40 bp (docs/scenes.md), and a homotopy in the intrinsic
+shape's deviation from uniform would still need the long single shot at
+every step.
 
 The residual stress: with N = R n and the closure direction b_hat, the tension
 is n . R^T b_hat and the torque about the axis m . R^T b_hat (both constant
@@ -53,12 +72,14 @@ import numpy as np
 
 from dna_models.errors import InputError
 from dna_models.units import Units
-from mdbridge.geometry.rotations import rotation_log
+from mdbridge.geometry.rotations import rotation_exp, rotation_log
 from mdbridge.rodframes import _inverse_left_jacobian, skew, step_exp, trig_interpolate
 
 from .composition import cell_matrix as _cell_matrix, compose_cells as _monodromy_cells
 
 MODES = ("closed", "equilibrium")
+# longest segment of the multiple shooting (rod units, l = 5 A: 8 nm, 24 bp; module docstring)
+SEGMENT_LENGTH = 16.0
 
 
 class SolverStatics:
@@ -201,16 +222,23 @@ def stress(x, g):
     return w[:, :3], w[:, 3:]
 
 
-def _shooting_minimiser(g, L, b, refine=2, tol=1e-8, maxiter=30):
+def _shooting_minimiser(g, L, b, refine=2, tol=1e-8, maxiter=30, segment_length=None):
     """Grid strains (N, 6) of the closed energy minimiser of the continuum rod whose
-    compliance and intrinsic strains are linear between grid points, by shooting.
+    compliance and intrinsic strains are linear between grid points, by multiple shooting.
 
     The minimiser's stationarity conditions are the continuum statics with the
     closure's multipliers as lab-frame force N and moment M: n = R^T N,
-    m = R^T (M - r x N), x = x0 + K^-1 (n, m). Shot along s (midpoint rule on
-    SE(3), refine cells per grid cell) for p = (N, M) until R(L) = I, |r(L)| = b
-    and N || r(L): Levenberg-Marquardt (scipy, MINPACK) on those 7 conditions with a
-    central-difference Jacobian whose 12 shots are integrated together."""
+    m = R^T (M - r x N), x = x0 + K^-1 (n, m). The period is split at grid points into
+    K segments no longer than segment_length (default SEGMENT_LENGTH; module
+    docstring: one shot over a long, tensioned rod amplifies its errors exponentially).
+    Each segment is shot along s (midpoint rule on SE(3), refine cells per grid cell)
+    from its own frame and position, R_k = Rref_k exp([theta_k]x), r_k = rref_k + dr_k
+    (references: the intrinsic shape, the shot at N = M = 0), under the common (N, M).
+    Unknowns p = (N, M, theta_k, dr_k for k = 1 .. K-1); conditions: each segment ends
+    at the next one's start (rotation log R_k^T R_end, R_k^T (r_end - r_k)), the last
+    at R(L) = I, |r(L)| = b and N || r(L). Levenberg-Marquardt (scipy, MINPACK) with a
+    central-difference Jacobian whose shots (all segments of all 12 K perturbations)
+    are integrated together. K = 1 is the single shooting."""
     N = g["K"].shape[0]
     x0 = np.concatenate([g["Gamma0"], g["Omega0"]], axis=1)
     Cg = np.linalg.inv(g["K"])                               # compliance, SPD
@@ -222,6 +250,9 @@ def _shooting_minimiser(g, L, b, refine=2, tol=1e-8, maxiter=30):
     j1 = (j0 + 1) % N
     xc0 = (1 - w) * x0[j0] + w * x0[j1]                       # linear in s: convex, so the
     Cc = (1 - w[..., None]) * Cg[j0] + w[..., None] * Cg[j1]  # compliance stays SPD
+    K = max(1, min(N, int(np.ceil(L / (SEGMENT_LENGTH if segment_length is None else segment_length)))))
+    jb = np.round(np.linspace(0, N, K + 1)).astype(int)      # segment k: grid points jb[k] .. jb[k+1]
+    c0, nc = refine * jb[:-1], refine * np.diff(jb)          # its first cell, its number of cells
 
     def cross(a, b):
         return a[:, [1, 2, 0]] * b[:, [2, 0, 1]] - a[:, [2, 0, 1]] * b[:, [1, 2, 0]]
@@ -229,7 +260,7 @@ def _shooting_minimiser(g, L, b, refine=2, tol=1e-8, maxiter=30):
     def strains(R, r, Nf, Mm, xs0, C_):                      # batched over shots: R (B, 3, 3)
         st = np.concatenate([np.einsum("bji,bj->bi", R, Nf),
                              np.einsum("bji,bj->bi", R, Mm - cross(r, Nf))], axis=1)
-        return xs0 + st @ C_.T
+        return xs0 + np.einsum("bij,bj->bi", C_, st)
 
     def exp(v, w):
         """SE(3) exponential (R, J(v) w) of (B, 3) twists, lean (the shot's inner loop)."""
@@ -246,45 +277,78 @@ def _shooting_minimiser(g, L, b, refine=2, tol=1e-8, maxiter=30):
         Jw = w + bb[:, None] * np.einsum("bij,bj->bi", V, w) + cc[:, None] * np.einsum("bij,bj->bi", V2, w)
         return R, Jw
 
-    def shoot(P, grid=False):
-        Nf, Mm = P[:, :3], P[:, 3:]
-        R = np.broadcast_to(np.eye(3), (len(P), 3, 3)).copy()
-        r = np.zeros((len(P), 3))
-        out = np.empty((N, 6)) if grid else None
-        for c in range(M):
+    def shoot(R, r, P, grid=False):
+        """Ends (R, r) (B, K, 3, 3), (B, K, 3) of the K segments of B shots from the
+        starts R, r (same shapes) under P (B, 6) = (N, M); grid=True (B = 1): the
+        strains at the grid points instead."""
+        B = len(P)
+        R, r = R.reshape(B * K, 3, 3).copy(), r.reshape(B * K, 3).copy()
+        Nf, Mm = np.repeat(P[:, :3], K, axis=0), np.repeat(P[:, 3:], K, axis=0)
+        seg = np.tile(np.arange(K), B)
+        out = np.empty((N, 6))
+        for c in range(int(nc.max())):
+            live = c < nc[seg]                               # segments may differ by a grid cell
+            cell = np.minimum(c0[seg] + c, M - 1)
             if grid and c % refine == 0:
-                out[c // refine] = strains(R, r, Nf, Mm, x0[c // refine], Cg[c // refine])[0]
+                j = jb[seg[live]] + c // refine
+                out[j] = strains(R[live], r[live], Nf[live], Mm[live], x0[j], Cg[j])
             # midpoint rule; the mid-cell frame by a first-order predictor (its O(h^2)
             # error changes the midpoint strains at the order of the rule itself)
-            xs = strains(R, r, Nf, Mm, xc0[c], Cc[c])
+            xs = strains(R, r, Nf, Mm, xc0[cell], Cc[cell])
             Rm = R + 0.5 * hc * R @ skew(xs[:, 3:])
-            xm = strains(Rm, r + 0.5 * hc * np.einsum("bij,bj->bi", R, xs[:, :3]), Nf, Mm, xc0[c], Cc[c])
+            xm = strains(Rm, r + 0.5 * hc * np.einsum("bij,bj->bi", R, xs[:, :3]), Nf, Mm, xc0[cell], Cc[cell])
             Rc, dc = exp(hc * xm[:, 3:], hc * xm[:, :3])
-            r = r + np.einsum("bij,bj->bi", R, dc)
-            R = R @ Rc
-        return out if grid else (R, r)
+            r = np.where(live[:, None], r + np.einsum("bij,bj->bi", R, dc), r)
+            R = np.where(live[:, None, None], R @ Rc, R)
+        return out if grid else (R.reshape(B, K, 3, 3), r.reshape(B, K, 3))
 
-    def resid(P):
-        R, r = shoot(P)
-        return np.concatenate([rotation_log(R), np.cross(r, P[:, :3]) / b,
-                               (np.linalg.norm(r, axis=1) - b)[:, None]], axis=1)
+    # references: the intrinsic shape at the segment starts (at N = M = 0 the strains do not
+    # depend on the frame, so each segment's motion is shot from the identity and chained)
+    Rs, rs = shoot(np.broadcast_to(np.eye(3), (1, K, 3, 3)), np.zeros((1, K, 3)), np.zeros((1, 6)))
+    Rref, rref = np.empty((K, 3, 3)), np.empty((K, 3))
+    Rref[0], rref[0] = np.eye(3), 0.0
+    for k in range(1, K):
+        Rref[k] = Rref[k - 1] @ Rs[0, k - 1]
+        rref[k] = rref[k - 1] + Rref[k - 1] @ rs[0, k - 1]
+
+    def starts(Z):
+        """Segment starts (B, K, 3, 3), (B, K, 3) of the unknowns Z (B, 6 K)."""
+        B = len(Z)
+        u = Z[:, 6:].reshape(B, K - 1, 6)
+        R = np.broadcast_to(Rref, (B, K, 3, 3)).copy()
+        r = np.broadcast_to(rref, (B, K, 3)).copy()
+        R[:, 1:] = R[:, 1:] @ rotation_exp(u[..., :3])
+        r[:, 1:] += u[..., 3:]
+        return R, r
+
+    def resid(Z):
+        R0, r0 = starts(Z)
+        R1, r1 = shoot(R0, r0, Z[:, :6])
+        Rt = np.swapaxes(R0[:, 1:], -1, -2)
+        joins = np.concatenate([rotation_log(Rt @ R1[:, :-1]),
+                                np.einsum("bkij,bkj->bki", Rt, r1[:, :-1] - r0[:, 1:])], axis=2)
+        Re, re = R1[:, -1], r1[:, -1]
+        close = np.concatenate([rotation_log(Re), np.cross(re, Z[:, :3]) / b,
+                                (np.linalg.norm(re, axis=1) - b)[:, None]], axis=1)
+        return np.concatenate([joins.reshape(len(Z), -1), close], axis=1)
 
     from scipy.optimize import least_squares
     eps = 1e-7
-    E = np.vstack([eps * np.eye(6), -eps * np.eye(6)])
+    E = np.vstack([eps * np.eye(6 * K), -eps * np.eye(6 * K)])
 
     def jac(p):
         Rr = resid(p[None] + E)
-        return ((Rr[:6] - Rr[6:]) / (2 * eps)).T
+        return ((Rr[:6 * K] - Rr[6 * K:]) / (2 * eps)).T
 
-    sol = least_squares(lambda p: resid(p[None])[0], np.zeros(6), jac=jac, method="lm",
+    sol = least_squares(lambda p: resid(p[None])[0], np.zeros(6 * K), jac=jac, method="lm",
                         xtol=1e-3 * tol, ftol=1e-3 * tol, gtol=1e-15, max_nfev=50 * maxiter)
     p = sol.x
     f = resid(p[None])[0]
     if np.max(np.abs(f)) > tol:
         raise InputError(f"closed rest state: shooting for the closed minimiser did not converge "
-                         f"(closure residual {np.max(np.abs(f)):.3g})")
-    return shoot(p[None], grid=True)
+                         f"({K} segments, closure and join residual {np.max(np.abs(f)):.3g})")
+    R0, r0 = starts(p[None])
+    return shoot(R0, r0, p[None, :6], grid=True)
 
 
 def _closed_step(J, F, C, c, mu=0.0):
@@ -375,7 +439,13 @@ def closed_rest_state(g, L, box_length=None, space="spectral", refine=8, mode="c
     # Gauss-Newton on the solver's statics with the closure as an equality constraint
     x = _shooting_minimiser(g, L, b).ravel()
     # Levenberg-Marquardt on the constrained problem: a step is kept when it lowers
-    # the merit |F|^2 + (w |c|)^2 (w: the closure counts as much as the statics)
+    # the merit |F|^2 + (w |c|)^2 (w: the closure counts as much as the statics).
+    # The damping follows the gain ratio rho (actual / predicted decrease; Nielsen's
+    # update: mu *= max(1/3, 1 - (2 rho - 1)^3) on success, doubling factors on
+    # failure): near the soft family the undamped step overshoots along the curved
+    # valley, and the rate of convergence is set by how small a damping still works,
+    # so mu is found adaptively rather than reset to 0 after every kept step
+    # (which costs two rejected solves per iteration)
     w = 1e3 / ds
 
     def merit(F, c):
@@ -384,7 +454,7 @@ def closed_rest_state(g, L, box_length=None, space="spectral", refine=8, mode="c
     F = S.residual(x).ravel()
     c, C = closure_jacobian(x.reshape(N, 6), L, b, refine)
     phi = merit(F, c)
-    mu, it = 0.0, 0
+    mu, nu, it = 0.0, 2.0, 0
     for it in range(1, maxiter + 1):
         J = S.jacobian(x)
         scale = np.max(np.abs(J)) ** 2
@@ -396,7 +466,7 @@ def closed_rest_state(g, L, box_length=None, space="spectral", refine=8, mode="c
             phin = merit(Fn, cn)
             if phin <= phi * (1 + 1e-12):
                 break
-            mu = max(10 * mu, 1e-10 * scale)
+            mu, nu = (1e-10 * scale, 2.0) if mu == 0 else (mu * nu, 2 * nu)
             if mu > 1e4 * scale:
                 break
         if mu > 1e4 * scale:         # no descent left: at the optimum to round-off, or stuck
@@ -405,15 +475,31 @@ def closed_rest_state(g, L, box_length=None, space="spectral", refine=8, mode="c
             raise InputError(f"closed rest state: no descent (statics residual {np.max(np.abs(F)):.3g}, "
                              f"closure defect {np.max(np.abs(c)):.3g})")
         gain = phi - phin
+        predicted = phi - merit(F + J @ dx, c + C @ dx)
+        if mu > 0:
+            rho = gain / predicted if predicted > 0 else 0.0
+            mu, nu = mu * max(1 / 3, 1 - (2 * rho - 1) ** 3), 2.0
         x, F, c, C, phi = xn, Fn, cn, Cn, phin
-        mu = mu / 10 if mu > 1e-9 * scale else 0.0
-        # done when closed to round-off and the residual no longer falls (the optimum's
-        # residual is the discretisation error; GN approaches it only linearly)
-        if np.max(np.abs(c)) < 1e-12 * max(1.0, b) and gain <= 1e-6 * phi:
+        # done when nearly closed and the residual no longer falls (the optimum's residual
+        # is the discretisation error; GN approaches it only linearly, and so the closure)
+        if np.max(np.abs(c)) < 1e-8 * max(1.0, b) and gain <= 1e-6 * phi:
             break
     else:
-        raise InputError(f"closed rest state: Gauss-Newton did not converge in {maxiter} iterations "
-                         f"(last step {np.max(np.abs(dx)):.3g}, closure defect {np.max(np.abs(c)):.3g})")
+        # the cap: along the soft family the residual can keep falling slowly for many
+        # iterations (158 bp) while it is already at its discretisation-error floor;
+        # nearly closed is accepted then, anything else is a failure
+        if not np.max(np.abs(c)) < 1e-8 * max(1.0, b):
+            raise InputError(f"closed rest state: Gauss-Newton did not converge in {maxiter} iterations "
+                             f"(last step {np.max(np.abs(dx)):.3g}, closure defect {np.max(np.abs(c)):.3g})")
+    # the last digits of the closure: minimum-norm Newton steps on c alone (quadratic; a
+    # step of the closure's size moves the statics residual far below its discretisation error)
+    for _ in range(8):
+        if np.max(np.abs(c)) < 1e-12 * max(1.0, b):
+            break
+        x = x + np.linalg.lstsq(C, -c, rcond=None)[0]
+        c, C = closure_jacobian(x.reshape(N, 6), L, b, refine)
+    else:
+        raise InputError(f"closed rest state: the closure did not converge (defect {np.max(np.abs(c)):.3g})")
     if mode == "equilibrium":
         x, it2 = _equilibrium_from(S, x, tol, maxiter)
         it += it2
