@@ -67,15 +67,19 @@ def main():
     ap.add_argument("--out", type=Path, default=Path(__file__).parent / "results")
     ap.add_argument("--work", type=Path, default=Path("/tmp/dnarod-sequence-rod"))
     ap.add_argument("--ps", type=float, default=600.0)
+    ap.add_argument("--points-per-bp", type=int, default=1,
+                    help="grid points per base pair of the sequence rod (dna-rod --points-per-bp); "
+                         "results go to sequence_rod.json (1) or sequence_rod_ppbM.json")
     a = ap.parse_args()
-    a.work.mkdir(parents=True, exist_ok=True)
     log, out = [], {}
     import shutil
     from dna_models.units import Units
     dnarod = shutil.which("dnarod") or sys.exit("dnarod not on PATH")
+    a.work = a.work / f"ppb{a.points_per_bp}"
+    a.work.mkdir(parents=True, exist_ok=True)
     kicked, rest = a.work / "olson1998_kicked", a.work / "olson1998_rest"
     run([dnarod, "dna-rod", "--random", "158", "--seed", "1", "--params", "olson1998",
-         "--kick", "1.0", "--t-end-ps", str(a.ps), "-o", str(kicked)], log)
+         "--kick", "1.0", "--t-end-ps", str(a.ps), "--points-per-bp", str(a.points_per_bp), "-o", str(kicked)], log)
     # the same rest state without the kick (velocities zeroed in a copy of the initial file)
     import h5py
     shutil.copytree(kicked, rest, dirs_exist_ok=True)
@@ -96,7 +100,8 @@ def main():
     out["paper_uniform"] = analyse(h5, 158, [0.0, 0.0, 1.0])
     out["commands"] = log
     a.out.mkdir(parents=True, exist_ok=True)
-    (a.out / "sequence_rod.json").write_text(json.dumps(out, indent=1, default=float))
+    name = "sequence_rod.json" if a.points_per_bp == 1 else f"sequence_rod_ppb{a.points_per_bp}.json"
+    (a.out / name).write_text(json.dumps(out, indent=1, default=float))
     for k in ("olson1998_kicked", "olson1998_rest", "paper_uniform"):
         v = out[k]
         print(f"{k}: standing-mode speed {v['standing_mode_speed_A_per_ps']} +- "
