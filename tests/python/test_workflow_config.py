@@ -116,3 +116,14 @@ def test_per_amplitude_md_arguments_and_the_rod_covering_its_md(tmp_path, dnarod
     scenes = dict(re.findall(r"steps scene \S+ rod/Av([0-9.]+)/scene\.toml --A-v \S+ --run-ps ([0-9.]+)", p.stdout))
     assert float(scenes["0"]) == 30.0            # lengthened to its MD
     assert float(scenes["5"]) == 20.0            # rod.run_ps, already longer than its MD
+
+
+def test_prediction_is_the_main_job_with_a_long_equilibrium_run():
+    """prediction.yaml says it is default.yaml with only the A_v = 0 run changed (longer,
+    thermostatted); a copy drifts, so the claim is checked key by key."""
+    default = yaml.safe_load((ROOT / "workflows" / "config" / "default.yaml").read_text())
+    pred = yaml.safe_load((ROOT / "workflows" / "config" / "prediction.yaml").read_text())
+    assert pred["md"].pop("run_ps_per_A_v") == {0: 1200} and default["md"].pop("run_ps_per_A_v") == {0: 150}
+    assert pred["md"].pop("build_args_per_A_v") == {0: "--thermostat"}
+    assert "build_args_per_A_v" not in default["md"]
+    assert pred == default
