@@ -5,6 +5,7 @@ cut off at 10 A, NVE, strands ligated across the periodic boundary. Choices
 that the paper leaves open are explained where they are made."""
 from __future__ import annotations
 
+import math
 from dataclasses import asdict, dataclass
 
 
@@ -110,7 +111,7 @@ def render_md(s: MdSettings) -> str:
         f"nstxout-compressed      = {out_steps}",
         "compressed-x-precision  = 10000",
         f"nstenergy               = {out_steps}",
-        f"nstcalcenergy           = {min(out_steps, 100)}",
+        f"nstcalcenergy           = {math.gcd(out_steps, 100)}",
         f"nstlog                  = {out_steps}",
         "nstvout                 = 0",
         "nstfout                 = 0",

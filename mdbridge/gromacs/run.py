@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import math
 import re
 import sys
 import time
@@ -166,7 +167,7 @@ def run_md(directory: Path, *, ps: float | None = None, steps: int | None = None
             raise InputError(f"--output-ps {output_ps}: must be > 0")
         every = max(1, int(round(output_ps / dt)))
         values.update({"nstxout-compressed": every, "nstenergy": every, "nstlog": every,
-                       "nstcalcenergy": min(every, 100)})
+                       "nstcalcenergy": math.gcd(every, 100)})
     run_mdp = _set_keys(mdp, values)
     request = _request(d, run_mdp, gmx_path, steps)
     resume = not fresh and _resumable(d, request)

@@ -79,6 +79,9 @@ def add_arguments(p):
     p.add_argument("--lincs-iter", type=int, default=1, help="LINCS iterations (1)")
     p.add_argument("--thermostat", action="store_true",
                    help="v-rescale at --temperature instead of NVE (the paper is NVE)")
+    p.add_argument("--tau-t-ps", type=float, default=1.0, metavar="PS",
+                   help="coupling time of --thermostat, ps (1.0; a global stochastic thermostat "
+                        "with tau-t of ~1-2 ps leaves the duplex's mode dynamics unchanged)")
     p.add_argument("--protocol", choices=("equilibrated", "paper"), default=None,
                    help="equilibrated (default when --temperature > 0): a v-rescale stage at "
                         "--temperature of --equilibrate-ps before the rod's velocities are added; "
@@ -138,7 +141,10 @@ def _build(args, stages, md_rate):
     if args.constraints == "none" and dt > 0.001 + 1e-12:
         raise InputError(f"--dt {dt}: without constraints the X-H bonds (period ~10 fs) need "
                          "dt <= 0.001 ps; use --constraints h-bonds for 0.002")
+    if not args.tau_t_ps > 0:
+        raise InputError(f"--tau-t-ps {args.tau_t_ps}: must be > 0 ps")
     settings = MdSettings(dt_ps=dt, constraints=args.constraints, thermostat=args.thermostat,
+                          tau_t_ps=args.tau_t_ps,
                           cutoffs=args.cutoffs, lincs_order=args.lincs_order,
                           lincs_iter=args.lincs_iter,
                           temperature_K=args.temperature, nsteps=int(round(args.ps / dt)))
