@@ -35,7 +35,7 @@ def realisation(seed, phi, T, block, mean, K):
 
 
 def main(argv=None):
-    from mdbridge.material.parameter_sets import step_material
+    from mdbridge.rod.material.parameter_sets import step_material
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--out", default=str(Path(__file__).resolve().parent / "results"))
     ap.add_argument("--realisations", type=int, default=24)

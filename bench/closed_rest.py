@@ -1,4 +1,4 @@
-"""The closed, pre-stressed rest state (mdbridge/material/closed_rest.py): CPU time
+"""The closed, pre-stressed rest state (mdbridge/rod/material/closed_rest.py): CPU time
 and residuals of the method on this branch against the method before it (commit
 486c5bb: statics in numpy, finite-difference closure Jacobian, shooting one
 parameter set at a time), side by side, for random sequences (seed 1) under
@@ -23,11 +23,11 @@ ROOT = Path(__file__).resolve().parents[1]
 
 
 def old_module():
-    src = subprocess.run(["git", "-C", str(ROOT), "show", f"{OLD_COMMIT}:mdbridge/material/closed_rest.py"],
+    src = subprocess.run(["git", "-C", str(ROOT), "show", f"{OLD_COMMIT}:mdbridge/rod/material/closed_rest.py"],
                          capture_output=True, text=True, check=True).stdout
     path = Path(tempfile.mkdtemp()) / "closed_rest_old.py"
     path.write_text(src)
-    spec = importlib.util.spec_from_file_location("mdbridge.material.closed_rest_old", path)
+    spec = importlib.util.spec_from_file_location("mdbridge.rod.material.closed_rest_old", path)
     mod = importlib.util.module_from_spec(spec)
     sys.modules[spec.name] = mod
     spec.loader.exec_module(mod)
@@ -41,9 +41,9 @@ def main():
     ap.add_argument("--out", type=Path, default=Path(__file__).parent / "results")
     a = ap.parse_args()
     from dna_models.sequence import random_sequence
-    from mdbridge.material import closed_rest as new
-    from mdbridge.material.parameter_sets import olson1998_steps
-    from mdbridge.material.steps_to_rod import grid_material, rod_material
+    from mdbridge.rod.material import closed_rest as new
+    from mdbridge.rod.material.parameter_sets import olson1998_steps
+    from mdbridge.rod.material.steps_to_rod import grid_material, rod_material
     old = old_module() if a.old_sizes else None
     rows = []
     for n in sorted(set(a.sizes) | set(a.old_sizes)):

@@ -31,10 +31,10 @@ def make_trajectory(directory, n_bp=158, frames=600, seed=0):
     from mdbridge.coarsegrain.synthetic import ar1_steps
     import MDAnalysis as mda
     from MDAnalysis.coordinates.memory import MemoryReader
-    from mdbridge.builder.duplex import build_duplex
+    from mdbridge.md.builder.duplex import build_duplex
     from mdbridge.geometry.steps import frames_from_steps
-    from mdbridge.gromacs.velocities import thermal_velocities
-    from mdbridge.pdbio import write_pdb
+    from mdbridge.md.gromacs.velocities import thermal_velocities
+    from mdbridge.md.pdbio import write_pdb
 
     rng = np.random.default_rng(seed)
     seq = "".join(rng.choice(list("ACGT"), n_bp))

@@ -29,7 +29,7 @@ from pathlib import Path
 
 from md_drift import run_variant   # bench/ is the script's directory
 
-from mdbridge.gromacs.gmx import built_gmx
+from mdbridge.md.gromacs.gmx import built_gmx
 
 
 def simd_of(gmx: str) -> str:

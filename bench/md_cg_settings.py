@@ -13,8 +13,8 @@ missing), three NVE runs of --ps each, the same coordinates and velocities:
 * `nve_dt1`: the same with 1-fs steps;
 * `nve_double`: the same with `gmx_d` (2 fs).
 
-Each gets the drift of `mdbridge.gromacs.checks.fit_drift` (the one definition), the mean
-temperature, the tension (`mdbridge.gromacs.tension`) and `dnarod coarse-grain` (T from the
+Each gets the drift of `mdbridge.md.gromacs.checks.fit_drift` (the one definition), the mean
+temperature, the tension (`mdbridge.md.gromacs.tension`) and `dnarod coarse-grain` (T from the
 run's .edr; pairs open in more than 5 % of the frames excluded). For every m the stretch
 modulus, bend persistence length, torsional modulus, twist-stretch coupling and the mean rise
 and twist are compared with the default's: z = (x - x_default) / sqrt(err^2 + err_default^2).
@@ -34,8 +34,8 @@ import time
 import numpy as np
 
 from md_tension import build, cg_summary, coarse_grain, common_arguments, fixed_box_run
-from mdbridge.gromacs.checks import energy_drift
-from mdbridge.gromacs.tension import mean_with_error, tension_series
+from mdbridge.md.gromacs.checks import energy_drift
+from mdbridge.md.gromacs.tension import mean_with_error, tension_series
 
 VARIANTS = {"nve_default": ({}, "gmx"), "nve_dt1": ({"dt": 0.001}, "gmx"),
             "nve_double": ({}, "gmx_d")}

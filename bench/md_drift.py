@@ -7,7 +7,7 @@ build: `dnarod build-md workflows/scenes/dna158.toml -o b158 --seed 1
 --constraints h-bonds --dt 0.001 --minimize`). Each setting runs in its own copy
 BUILD_DIR.drift/NAME from the same conf.gro (same coordinates and velocities),
 for --ps of NVE with energies every --output-ps (0.1 ps); the drift is the one definition of
-mdbridge/gromacs/checks.py (fit_drift: slope from 10 % of the run to its end).
+mdbridge/md/gromacs/checks.py (fit_drift: slope from 10 % of the run to its end).
 Results are appended as JSON lines to bench/results/md_drift.jsonl and printed
 as a Markdown table. Speed: wall-clock ns/day (mdrun's "Performance") and ns per
 CPU-day from the CPU time grompp + mdrun used (getrusage), the fair comparison
@@ -25,9 +25,9 @@ import sys
 import time
 from pathlib import Path
 
-from mdbridge.gromacs.checks import energy_drift
-from mdbridge.gromacs.mdp import SMOOTH_RLIST_NM, SWITCH_NM
-from mdbridge.gromacs.run import _set_keys, run_md
+from mdbridge.md.gromacs.checks import energy_drift
+from mdbridge.md.gromacs.mdp import SMOOTH_RLIST_NM, SWITCH_NM
+from mdbridge.md.gromacs.run import _set_keys, run_md
 
 SMOOTH = {"coulombtype": "Reaction-field", "epsilon-rf": 0, "vdw-modifier": "Force-switch",
           "rvdw-switch": SWITCH_NM, "rlist": SMOOTH_RLIST_NM}

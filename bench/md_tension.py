@@ -23,9 +23,9 @@ h-bond constraints, mixed precision, 300 K, one thread; each stage is skipped wh
    the barostat).
 3. `nvt_1.000`, `nvt_STRETCH`: NVT (v-rescale, tau-t 1 ps) for --ps in the box of `base`
    and in the same box scaled affinely by --stretch along the axis
-   (`mdbridge.gromacs.tension.stretch_box`), energies (pressure tensor) every 5 steps,
+   (`mdbridge.md.gromacs.tension.stretch_box`), energies (pressure tensor) every 5 steps,
    frames every 0.2 ps. Tension F = -P_yy A (pN, F > 0 = tension,
-   `mdbridge.gromacs.tension`), mean after 20 ps, blocking error.
+   `mdbridge.md.gromacs.tension`), mean after 20 ps, blocking error.
 4. `dnarod coarse-grain` of each fixed-box run and of the barostat run (T = 300 K given):
    the stretch modulus S_m of m-step segments (summed rise and twist: stiffness at fixed
    twist, which a ligated box holds).
@@ -54,8 +54,8 @@ from pathlib import Path
 
 import numpy as np
 
-from mdbridge.gromacs.run import _set_keys, run_md
-from mdbridge.gromacs.tension import mean_with_error, stretch_box, tension_series
+from mdbridge.md.gromacs.run import _set_keys, run_md
+from mdbridge.md.gromacs.tension import mean_with_error, stretch_box, tension_series
 
 REPO = Path(__file__).resolve().parents[1]
 KB = 1.380649e-23

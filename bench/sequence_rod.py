@@ -2,7 +2,7 @@
 next to the paper's uniform rod (issue 13): rod runs of 600 ps at A_v = 1 A/ps
 and the standing-mode phase speed fitted by the comparison's analysis
 (mdbridge.analysis.WaveAnalysis + the standing-mode fit, exactly as `dnarod
-compare` does for a rod: dnarod/report/steps.py, analyse_rod).
+compare` does for a rod: workflows/steps/analyse.py, analyse_rod).
 
 The MD's sequence: `dnarod build-md` draws random_sequence(158, seed) and the
 workflow's MD uses --seed 1 (workflows/config/*.yaml, md.build_args), so
@@ -33,7 +33,7 @@ def rodsim():
 
 def analyse(h5, n_bp, in_plane):
     from mdbridge.analysis import BasePairTrajectory, WaveAnalysis
-    from dnarod.report import matched
+    from dnarod.steps import matched
     traj = BasePairTrajectory.from_rod_h5(h5, n_bp)
     a = WaveAnalysis(traj, in_plane=in_plane, offset=True, n_boot=0).run()
     sm = matched.mode_fit(a)

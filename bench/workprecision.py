@@ -36,7 +36,7 @@ from pathlib import Path
 
 import numpy as np
 
-from mdbridge.rodrun import RodRun
+from mdbridge.rod.run import RodRun
 
 HERE = Path(__file__).resolve().parent
 SCENES = HERE / "scenes"

@@ -1,4 +1,4 @@
-"""Bridge between the rod and DNA: running the rod and its output files
-(`mdbridge.rodrun`), base-pair frames and step parameters (`mdbridge.geometry`),
-rod <-> base-pair frames (`mdbridge.rodframes`), all-atom building, GROMACS, MD
-analysis."""
+"""Bridge between the rod and DNA, in floors that import only downward
+(docs/architecture.md, "The Python layers"): `geometry` and `stats` (ground floor),
+`rod` (rod runs, rod <-> base-pair frames, material), `md` (all-atom builder, GROMACS,
+back-mapping), then `analysis` and `coarsegrain`."""

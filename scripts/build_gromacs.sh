@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Opt-in: build GROMACS 2022.5 for THIS machine's CPU from Debian's own source
 # package, into a prefix of the checkout. `dnarod run-md` and the workflow use it
-# when it exists (mdbridge/gromacs/gmx.py); --gmx PATH and DNAROD_GMX=PATH still
+# when it exists (mdbridge/md/gromacs/gmx.py); --gmx PATH and DNAROD_GMX=PATH still
 # override.
 #
 #   bash scripts/build_gromacs.sh                   # gmx   (mixed precision)

@@ -35,7 +35,7 @@ import h5py
 import numpy as np
 
 from dna_models.units import Units
-from mdbridge.rodrun import RodRun
+from mdbridge.rod.run import RodRun
 
 HERE = Path(__file__).resolve().parent
 

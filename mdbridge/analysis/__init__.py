@@ -6,7 +6,10 @@ vector of the closed, periodic duplex). `WaveAnalysis` then runs the same code
 on either: helical axis (one-turn window), transverse displacement u(s, t),
 wave speed (two estimators), planarity. See docs/analysis.md.
 """
-from mdbridge.analysis.trajectory import BasePairTrajectory
+# BasePairTrajectory lives on the ground floor (mdbridge.geometry); it is re-exported here,
+# where users have always imported it. Importing the rod layer lets from_rod_h5 read rod files.
+import mdbridge.rod  # noqa: F401
+from mdbridge.geometry.trajectory import BasePairTrajectory
 from mdbridge.analysis.axis import helical_axis, one_turn_weights, mean_twist
 from mdbridge.analysis.wavespeed import fit_wave_speed, phase_velocity, mode_amplitude
 from mdbridge.analysis.planarity import planarity

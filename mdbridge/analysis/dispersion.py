@@ -32,7 +32,7 @@ def omega_pm(kappa, D1: float, Gamma03: float, branch: str = "minus"):
     element-wise over kappa, by the C++ closed form rodcore.analytic.dispersion."""
     if branch not in ("plus", "minus"):
         raise ValueError(f"branch must be 'plus' or 'minus', got {branch!r}")
-    from mdbridge.rodrun import analytic
+    from mdbridge.rod.run import analytic
     f = analytic().dispersion
     sign = 1 if branch == "plus" else -1
     return np.vectorize(lambda q: f(float(q), float(D1), float(Gamma03), sign), otypes=[float])(kappa) * 1.0

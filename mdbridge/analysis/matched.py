@@ -13,7 +13,7 @@ strain, axial tension, and the regime label they imply.
   own, so -P_yy A is the mean force the molecule transmits across a plane normal to the
   axis. 1 bar over 100 nm^2 is 10 pN.
 * Tension, rod: n3 = C3 (Gamma3 - 1) in physical units (C from `dna_models.units`).
-* Standard errors of time means by blocking (Flyvbjerg & Petersen 1989): `block_sem`.
+* Standard errors of time means by blocking (Flyvbjerg & Petersen 1989): `mdbridge.stats.block_sem`.
 * Regime (by the tension the kick adds above the A_v = 0 baseline): "linear" (below
   LINEAR_PN and well below the baseline), "nonlinear elastic", or "beyond the overstretching
   plateau" (above OVERSTRETCH_PN).
@@ -25,45 +25,11 @@ import math
 import numpy as np
 
 from dna_models.units import Units
+from mdbridge.stats import block_sem, sem_longest_blocks
 
 LINEAR_PN = 10.0
 LINEAR_FRACTION_OF_BASELINE = 0.3
 OVERSTRETCH_PN = 65.0
-BAR_A2_TO_PN = 1e5 * 1e-20 * 1e12   # 1 bar x 1 A^2 in pN (= 1e-3)
-
-
-def block_sem(x) -> dict:
-    """Standard error of the mean of a correlated series by blocking: the series is halved
-    into block means repeatedly; the naive SEM of the block means rises with the block length
-    until the blocks are longer than the correlation time and then levels off. The value
-    returned is at the first level whose SEM is not exceeded by the next level's by more
-    than the next level's own statistical error (sem / sqrt(2 (n_blocks - 1))); levels with
-    fewer than 8 blocks are not used, and if no plateau is reached before that the largest
-    SEM is returned with plateau = False."""
-    x = np.asarray(x, float)
-    x = x[np.isfinite(x)]
-    n0 = len(x)
-    if n0 < 16:
-        return {"mean": float(np.mean(x)) if n0 else float("nan"), "sem": float("nan"),
-                "n": n0, "reason": f"{n0} samples; block averaging needs at least 16"}
-    levels = []
-    y = x.copy()
-    while len(y) >= 8:
-        nb = len(y)
-        sem = float(np.std(y, ddof=1) / math.sqrt(nb))
-        levels.append((nb, sem, sem / math.sqrt(2 * (nb - 1))))
-        y = 0.5 * (y[: 2 * (nb // 2)][0::2] + y[: 2 * (nb // 2)][1::2])
-    pick, plateau = None, False
-    for i in range(len(levels) - 1):
-        if levels[i + 1][1] - levels[i][1] <= levels[i + 1][2]:
-            pick, plateau = i, True
-            break
-    if pick is None:
-        pick = int(np.argmax([s for _, s, _ in levels]))
-    nb, sem, sem_err = levels[pick]
-    return {"mean": float(np.mean(x)), "sem": sem, "sem_err": sem_err, "n": n0,
-            "block_length": n0 // nb, "plateau": plateau,
-            "naive_sem": levels[0][1]}
 
 
 def step_rises(origins, R, period) -> np.ndarray:
@@ -94,22 +60,6 @@ def rod_tension_pN(Gamma3, units: Units | None = None) -> np.ndarray:
     """n3 = C3 (Gamma3 - 1) [pN] (Gamma3 dimensionless, paper scaling C1 = 1)."""
     u = units or Units.paper()
     return u.C * u.C_star[2] * (np.asarray(Gamma3, float) - 1.0) * 1e12
-
-
-def md_tension_pN(P_axis_bar, area_A2) -> np.ndarray:
-    """F = -P_axis A [pN] (P in bar, A in A^2); F > 0 is tension."""
-    return -np.asarray(P_axis_bar, float) * float(area_A2) * BAR_A2_TO_PN
-
-
-def sem_longest_blocks(y, min_blocks: int = 8) -> float:
-    """Standard error of the mean from the means of the longest blocks that still leave
-    MIN_BLOCKS of them (halving the series, as `matched.block_sem` does)."""
-    y = np.asarray(y, float)
-    sem = float("nan")
-    while len(y) >= min_blocks:
-        sem = float(np.std(y, ddof=1) / np.sqrt(len(y)))
-        y = 0.5 * (y[: 2 * (len(y) // 2)][0::2] + y[: 2 * (len(y) // 2)][1::2])
-    return sem
 
 
 def box_axis_and_area(period, box_lengths_A) -> tuple[int, float]:

@@ -5,7 +5,7 @@ speed of Eq (39) (0.34 A/ps for 158 bp): a closed, periodic rod cannot lengthen 
 period, so a transverse displacement stretches it, and that tension adds a string-like
 restoring force (speed^2 ~ c_bend^2 + C3 (k a)^2 / 4 in the paper's units). So the
 modulus is fitted with the full nonlinear rod at the same amplitude, not with Eq (39):
-the scene is run through mdbridge.rodrun.run_scene with D1 = D2 = f D1*, D3 = f D3* and the same
+the scene is run through mdbridge.rod.run.run_scene with D1 = D2 = f D1*, D3 = f D3* and the same
 analysis (WaveAnalysis) measures the speed; f is found by Brent's method on log f.
 `dispersion.bend_modulus_for_speed` gives the small-amplitude (Eq 39) answer for
 comparison.
@@ -17,7 +17,7 @@ import math
 from scipy.optimize import brentq
 
 from dna_models.units import Units, persistence_length_nm
-from mdbridge.analysis.trajectory import BasePairTrajectory
+from mdbridge.geometry.trajectory import BasePairTrajectory
 from mdbridge.analysis.wave_analysis import WaveAnalysis
 
 
@@ -34,7 +34,7 @@ def _material(which: str, scale: float, u: Units) -> str:
 
 def rod_speed(scene, n_bp: int, scale: float, which: str = "bend", units: Units | None = None) -> float:
     """Wave speed [A/ps] of the scene's rod with one modulus scaled by `scale`."""
-    from mdbridge.rodrun import run_scene
+    from mdbridge.rod.run import run_scene
     u = units or Units.paper()
     run = run_scene(scene, source=str(scene),
                     set=[_material(which, scale, u), 'output.fields=["internal", "centerline", "directors"]'])

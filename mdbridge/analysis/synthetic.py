@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from mdbridge.analysis.trajectory import BasePairTrajectory
+from mdbridge.geometry.trajectory import BasePairTrajectory
 
 E_AXIS = np.array([0.0, 1.0, 0.0])
 E_IN = np.array([0.0, 0.0, 1.0])

@@ -20,7 +20,7 @@ from MDAnalysis.analysis.base import Results
 
 from mdbridge.analysis.axis import helical_axis, mean_twist, one_turn_weights, window_response
 from mdbridge.analysis.planarity import planarity
-from mdbridge.analysis.trajectory import BasePairTrajectory
+from mdbridge.geometry.trajectory import BasePairTrajectory
 from mdbridge.analysis.wavespeed import fit_wave_speed, mode_amplitude, phase_velocity
 
 

@@ -1,5 +1,5 @@
 """The uniform coarse-grained rod: the sequence-averaged material of a coarse-graining,
-mapped onto the rod by mdbridge.material.steps_to_rod, with its bootstrap replicas and
+mapped onto the rod by mdbridge.rod.material.steps_to_rod, with its bootstrap replicas and
 its small-amplitude (Eq 39) prediction (docs/coarse-graining.md, "The loop").
 
 Material. The sequence-averaged mean step p (6) and per-step stiffness F (6 x 6, kT units)
@@ -91,9 +91,9 @@ def uniform_material(mean, F, temperature_K: float, mass_amu: float, inertia_amu
                      units: Units | None = None) -> dict:
     """K* (6, 6), I* (3, 3), rho*, Gamma0*, Omega0* of the uniform rod whose every step has
     the mean step parameters `mean` (A, deg) and the per-step stiffness F (kT units), by the
-    exact map of mdbridge.material.steps_to_rod at h = the paper's rise. For m > 1, F is
+    exact map of mdbridge.rod.material.steps_to_rod at h = the paper's rise. For m > 1, F is
     the per-step equivalent m F_m of the m-step stiffness F_m (`materials`)."""
-    from mdbridge.material.steps_to_rod import rod_stiffness, strains_from_steps
+    from mdbridge.rod.material.steps_to_rod import rod_stiffness, strains_from_steps
     u = units or Units.paper()
     mean = np.asarray(mean, float)
     G0, O0 = strains_from_steps(mean, u.rise_A, u)

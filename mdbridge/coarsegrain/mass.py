@@ -3,7 +3,7 @@
 The atoms of base pair i are those of its two nucleotides (base, sugar and
 phosphate; hydrogens if the topology has them). Positions are taken relative to
 the base-pair frame's origin o_i (3DNA's base-pair origin, the mid-point of the two
-base origins, which sits on the rod's centreline: mdbridge.rodframes puts base pair i
+base origins, which sits on the rod's centreline: mdbridge.rod.frames puts base pair i
 at r(s_i)) and expressed in the base-pair axes (x = d1 toward the major groove,
 y = d2, z = d3 along the helix), as minimum images when there is a box.
 

@@ -3,7 +3,7 @@ atoms give besides the step parameters: base-pair integrity, mass and inertia pe
 base pair, and the kinetic temperature.
 
 Base-pair frames and step parameters are mdbridge.geometry's (3DNA-exact, minimum
-images across the box); integrity is mdbridge.analysis.integrity's N1-N3 test.
+images across the box); integrity is mdbridge.md.integrity's N1-N3 test.
 """
 from __future__ import annotations
 
@@ -40,7 +40,7 @@ def is_ligated(bpf: BasePairFrames) -> bool:
 
 def open_pairs(universe, pairs, start, stop, step, max_fraction=MAX_OPEN_FRACTION, progress=None):
     """(opened (n_bp,) bool, fraction of frames open (n_bp,), N1-N3 distances (T, n_bp))."""
-    from mdbridge.analysis.integrity import INTACT_CUTOFF_A, bp_intact_fraction
+    from mdbridge.md.integrity import INTACT_CUTOFF_A, bp_intact_fraction
     _, _, dist = bp_intact_fraction(universe, pairs, start, stop, step, progress=progress)
     frac = np.mean(dist > INTACT_CUTOFF_A, axis=0)
     return frac > max_fraction, frac, dist

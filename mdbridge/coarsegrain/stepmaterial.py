@@ -1,6 +1,6 @@
 """The coarse-graining as a per-step DNA file (format "dnarod-steps/1", engineer seq's
-mdbridge.material.stepfile) and, for a closed duplex, as the rod's grid material file
-(mdbridge.material.steps_to_rod + gridfile), so rodsim runs with the MD-derived
+mdbridge.rod.material.stepfile) and, for a closed duplex, as the rod's grid material file
+(mdbridge.rod.material.steps_to_rod + gridfile), so rodsim runs with the MD-derived
 shape, stiffness, rho and I.
 
 Excluded steps (an opened base pair) carry the average of the usable steps in the
@@ -14,7 +14,7 @@ import numpy as np
 
 def available() -> bool:
     try:
-        import mdbridge.material.stepfile  # noqa: F401
+        import mdbridge.rod.material.stepfile  # noqa: F401
         return True
     except ImportError:
         return False
@@ -22,7 +22,7 @@ def available() -> bool:
 
 def step_material(cg, extras, source: str):
     """StepMaterial of a finished CoarseGrain (m = 1 per-step results)."""
-    from mdbridge.material.stepfile import StepMaterial
+    from mdbridge.rod.material.stepfile import StepMaterial
     ens, b1 = cg.ens, cg.results["by_m"][1]
     n = ens.n_steps
     P = np.tile(b1["mean_avg"], (n, 1))
@@ -49,21 +49,21 @@ def write_material_files(directory, cg, extras, source: str) -> dict:
     d = Path(directory)
     if not available():
         return {"steps_file": None, "material_file": None,
-                "note": "mdbridge.material (per-step file format) is not in this tree; "
+                "note": "mdbridge.rod.material (per-step file format) is not in this tree; "
                         "params.json carries the same numbers"}
-    from mdbridge.material.stepfile import write_steps
+    from mdbridge.rod.material.stepfile import write_steps
     sm = step_material(cg, extras, source)
     write_steps(d / "steps.h5", sm)
-    from mdbridge.material.steps_to_rod import strains_from_steps
+    from mdbridge.rod.material.steps_to_rod import strains_from_steps
     from dna_models.units import Units
     G0, O0 = strains_from_steps(sm.step_params, Units.paper().rise_A)
     out = {"steps_file": "steps.h5", "material_file": None,
            "Gamma0_star_steps": np.asarray(G0).tolist(), "Omega0_star_steps": np.asarray(O0).tolist(),
            "strains_note": "rod's intrinsic shape per step (paper's units, fiducial step = paper's rise), "
-                           "mdbridge.material.steps_to_rod.strains_from_steps"}
+                           "mdbridge.rod.material.steps_to_rod.strains_from_steps"}
     if cg.ens.closed:
-        from mdbridge.material.gridfile import write_grid_material
-        from mdbridge.material.steps_to_rod import grid_material, rod_material
+        from mdbridge.rod.material.gridfile import write_grid_material
+        from mdbridge.rod.material.steps_to_rod import grid_material, rod_material
         g = grid_material(rod_material(sm))
         write_grid_material(d / "material.h5", g, source=sm.source)
         out["material_file"] = "material.h5"

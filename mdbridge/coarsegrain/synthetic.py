@@ -5,9 +5,9 @@
 q_t - mu = phi (q_{t-1} - mu) + sqrt(1 - phi^2) L e_t with L L^T = K^-1: stationary,
 with integrated autocorrelation time (1 + phi) / (2 (1 - phi)) frames in every
 component. `write_trajectory` turns the steps into all-atom frames with the
-toolkit's builder (mdbridge.builder, 3DNA rebuild) and writes them as a PDB
+toolkit's builder (mdbridge.md.builder, 3DNA rebuild) and writes them as a PDB
 topology plus a TRR trajectory with Maxwell-Boltzmann velocities at a given
-temperature (mdbridge.gromacs.velocities: zero momentum, exactly that kinetic
+temperature (mdbridge.md.gromacs.velocities: zero momentum, exactly that kinetic
 temperature with 3N - 3 degrees of freedom), which MDAnalysis reads like any MD output.
 """
 from __future__ import annotations
@@ -39,9 +39,9 @@ def write_trajectory(directory, sequence: str, q: np.ndarray, temperature_K: flo
     import MDAnalysis as mda
     from MDAnalysis.coordinates.memory import MemoryReader
 
-    from mdbridge.builder.duplex import build_duplex
+    from mdbridge.md.builder.duplex import build_duplex
     from mdbridge.geometry.steps import frames_from_steps
-    from mdbridge.pdbio import write_pdb
+    from mdbridge.md.pdbio import write_pdb
 
     d = Path(directory)
     d.mkdir(parents=True, exist_ok=True)
@@ -57,7 +57,7 @@ def write_trajectory(directory, sequence: str, q: np.ndarray, temperature_K: flo
     pos_arr = np.array(pos, dtype=np.float32)
     vel = None
     if temperature_K is not None:
-        from mdbridge.gromacs.velocities import thermal_velocities
+        from mdbridge.md.gromacs.velocities import thermal_velocities
         vel = np.array([10.0 * thermal_velocities(u.atoms.masses, temperature_K, int(s))   # nm/ps -> A/ps
                         for s in rng.integers(0, 2**31, len(pos))], dtype=np.float32)
     u.load_new(pos_arr, format=MemoryReader, velocities=vel, dt=dt_ps)

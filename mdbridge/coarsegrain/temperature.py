@@ -20,7 +20,7 @@ import numpy as np
 
 from dna_models.errors import InputError
 
-from mdbridge.gromacs.velocities import kinetic_temperature as _kinetic
+from mdbridge.md.gromacs.velocities import kinetic_temperature as _kinetic
 
 _WATER = {"SOL", "WAT", "HOH", "TIP3", "TIP3P", "SPC", "TIP4", "TIP4P", "T3P", "SPCE"}
 

@@ -220,7 +220,7 @@ class BasePairFrames:
             if not (o3 and p):
                 continue  # no backbone atoms: nothing to check
             d = float(np.linalg.norm(minimum_image(p[0].position - o3[0].position, box)))
-            # bonded 1.6 A; rebuilt models (3DNA, mdbridge.build) stretch it to ~2.6 A;
+            # bonded 1.6 A; rebuilt models (3DNA, mdbridge.md.builder) stretch it to ~2.6 A;
             # a missing nucleotide leaves >= 5 A
             if d > 4.0:
                 raise InputError(f"broken chain: {label(i)} O3' and {label(k)} P are {d:.2f} A apart "

@@ -56,7 +56,7 @@ def gmx() -> str:
     """The GROMACS `gmx` the toolkit would use ($DNAROD_GMX or PATH).
     scripts/setup.sh installs it, so its absence is a failure."""
     from dna_models.errors import ExternalToolError
-    from mdbridge.gromacs.gmx import find_gmx
+    from mdbridge.md.gromacs.gmx import find_gmx
     try:
         return find_gmx()
     except ExternalToolError as e:

@@ -4,7 +4,7 @@ after its atoms are wrapped into a small periodic box, where plain distances fai
 import numpy as np
 import pytest
 
-from mdbridge.analysis.integrity import _central_atom, bp_intact_fraction
+from mdbridge.md.integrity import _central_atom, bp_intact_fraction
 
 
 def test_dodecamer_pairs_intact_also_when_wrapped(refdata):

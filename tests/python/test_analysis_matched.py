@@ -7,8 +7,9 @@ import numpy as np
 import pytest
 from scipy.signal import lfilter
 
-from mdbridge.analysis.matched import (axial_strain, block_sem, md_tension_pN, regime,
-                                       rod_tension_pN, step_rises)
+from mdbridge.analysis.matched import axial_strain, regime, rod_tension_pN, step_rises
+from mdbridge.md.gromacs.tension import md_tension_pN
+from mdbridge.stats import block_sem
 from mdbridge.analysis.synthetic import helix_trajectory
 
 

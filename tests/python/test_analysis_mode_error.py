@@ -107,7 +107,7 @@ def rod_av1(rodsim, tmp_path_factory):
     import subprocess
     from pathlib import Path
     from mdbridge.analysis import BasePairTrajectory, WaveAnalysis
-    from dnarod.report.steps import make_scene
+    from dnarod.steps.analyse import make_scene
     d = tmp_path_factory.mktemp("rod_av1")
     root = Path(__file__).resolve().parents[2]
     make_scene(root / "workflows/scenes/dna158.toml", d / "s.toml", 1.0, 600.0, 1.0)

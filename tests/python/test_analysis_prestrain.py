@@ -1,4 +1,4 @@
-"""The pre-strained rod of workflows/report/prestrain.py (the rod at the MD's rest length),
+"""The pre-strained rod of workflows/steps/prestrain.py (the rod at the MD's rest length),
 run by rodsim and measured by the workflow's analysis, against a linearisation built here.
 
 Independent truth: the rod equations (paper Eqs 11-14, rho = I1 = C1 = 1) linearised about
@@ -20,8 +20,8 @@ import pytest
 
 from dna_models.units import Units
 from mdbridge.analysis import BasePairTrajectory, WaveAnalysis
-from dnarod.report.matched import mode_fit, rod_matched
-from dnarod.report.prestrain import make_prestrain_scene
+from dnarod.steps.matched import mode_fit, rod_matched
+from dnarod.steps.prestrain import make_prestrain_scene
 
 SCENE = "workflows/scenes/dna158.toml"
 
@@ -59,7 +59,7 @@ def test_prestrained_rod_speed(rodsim, tmp_path, G):
     assert abs(u.velocity_to_A_per_ps(G * w0 / k) - f["speed_A_per_ps"]) > 0.3
     assert meta["dispersion"]["bend_branch_speed_A_per_ps"] == pytest.approx(predicted, rel=1e-9)
     # the workflow's step reads the same run through the scene's side record (n_bp, in_plane)
-    from dnarod.report.steps import analyse_rod
+    from dnarod.steps.analyse import analyse_rod
     s = analyse_rod(tmp_path / "ps.toml", tmp_path / "ps.h5", tmp_path / "analysis", n_boot=0)
     assert s["wave_speed_A_per_ps"] == pytest.approx(f["speed_A_per_ps"], rel=1e-9)
     assert s["prestrain"]["Gamma03"] == G and s["plane"]["in_plane_source"] == "scene"

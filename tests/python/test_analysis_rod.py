@@ -10,7 +10,7 @@ from dna_models.units import Units
 from mdbridge.analysis import BasePairTrajectory, WaveAnalysis
 from mdbridge.analysis.axis import window_response
 from mdbridge.analysis.dispersion import lab_speed_A_per_ps, omega_pm
-from dnarod.report import steps
+from dnarod.steps import analyse as steps
 
 
 def run(rodsim, scene_text, tmp_path, name):

@@ -8,8 +8,8 @@ is bounded by ~sqrt(3) x 0.0005 x 2 A per atom."""
 import numpy as np
 import pytest
 
-from mdbridge.build import build_duplex, frames_from_steps, read_pdb
-from mdbridge.builder.params import read_3dna_par
+from mdbridge.md.builder import build_duplex, frames_from_steps, read_pdb
+from mdbridge.md.builder.params import read_3dna_par
 
 CASES = [
     # (.par, 3DNA's rebuilt PDB, use base-pair parameters)

@@ -3,8 +3,8 @@ the PDB it writes, and exit code 2 with a clear message on bad input."""
 import numpy as np
 import pytest
 
-from mdbridge.build import read_pdb
-from mdbridge.builder.params import read_3dna_par
+from mdbridge.md.builder import read_pdb
+from mdbridge.md.builder.params import read_3dna_par
 from dnarod.cli import main
 
 

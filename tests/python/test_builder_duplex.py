@@ -7,9 +7,9 @@ import numpy as np
 import pytest
 
 from dna_models.errors import InputError
-from mdbridge.build import (build_duplex, check_chemistry, frames_from_steps, ideal_frames,
+from mdbridge.md.builder import (build_duplex, check_chemistry, frames_from_steps, ideal_frames,
                             read_pdb, write_pdb)
-from mdbridge.builder.chemistry import excluded_pairs
+from mdbridge.md.builder.chemistry import excluded_pairs
 
 SEQ12 = "CGCGAATTCGCG"
 

@@ -10,7 +10,7 @@ import subprocess
 
 import pytest
 
-from mdbridge.build import build_duplex, ideal_frames, write_pdb
+from mdbridge.md.builder import build_duplex, ideal_frames, write_pdb
 
 ATOMS = {"A": 32, "T": 32, "G": 33, "C": 30}
 COMP = {"A": "T", "C": "G", "G": "C", "T": "A"}

@@ -9,8 +9,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from mdbridge.build import build_duplex, check_chemistry, frames_from_steps, ideal_frames, read_pdb, write_pdb
-from mdbridge.builder.params import read_3dna_par
+from mdbridge.md.builder import build_duplex, check_chemistry, frames_from_steps, ideal_frames, read_pdb, write_pdb
+from mdbridge.md.builder.params import read_3dna_par
 
 SIZES = {"DA": 32, "DT": 32, "DG": 33, "DC": 30}
 
@@ -33,7 +33,7 @@ def test_hydrogen_count_and_bonds():
 
 
 def test_hydrogens_match_pdb2gmx_on_355d(refdata):
-    from mdbridge.builder.hydrogens import run_pdb2gmx_ignh
+    from mdbridge.md.builder.hydrogens import run_pdb2gmx_ignh
     import shutil
     if shutil.which("gmx") is None:
         pytest.fail("gmx not found: scripts/setup.sh installs the Debian package gromacs")
@@ -74,8 +74,8 @@ def test_stored_templates_are_what_pdb2gmx_gives_now():
     import shutil
     if shutil.which("gmx") is None:
         pytest.fail("gmx not found: scripts/setup.sh installs the Debian package gromacs")
-    from mdbridge.builder.hydrogens import generate
-    from mdbridge.builder.templates import H_DATA
+    from mdbridge.md.builder.hydrogens import generate
+    from dna_models.templates import H_DATA
     stored = json.loads(H_DATA.read_text())["nucleotides"]
     fresh = generate()["nucleotides"]
     assert stored.keys() == fresh.keys()
@@ -86,10 +86,10 @@ def test_stored_templates_are_what_pdb2gmx_gives_now():
 
 
 def test_template_generator_finds_gmx_like_every_gromacs_step(tmp_path, monkeypatch):
-    """The hydrogen generator runs gmx through mdbridge.gromacs.gmx (so DNAROD_GMX and
+    """The hydrogen generator runs gmx through mdbridge.md.gromacs.gmx (so DNAROD_GMX and
     --gmx are honoured, and failures name them) instead of its own PATH lookup."""
     from dna_models.errors import ExternalToolError
-    from mdbridge.builder.hydrogens import run_pdb2gmx_ignh
+    from mdbridge.md.builder.hydrogens import run_pdb2gmx_ignh
     monkeypatch.setenv("DNAROD_GMX", str(tmp_path / "no-such-gmx"))
     with pytest.raises(ExternalToolError, match=r"gmx given by DNAROD_GMX .*no-such-gmx"):
         run_pdb2gmx_ignh(tmp_path / "x.pdb", tmp_path)

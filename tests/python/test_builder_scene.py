@@ -12,8 +12,8 @@ import types
 import numpy as np
 
 from dna_models.units import Units
-from mdbridge.build import build_duplex, check_chemistry
-from mdbridge.builder.scene import frames_from_rod_output
+from mdbridge.md.builder import build_duplex, check_chemistry
+from mdbridge.md.builder.scene import frames_from_rod_output
 from mdbridge.geometry import step_parameters_along
 
 N_BP, TURNS = 20, 2
@@ -75,7 +75,7 @@ def test_build_dna_scene_command_with_a_stand_in_rodcore(tmp_path, capsys, monke
 
 def test_real_rodcore_dna_planar(tmp_path):
     import rodcore
-    from mdbridge.builder.scene import frames_from_scene
+    from mdbridge.md.builder.scene import frames_from_scene
     scene = tmp_path / "dna20.toml"
     scene.write_text(f'[initial]\nkind = "dna_planar"\nbp = {N_BP}\nturns = {TURNS}\n'
                      'A_v_A_per_ps = 1.0\n[output]\nt_end = 1.0\nframes = 2\n')

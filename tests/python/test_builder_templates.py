@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from mdbridge.builder.templates import nucleotide_template
+from dna_models.templates import nucleotide_template
 
 
 def _charmm27_dir():

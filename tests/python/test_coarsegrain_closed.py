@@ -12,8 +12,8 @@ import warnings
 import numpy as np
 import pytest
 
-from mdbridge.builder.duplex import build_duplex
-from mdbridge.builder.frames import ideal_frames
+from mdbridge.md.builder.duplex import build_duplex
+from mdbridge.md.builder.frames import ideal_frames
 from mdbridge.geometry.rotations import rotation_exp
 from dnarod.cli import main
 
@@ -21,7 +21,7 @@ from dnarod.cli import main
 def _ring_trajectory(tmp_path, n_bp=20, T=400, seed=0):
     import MDAnalysis as mda
     from MDAnalysis.coordinates.memory import MemoryReader
-    from mdbridge.pdbio import write_pdb
+    from mdbridge.md.pdbio import write_pdb
     rng = np.random.default_rng(seed)
     seq = "".join(rng.choice(list("ACGT"), n_bp))
     R0, o0 = ideal_frames(n_bp, 3.38, 36.0)
@@ -76,11 +76,11 @@ def test_closed_ring_closing_step_like_the_others(ring):
 
 
 def test_steps_and_material_files(ring):
-    """With the per-step file module (engineer seq's mdbridge.material, shared format
+    """With the per-step file module (engineer seq's mdbridge.rod.material, shared format
     "dnarod-steps/1"): steps.h5 carries params.json's per-step numbers and masses, and
     material.h5 is a rod material file with one point per base pair."""
     import h5py
-    from mdbridge.material.stepfile import read_steps
+    from mdbridge.rod.material.stepfile import read_steps
     seq, tmp_path = ring
     p = json.loads((tmp_path / "cg" / "params.json").read_text())
     sm = read_steps(tmp_path / "cg" / "steps.h5")

@@ -7,7 +7,7 @@ constant strains x ~ N(x0, kT* / h* K*^-1) (the piece's energy is h* x^T K* x / 
 series in time; the piece's rigid motion is the exact exponential (scipy's rotation and the
 SO(3) left Jacobian written out below), and its step parameters are the 3DNA analysis of
 that motion (mdbridge.geometry, equal to 3DNA's). The loop (estimator -> bootstrap
-replicates -> mdbridge.material.steps_to_rod -> Eq 39 and rod runs) must return the
+replicates -> mdbridge.rod.material.steps_to_rod -> Eq 39 and rod runs) must return the
 truth's small-amplitude speed, Eq 39 of the known material, within its stated error.
 """
 import json
@@ -127,7 +127,7 @@ def test_rod_runs_predict_the_known_material(tmp_path, rodsim):
     bootstrap-replicate rods; its standing-mode speed equals the truth's Eq 39 within the
     stated error, and the replicate-run error agrees with Eq 39's spread over the same
     replicates (the linear propagation) within the scatter of an 8-sample spread."""
-    from dnarod.report import cgloop, steps
+    from dnarod.steps import analyse as steps, cgloop
     from mdbridge.coarsegrain.bootstrap import spread
     from mdbridge.coarsegrain.cgrod import eq39_speed, materials
     from mdbridge.coarsegrain.params import build_params, write_params
@@ -167,8 +167,8 @@ def test_rod_runs_predict_the_known_material(tmp_path, rodsim):
 
 def test_the_loop_step_without_an_md_folder_says_what_is_missing(tmp_path, capsys):
     """The workflow's coarse-graining step given a folder that build-md did not write:
-    exit 2 and a message naming the missing file, not a traceback (dnarod.report.steps.run_step)."""
-    from dnarod.report import cgloop
+    exit 2 and a message naming the missing file, not a traceback (dnarod.steps.analyse.run_step)."""
+    from dnarod.steps import cgloop
     assert cgloop.main(["coarse-grain", str(tmp_path / "md"), str(tmp_path / "cg")]) == 2
     err = capsys.readouterr().err
     assert f"{tmp_path / 'md' / 'build.json'}: missing" in err and "Traceback" not in err

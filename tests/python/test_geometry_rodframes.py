@@ -1,4 +1,4 @@
-"""Rod <-> base-pair frames (mdbridge.rodframes) against exact continuous rods:
+"""Rod <-> base-pair frames (mdbridge.rod.frames) against exact continuous rods:
 a uniform helix (closed form via the matrix exponential: exact) and a smooth
 periodic wave integrated to 1e-13 (the discrete-to-continuous error must
 fall as ds^2)."""
@@ -9,10 +9,10 @@ from scipy.linalg import expm
 
 from dna_models.errors import InputError
 from dna_models.units import Units
-from mdbridge import rodframes
+from mdbridge.rod import frames as rodframes
 from mdbridge.geometry import steps
 from mdbridge.geometry.rotations import axis_angle_matrix
-from mdbridge.rodrun import RodRun
+from mdbridge.rod.run import RodRun
 
 U = Units.paper()
 

@@ -15,12 +15,12 @@ import numpy as np
 import pytest
 
 from dna_models.errors import ExternalToolError
-from mdbridge.build import build_duplex
-from mdbridge.gromacs.box import plan_box
-from mdbridge.gromacs.gro import read_gro
-from mdbridge.gromacs.inputs import RodInitial, build_inputs
-from mdbridge.gromacs.mdp import MdSettings
-from mdbridge.gromacs.run import run_md
+from mdbridge.md.builder import build_duplex
+from mdbridge.md.gromacs.box import plan_box
+from mdbridge.md.gromacs.gro import read_gro
+from mdbridge.md.gromacs.inputs import RodInitial, build_inputs
+from mdbridge.md.gromacs.mdp import MdSettings
+from mdbridge.md.gromacs.run import run_md
 
 RISE = 3.38
 KB = 8.314462618e-3     # kJ/(mol K)

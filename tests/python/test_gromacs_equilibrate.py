@@ -9,10 +9,10 @@ the stationarity test accepts noise and rejects a trend (synthetic series)."""
 import numpy as np
 import pytest
 
-from mdbridge.gromacs.equilibrate import stationarity
-from mdbridge.gromacs.gro import read_gro
-from mdbridge.gromacs.mdp import MdSettings
-from mdbridge.gromacs.velocities import kinetic_temperature
+from mdbridge.md.gromacs.equilibrate import stationarity
+from mdbridge.md.gromacs.gro import read_gro
+from mdbridge.md.gromacs.mdp import MdSettings
+from mdbridge.md.gromacs.velocities import kinetic_temperature
 from test_gromacs_build import _expected_rod_velocity, _tpr, make  # noqa: F401  (gmx: conftest)
 
 

@@ -1,4 +1,4 @@
-"""Which gmx runs (mdbridge/gromacs/gmx.py: find_gmx; docs/md.md "Using your own
+"""Which gmx runs (mdbridge/md/gromacs/gmx.py: find_gmx; docs/md.md "Using your own
 GROMACS"): --gmx, else DNAROD_GMX, else the project's own build of
 scripts/build_gromacs.sh when it exists, else `gmx` on PATH.
 
@@ -21,7 +21,7 @@ from pathlib import Path
 import pytest
 import yaml
 
-from mdbridge.gromacs.gmx import built_gmx, built_gmx_prefix, find_gmx
+from mdbridge.md.gromacs.gmx import built_gmx, built_gmx_prefix, find_gmx
 
 ROOT = Path(__file__).resolve().parents[2]
 SCRIPT = ROOT / "scripts" / "build_gromacs.sh"

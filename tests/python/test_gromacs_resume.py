@@ -25,9 +25,9 @@ import numpy as np
 import pytest
 
 from dna_models.errors import ExternalToolError
-from mdbridge.gromacs.checks import read_energies
-from mdbridge.gromacs.mdp import MdSettings
-from mdbridge.gromacs.run import run_md
+from mdbridge.md.gromacs.energy import read_energies
+from mdbridge.md.gromacs.mdp import MdSettings
+from mdbridge.md.gromacs.run import run_md
 from test_gromacs_build import make  # noqa: F401  (the 21-bp build; gmx: conftest)
 
 STEPS = 3000          # 3 ps at 1 fs: ~3 s on an idle core, so the kill lands mid-run

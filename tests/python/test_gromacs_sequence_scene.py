@@ -60,7 +60,7 @@ def test_built_duplex_is_the_scenes_dna_on_its_rest_frames(built, gmx):
                         "-po", "check_out.mdp"], cwd=d / "md", capture_output=True, text=True)
     assert p.returncode == 0, p.stderr[-2000:]
     # 3DNA step parameters of the built atoms (periodic: the junction step too) against the rod's
-    from mdbridge.gromacs.inputs import _frames_of_gro
+    from mdbridge.md.gromacs.inputs import _frames_of_gro
     o, R = _frames_of_gro(d / "md" / "conf.gro", N_BP)
     box = np.array(b["box_nm"]) * 10.0
     md_steps = step_parameters_along(R, o, box=np.concatenate([box, [90.0, 90.0, 90.0]]), periodic=True)

@@ -1,11 +1,11 @@
-"""checks.json's side-image distance (mdbridge/gromacs/checks.py) against brute force.
+"""checks.json's side-image distance (mdbridge/md/gromacs/checks.py) against brute force.
 
 The fast path (a bounded tree search) and the fallback (unbounded) must both give
 the exact smallest distance between an atom and an image across the side walls."""
 import numpy as np
 import pytest
 
-from mdbridge.gromacs import checks
+from mdbridge.md.gromacs import checks
 
 
 def brute_force(y, box, axis):

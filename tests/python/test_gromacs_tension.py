@@ -1,4 +1,4 @@
-"""The MD tension (mdbridge/gromacs/tension.py) on real GROMACS runs of the 21-bp duplex.
+"""The MD tension (mdbridge/md/gromacs/tension.py) on real GROMACS runs of the 21-bp duplex.
 
 Truth: a duplex in a box stretched along its axis pulls on it. The same equilibrated,
 unkicked duplex (300 K, smooth cut-offs, 2 fs, h-bonds) in its built box and in the box
@@ -13,13 +13,13 @@ import math
 import numpy as np
 import pytest
 
-from mdbridge.build import build_duplex
-from mdbridge.gromacs.box import plan_box
-from mdbridge.gromacs.gro import read_gro
-from mdbridge.gromacs.inputs import build_inputs
-from mdbridge.gromacs.mdp import MdSettings
-from mdbridge.gromacs.run import _set_keys, run_md
-from mdbridge.gromacs.tension import mean_with_error, stretch_box, tension_series
+from mdbridge.md.builder import build_duplex
+from mdbridge.md.gromacs.box import plan_box
+from mdbridge.md.gromacs.gro import read_gro
+from mdbridge.md.gromacs.inputs import build_inputs
+from mdbridge.md.gromacs.mdp import MdSettings
+from mdbridge.md.gromacs.run import _set_keys, run_md
+from mdbridge.md.gromacs.tension import mean_with_error, stretch_box, tension_series
 from test_gromacs_build import table1_rod
 
 STRETCH = 1.20

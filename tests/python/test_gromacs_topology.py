@@ -14,9 +14,9 @@ import numpy as np
 import pytest
 
 from dna_models.errors import ExternalToolError
-from mdbridge.gromacs.gmx import error_block, find_gmx
-from mdbridge.gromacs.junction import junction_report
-from mdbridge.gromacs.topology import parse_itp, read_pdb_chains, run_pdb2gmx, write_pdb2gmx_input
+from mdbridge.md.gromacs.gmx import error_block, find_gmx
+from mdbridge.md.gromacs.junction import junction_report
+from mdbridge.md.gromacs.topology import parse_itp, read_pdb_chains, run_pdb2gmx, write_pdb2gmx_input
 
 PERIOD_A = 33.8
 

@@ -1,4 +1,4 @@
-"""Initial velocities for the MD (mdbridge.gromacs.velocities), without GROMACS.
+"""Initial velocities for the MD (mdbridge.md.gromacs.velocities), without GROMACS.
 
 Independent truths: the Maxwell-Boltzmann law (each m-weighted component is a
 standard normal), the equipartition temperature, rigid-body kinematics
@@ -10,7 +10,7 @@ import pytest
 from scipy import stats
 from scipy.spatial.transform import Rotation
 
-from mdbridge.gromacs.velocities import (KB_KJ_MOL_K, base_pair_of_residue, kinetic_temperature,
+from mdbridge.md.gromacs.velocities import (KB_KJ_MOL_K, base_pair_of_residue, kinetic_temperature,
                                          rigid_body_velocities, thermal_velocities)
 
 

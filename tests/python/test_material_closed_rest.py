@@ -12,9 +12,9 @@ import pytest
 
 from dna_models.sequence import random_sequence
 from dna_models.units import Units
-from mdbridge.material.closed_rest import closed_rest_state
-from mdbridge.material.parameter_sets import olson1998_steps, paper_steps
-from mdbridge.material.steps_to_rod import grid_material, rod_material
+from mdbridge.rod.material.closed_rest import closed_rest_state
+from mdbridge.rod.material.parameter_sets import olson1998_steps, paper_steps
+from mdbridge.rod.material.steps_to_rod import grid_material, rod_material
 
 U = Units.paper()
 
@@ -83,7 +83,7 @@ def test_closed_mode_closes_exactly(olson21):
     res, _, _ = _residual(r.Gamma, r.Omega, g, L, "spectral")
     assert 1e-9 < res < 1e-5
     # and it is the closed energy minimiser (shooting) up to that discretisation error
-    from mdbridge.material.closed_rest import _shooting_minimiser
+    from mdbridge.rod.material.closed_rest import _shooting_minimiser
     x = _shooting_minimiser(g, L, L, 8)
     assert np.max(np.abs(np.concatenate([r.Gamma, r.Omega], axis=1) - x)) < 3e-3     # strains ~ 1
     assert r.tension == pytest.approx(25.3 / 908.0, rel=2e-2)   # 25.3 pN, docs/scenes.md
@@ -138,8 +138,8 @@ def test_solver_statics_and_closure_jacobian(olson21):
     """The statics residual comes from rodcore's RHS: it equals the numpy balance laws
     built here, and its unit-step Jacobian equals a small-step finite difference of
     them; the analytic closure Jacobian equals central differences of the composed
-    monodromy (mdbridge/material/composition.py)."""
-    from mdbridge.material.closed_rest import SolverStatics, closure_defect, closure_jacobian
+    monodromy (mdbridge/rod/material/composition.py)."""
+    from mdbridge.rod.material.closed_rest import SolverStatics, closure_defect, closure_jacobian
     rm, g = olson21
     L = rm.length
     rng = np.random.default_rng(2)

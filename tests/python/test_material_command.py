@@ -7,9 +7,9 @@ import h5py
 import numpy as np
 import pytest
 
-from mdbridge.material.parameter_sets import paper_steps
-from mdbridge.material.stepfile import read_steps
-from mdbridge.material.steps_to_rod import grid_material, rod_material
+from mdbridge.rod.material.parameter_sets import paper_steps
+from mdbridge.rod.material.stepfile import read_steps
+from mdbridge.rod.material.steps_to_rod import grid_material, rod_material
 from dnarod.cli import main
 
 

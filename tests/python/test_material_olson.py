@@ -9,7 +9,7 @@ import pytest
 
 from dna_models.sequence import random_sequence, reverse_complement
 from mdbridge.geometry import frames_from_steps, step_parameters_along
-from mdbridge.material.parameter_sets import olson1998_steps, olson1998_table
+from mdbridge.rod.material.parameter_sets import olson1998_steps, olson1998_table
 from dna_models import presets
 
 S = np.diag([-1.0, 1, 1, -1, 1, 1])          # shift and tilt change sign

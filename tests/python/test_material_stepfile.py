@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 
 from dna_models.errors import InputError
-from mdbridge.material.parameter_sets import olson1998_steps, paper_steps, step_material
-from mdbridge.material.stepfile import StepMaterial, read_steps, write_steps
+from mdbridge.rod.material.parameter_sets import olson1998_steps, paper_steps, step_material
+from mdbridge.rod.material.stepfile import StepMaterial, read_steps, write_steps
 
 
 def _sm():
@@ -100,7 +100,7 @@ def test_atomic_mass_from_chemical_formulas():
     """mass = "atoms": the A-T and G-C pairs weigh what the CHARMM27 residue formulas
     say (DA C10H11N5O5P, DT C10H12N2O7P, DG C10H11N5O6P, DC C9H11N3O6P: chain
     residues with their 5' phosphate), and the inertia is positive definite."""
-    from mdbridge.material.parameter_sets import atomic_mass_inertia
+    from mdbridge.rod.material.parameter_sets import atomic_mass_inertia
     w = {"C": 12.011, "H": 1.008, "N": 14.007, "O": 15.999, "P": 30.974}
 
     def f(C, H, N, O):
@@ -110,5 +110,5 @@ def test_atomic_mass_from_chemical_formulas():
     assert m == pytest.approx([at, at, gc, gc], abs=1e-9)
     assert np.linalg.eigvalsh(I)[:, 0].min() > 0
     # polar moment about the helix axis within 15 % of the paper's I3 = 2 I h
-    from mdbridge.material.parameter_sets import paper_mass_inertia
+    from mdbridge.rod.material.parameter_sets import paper_mass_inertia
     assert I[0, 2, 2] == pytest.approx(paper_mass_inertia(1)[1][0, 2, 2], rel=0.15)

@@ -7,8 +7,8 @@ from scipy.linalg import expm
 from dna_models.sequence import random_sequence
 from dna_models.units import BOLTZMANN, Units
 from mdbridge.geometry import step_parameters
-from mdbridge.material.parameter_sets import olson1998_steps, paper_steps
-from mdbridge.material.steps_to_rod import (grid_material, rod_material, rod_stiffness, steps_from_strains,
+from mdbridge.rod.material.parameter_sets import olson1998_steps, paper_steps
+from mdbridge.rod.material.steps_to_rod import (grid_material, rod_material, rod_stiffness, steps_from_strains,
                                             strains_from_steps)
 
 U = Units.paper()
@@ -177,7 +177,7 @@ def test_exact_shape_reproduces_the_steps(n, m):
     steps to 2e-3 deg / 3e-4 A; the interpolated shape misses them by ~1 deg (control)."""
     from scipy.integrate import solve_ivp
     from mdbridge.geometry import step_parameters_along
-    from mdbridge.rodframes import trig_interpolate
+    from mdbridge.rod.frames import trig_interpolate
     sm = olson1998_steps(random_sequence(n, seed=1))
     rm = rod_material(sm)
     L, N = rm.length, n * m

@@ -2,7 +2,7 @@
 does not stop it (the 600-ps main job stopped on exactly this: 5 of 158 pairs open).
 
 The tiny comparison's MD (tiny_run fixture) is copied, one base of strand I is pulled
-8 A out of its pair in every frame, and `dnarod.report.steps md` must still analyse
+8 A out of its pair in every frame, and `dnarod.steps.analyse md` must still analyse
 it. Control: pairing by distance on the same trajectory fails."""
 import shutil
 import warnings
@@ -16,7 +16,7 @@ from dna_models.errors import InputError
 def test_md_analysis_survives_a_frayed_pair(tiny_run, tmp_path):
     import MDAnalysis as mda
     from mdbridge.analysis import BasePairTrajectory
-    from dnarod.report.steps import analyse_md
+    from dnarod.steps.analyse import analyse_md
     out = tiny_run[0]
     md = next((out / "md").iterdir())
     frayed = tmp_path / "md"

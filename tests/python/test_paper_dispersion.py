@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from dnarod.paper import theory
-from mdbridge.rodrun import run_scene
+from mdbridge.rod.run import run_scene
 from dnarod.paper.rod import scene, straight_rod
 
 D1 = 1.21

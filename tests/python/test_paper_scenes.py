@@ -5,7 +5,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from mdbridge.rodrun import run_scene
+from mdbridge.rod.run import run_scene
 
 SCENES = sorted((Path(__file__).resolve().parents[2] / "workflows" / "scenes").glob("paper_*.toml"))
 

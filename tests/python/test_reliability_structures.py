@@ -1,6 +1,6 @@
 """No accepted bad input, structures (issue 8): cases the geometry owners'
 tests (tests/python/test_geometry_structure.py) do not cover. The truth is
-by construction: an all-atom duplex built by mdbridge.build with a nucleotide
+by construction: an all-atom duplex built by mdbridge.md.builder with a nucleotide
 removed has a broken strand; a pair list naming a nucleotide twice or with
 itself is impossible; a G-T pair is not Watson-Crick."""
 import warnings
@@ -10,7 +10,7 @@ import pytest
 import MDAnalysis as mda
 
 from dna_models.errors import InputError  # noqa: E402
-from mdbridge.build import build_duplex, ideal_frames, write_pdb  # noqa: E402
+from mdbridge.md.builder import build_duplex, ideal_frames, write_pdb  # noqa: E402
 from mdbridge.geometry.structure import BasePairFrames  # noqa: E402
 
 SEQ = "GATTCAGC"

@@ -1,4 +1,4 @@
-"""`dnarod rod-to-atoms` (mdbridge/backmap.py): rod runs as molecules for viewers.
+"""`dnarod rod-to-atoms` (mdbridge/md/backmap.py): rod runs as molecules for viewers.
 
 Against independent truths: the toolkit's 3DNA-exact frame analysis (mdbridge/geometry,
 validated against 3DNA's printed numbers) re-derives the rod's base-pair frames from
@@ -41,7 +41,7 @@ def atoms(tiny_paths, dnarod, tmp_path_factory):
 
 
 def _rod_frames(rod, n_bp):
-    from mdbridge.rodrun import RodRun
+    from mdbridge.rod.run import RodRun
     run = RodRun.read(rod)
     R, o = run.bp_frames(n_bp)
     return R, o, run.time * run.attrs["tau_ps"]

@@ -11,7 +11,8 @@ import pytest
 from dna_models.units import Units
 from mdbridge.analysis import WaveAnalysis
 from mdbridge.analysis.synthetic import helix_trajectory
-from dnarod.report import report, steps
+from dnarod.report import report
+from dnarod.steps import analyse as steps
 
 N_BP, TURNS, RISE = 42, 4, 3.38
 L = N_BP * RISE

@@ -77,7 +77,7 @@ def _sequence(args, n_needed=None, default=None):
 
 def _from_params(args):
     from mdbridge.geometry.steps import frames_from_steps
-    from mdbridge.builder.params import read_3dna_par, read_steps_csv
+    from mdbridge.md.builder.params import read_3dna_par, read_steps_csv
     path = Path(args.params)
     bp_params = None
     if path.suffix.lower() == ".par":
@@ -103,7 +103,7 @@ def _from_params(args):
 
 
 def _from_ideal(args):
-    from mdbridge.builder.frames import ideal_frames
+    from mdbridge.md.builder.frames import ideal_frames
     seq = _sequence(args)
     R, o = ideal_frames(len(seq), args.rise, args.twist)
     box = len(seq) * args.rise if args.periodic else args.box
@@ -111,7 +111,7 @@ def _from_ideal(args):
 
 
 def _from_scene(args):
-    from mdbridge.builder.scene import frames_from_scene
+    from mdbridge.md.builder.scene import frames_from_scene
     frames = frames_from_scene(args.scene)
     n = len(frames.origins)
     if args.sequence:
@@ -126,7 +126,7 @@ def _from_scene(args):
 
 
 def run(args):
-    from mdbridge.build import build_duplex, check_chemistry, write_pdb
+    from mdbridge.md.builder import build_duplex, check_chemistry, write_pdb
     if args.params:
         seq, o, R, box, bp_params = _from_params(args)
     elif args.ideal:

@@ -43,9 +43,9 @@ Examples:
 
 
 def add_arguments(p):
-    from mdbridge.gromacs.charges import ELECTROSTATICS
-    from mdbridge.gromacs.mdp import CUTOFFS
-    from mdbridge.gromacs.topology import FORCEFIELDS
+    from mdbridge.md.gromacs.charges import ELECTROSTATICS
+    from mdbridge.md.gromacs.mdp import CUTOFFS
+    from mdbridge.md.gromacs.topology import FORCEFIELDS
     p.add_argument("scene", metavar="SCENE.toml", help="rod scene: [initial] kind = \"dna_planar\" (uniform "
                    "paper DNA), or a sequence-dependent scene of `dnarod dna-rod` (its DNA is built)")
     p.add_argument("-o", "--output", required=True, metavar="DIR", help="directory to write")
@@ -122,14 +122,14 @@ def _build(args, stages, md_rate):
 
     from dna_models.sequence import random_sequence, validate
     from dna_models.units import ANGSTROM_PER_NM, Units
-    from mdbridge.build import build_duplex
-    from mdbridge.gromacs.box import plan_box
-    from mdbridge.gromacs.gmx import find_gmx
-    from mdbridge.gromacs.inputs import build_inputs, rod_initial_from_run
-    from mdbridge.gromacs.mdp import MdSettings
-    from mdbridge.gromacs.rod import (lab_rotation_to_axis, md_scene, rod_for_md, rotate_rod,
+    from mdbridge.md.builder import build_duplex
+    from mdbridge.md.gromacs.box import plan_box
+    from mdbridge.md.gromacs.gmx import find_gmx
+    from mdbridge.md.gromacs.inputs import build_inputs, rod_initial_from_run
+    from mdbridge.md.gromacs.mdp import MdSettings
+    from mdbridge.md.gromacs.rod import (lab_rotation_to_axis, md_scene, rod_for_md, rotate_rod,
                                         scene_sequence, with_absolute_paths)
-    from mdbridge.rodrun import RodRun, load_scene, resolve_scene, run_scene, scene_bp_turns
+    from mdbridge.rod.run import RodRun, load_scene, resolve_scene, run_scene, scene_bp_turns
 
     gmx = find_gmx(args.gmx)
     if args.ps < 0:

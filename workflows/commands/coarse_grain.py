@@ -30,7 +30,7 @@ compared, and steps whose base pairs open (N1-N3 > 3.5 A) are excluded and
 listed. Writes DIR/params.json, DIR/convergence.png, DIR/by_length.png,
 DIR/replicas.h5 (the bootstrap replicates of the sequence-averaged mean and
 stiffness at every m, for the coarse-grained rod's error) and
-(with the per-step file module mdbridge.material) DIR/steps.h5 and, for a
+(with the per-step file module mdbridge.rod.material) DIR/steps.h5 and, for a
 closed duplex, the rod's DIR/material.h5 (docs/coarse-graining.md).
 
 T is the trajectory's kinetic temperature (velocities, e.g. a TRR), or the .edr's

@@ -13,7 +13,7 @@ NAME = "dna-rod"
 HELP = "a sequence-dependent DNA rod: per-step file, grid material, closed pre-stressed rest state, scene"
 DESCRIPTION = """\
 Make the rod of a given DNA: its per-step shape and stiffness from a parameter
-set, mapped exactly onto the rod (mdbridge.material.steps_to_rod), put on a
+set, mapped exactly onto the rod (mdbridge.rod.material.steps_to_rod), put on a
 grid of N = points-per-bp x n_bp points, and its closed, pre-stressed
 equilibrium (frame at L = frame at 0, end-to-end = the box length along the
 helix axis), which is the t = 0 state of the scene. Writes into DIR:
@@ -86,11 +86,11 @@ def _sequence(args):
 
 def run(args):
     from dna_models.units import Units
-    from mdbridge.material.closed_rest import closed_rest_state, tension_torque_physical, _frames_on_grid
-    from mdbridge.material.gridfile import scene_text, write_grid_material, write_initial_file
-    from mdbridge.material.parameter_sets import step_material
-    from mdbridge.material.stepfile import write_steps
-    from mdbridge.material.steps_to_rod import grid_material, rod_material
+    from mdbridge.rod.material.closed_rest import closed_rest_state, tension_torque_physical, _frames_on_grid
+    from mdbridge.rod.material.gridfile import scene_text, write_grid_material, write_initial_file
+    from mdbridge.rod.material.parameter_sets import step_material
+    from mdbridge.rod.material.stepfile import write_steps
+    from mdbridge.rod.material.steps_to_rod import grid_material, rod_material
 
     u = Units.paper()
     seq = _sequence(args)

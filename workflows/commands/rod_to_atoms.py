@@ -56,7 +56,7 @@ def _n_bp(args, rod_path: Path, build: dict | None) -> int:
         return args.bp
     if build is not None:
         return int(build["n_bp"])
-    from mdbridge.rodrun import RodRun, scene_n_bp
+    from mdbridge.rod.run import RodRun, scene_n_bp
     scene = RodRun.read(rod_path).attrs.get("scene")
     if scene is None:
         raise InputError(f"{rod_path}: the number of base pairs is not recorded; give --bp")
@@ -65,7 +65,7 @@ def _n_bp(args, rod_path: Path, build: dict | None) -> int:
 
 
 def run(args) -> int:
-    from mdbridge.rodrun import RodRun
+    from mdbridge.rod.run import RodRun
     rod = Path(args.rod)
     if not rod.is_file():
         raise InputError(f"{rod}: no such rod run (rodsim HDF5)")
@@ -93,7 +93,7 @@ def run(args) -> int:
     if args.coarse:
         if out.suffix.lower() != ".pdb":
             raise InputError(f"-o {out}: --coarse writes a multi-model PDB; name it *.pdb")
-        from mdbridge.backmap import write_coarse_pdb
+        from mdbridge.md.backmap import write_coarse_pdb
         write_coarse_pdb(out, R, o, box=None if build is None else build["box"]["box_A"])
         print(f"rod-to-atoms: {len(t)} frames of {n_bp} beads (+ d1 tips) -> {out}")
         return 0
@@ -115,9 +115,9 @@ def _atoms(args, md, build, out, R, o, t, stages) -> int:
     """The all-atom trajectory; STAGES (dnarod.progress.Stages) shows the frames
     back-mapped, relaxed (--relax-steps), written and checked (chemistry report)."""
     import MDAnalysis as mda
-    from mdbridge.backmap import atom_map, closest_nonbonded, link_lengths
+    from mdbridge.md.backmap import atom_map, closest_nonbonded, link_lengths
     import warnings
-    from mdbridge.gromacs.gmx import find_gmx, gmx_top_dir
+    from mdbridge.md.gromacs.gmx import find_gmx, gmx_top_dir
     gmx = find_gmx(args.gmx)
     # topol.top #includes charmm27.ff/...: the force-field folder of the GROMACS install
     u = mda.Universe(str(md / "topol.top"), str(md / "conf.gro"), topology_format="ITP",
@@ -129,7 +129,7 @@ def _atoms(args, md, build, out, R, o, t, stages) -> int:
         xyz[a:a + CHUNK] = amap.place(R[a:a + CHUNK], o[a:a + CHUNK])
         stages("frames back-mapped", min(n, a + CHUNK), n, "frames")
     if args.relax_steps:
-        from mdbridge.backmap import relax
+        from mdbridge.md.backmap import relax
         xyz = relax(md, u, xyz, steps=args.relax_steps, gmx=gmx,
                     workdir=out.with_name(out.stem + "_relax"),
                     progress=lambda k, total: stages("frames relaxed", k, total, "frames")

@@ -18,7 +18,7 @@ import numpy as np
 
 from dnarod.paper import theory
 from dnarod.paper.common import find_frequencies, finish, mode_amplitude, plt, write_json
-from mdbridge.rodrun import run_scene
+from mdbridge.rod.run import run_scene
 from dnarod.paper.rod import scene, straight_rod
 
 EPS = 1e-4

@@ -17,7 +17,7 @@ import numpy as np
 
 from dnarod.paper import theory
 from dnarod.paper.common import write_json
-from mdbridge.rodrun import run_scene
+from mdbridge.rod.run import run_scene
 from dnarod.paper.rod import scene, straight_rod
 from dnarod.paper.tubes import close_periodic, snapshot_figure
 

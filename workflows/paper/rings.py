@@ -18,7 +18,7 @@ from pathlib import Path
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from mdbridge.rodrun import resolve_scene, run_scene
+from mdbridge.rod.run import resolve_scene, run_scene
 
 SCENES = Path(__file__).resolve().parents[1] / "scenes"
 

@@ -1,8 +1,8 @@
 """Scene builders for the paper's rod runs.
 
 `scene(...)` returns a scene as a nested dict with the structure of the TOML scene
-files (docs/scenes.md), to be run by `mdbridge.rodrun.run_scene` (the one way the
-Python side runs the rod; it returns a `mdbridge.rodrun.RodRun`).
+files (docs/scenes.md), to be run by `mdbridge.rod.run.run_scene` (the one way the
+Python side runs the rod; it returns a `mdbridge.rod.run.RodRun`).
 """
 from __future__ import annotations
 

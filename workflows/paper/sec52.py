@@ -24,7 +24,7 @@ from scipy.optimize import brentq, least_squares
 
 from dnarod.paper import theory
 from dnarod.paper.common import finish, mode_amplitude, plt, write_json
-from mdbridge.rodrun import run_scene
+from mdbridge.rod.run import run_scene
 from dnarod.paper.rod import scene, straight_rod
 
 PARTS = ("kinetic_translational", "kinetic_rotational", "shear", "extension", "bend", "twist")

@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 from dna_models.units import Units
-from mdbridge.rodrun import analytic
+from mdbridge.rod.run import analytic
 
 D1_PAPER = Units.paper().D_star[0]   # D rho / (I C) = 1.21, Sec 2.2 (dna_models)
 C3_PAPER = Units.paper().C_star[2]   # 1.19, Eq (8) (dna_models)

@@ -17,7 +17,7 @@ import numpy as np
 
 from dnarod.paper import theory
 from dnarod.paper.common import write_json
-from mdbridge.rodrun import run_scene
+from mdbridge.rod.run import run_scene
 from dnarod.paper.rod import scene, straight_rod
 
 K, A, O3, G3 = 2.0, 0.5, 1.0, 1.0

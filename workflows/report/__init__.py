@@ -1,1 +1,3 @@
-"""The comparison workflow's steps (`steps`) and its report (`report`)."""
+"""The report of `dnarod compare`: DIR/results.json and DIR/report/index.html (`report`),
+built from the files the steps (workflows/steps/) wrote; the matched comparison
+(`comparison`) and the coarse-graining loop's entries (`prediction`)."""

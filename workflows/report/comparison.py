@@ -1,6 +1,6 @@
 """results.json["comparison"]: the matched rod-vs-MD comparison (issue 15) built from the
 per-run analysis files (their `standing_mode`, `matched` and `plane` blocks, written by
-workflows/report/steps.py through workflows/report/matched.py). Every key is described in
+workflows/steps/analyse.py through workflows/steps/matched.py). Every key is described in
 docs/analysis.md, "Matched comparison: results.json keys"."""
 from __future__ import annotations
 
@@ -10,12 +10,7 @@ import math
 from mdbridge.analysis.matched import regime
 from mdbridge.analysis.mode_error import combine_seeds
 
-
-def _num(x):
-    try:
-        return float("nan") if x is None else float(x)
-    except (TypeError, ValueError):
-        return float("nan")
+from dnarod.report.values import number
 
 
 def _fit_of(j):
@@ -35,15 +30,16 @@ def _rod_row(j) -> dict | None:
     m = j.get("matched", {})
     return {"A_v_A_per_ps": j.get("A_v_A_per_ps"), "quantity": f.get("quantity"),
             "wave_kind": f.get("wave_kind"),
-            "omega_per_ps": _num(f.get("omega_per_ps")), "omega_err_per_ps": _num(f.get("omega_err_per_ps")),
-            "speed_A_per_ps": _num(f.get("speed_A_per_ps")), "speed_err_A_per_ps": _num(f.get("speed_err_A_per_ps")),
-            "speed_err_fit_A_per_ps": _num(f.get("speed_err_fit_A_per_ps")),
-            "speed_err_record_A_per_ps": _num(f.get("speed_err_record_A_per_ps")),
-            "periods_in_record": _num(f.get("periods_in_record")),
-            "mode_amplitude_A": _num(f.get("mode_amplitude_A")), "offset_A": _num(f.get("offset_A")),
-            "contour_strain": _num(m.get("contour_strain_mean")),
-            "tension_pN": _num(m.get("tension_pN")), "tension_sem_pN": _num(m.get("tension_sem_pN")),
-            "tension_max_pN": _num(m.get("tension_max_pN")),
+            "omega_per_ps": number(f.get("omega_per_ps")), "omega_err_per_ps": number(f.get("omega_err_per_ps")),
+            "speed_A_per_ps": number(f.get("speed_A_per_ps")),
+            "speed_err_A_per_ps": number(f.get("speed_err_A_per_ps")),
+            "speed_err_fit_A_per_ps": number(f.get("speed_err_fit_A_per_ps")),
+            "speed_err_record_A_per_ps": number(f.get("speed_err_record_A_per_ps")),
+            "periods_in_record": number(f.get("periods_in_record")),
+            "mode_amplitude_A": number(f.get("mode_amplitude_A")), "offset_A": number(f.get("offset_A")),
+            "contour_strain": number(m.get("contour_strain_mean")),
+            "tension_pN": number(m.get("tension_pN")), "tension_sem_pN": number(m.get("tension_sem_pN")),
+            "tension_max_pN": number(m.get("tension_max_pN")),
             "plane_angle_to_scene_deg": (j.get("plane") or {}).get("plane_angle_to_scene_deg"),
             "reason": f.get("reason"), "complete": j.get("complete", True)}
 
@@ -55,28 +51,28 @@ def _md_row(runs: list[dict]) -> dict | None:
     fits = [_fit_of(r) for r in runs]
     comb = combine_seeds(fits)
     ms = [r.get("matched", {}) for r in runs]
-    T = [_num(m.get("tension_pN")) for m in ms]
-    Te = [_num(m.get("tension_sem_pN")) for m in ms]
+    T = [number(m.get("tension_pN")) for m in ms]
+    Te = [number(m.get("tension_sem_pN")) for m in ms]
     okT = [(t, e) for t, e in zip(T, Te) if math.isfinite(t)]
     tension = sum(t for t, _ in okT) / len(okT) if okT else float("nan")
     tension_sem = math.sqrt(sum(e * e for _, e in okT)) / len(okT) if okT else float("nan")
-    strain = [_num(m.get("contour_strain_mean")) for m in ms]
+    strain = [number(m.get("contour_strain_mean")) for m in ms]
     strain = [s for s in strain if math.isfinite(s)]
     return dict(comb, A_v_A_per_ps=runs[0].get("A_v_A_per_ps"), seeds=[r.get("seed") for r in runs],
-                per_seed=[{"seed": r.get("seed"), "speed_A_per_ps": _num((f or {}).get("speed_A_per_ps")),
-                           "speed_err_A_per_ps": _num((f or {}).get("speed_err_A_per_ps")),
+                per_seed=[{"seed": r.get("seed"), "speed_A_per_ps": number((f or {}).get("speed_A_per_ps")),
+                           "speed_err_A_per_ps": number((f or {}).get("speed_err_A_per_ps")),
                            "reason": (f or {}).get("reason")} for r, f in zip(runs, fits)],
                 contour_strain=sum(strain) / len(strain) if strain else float("nan"),
                 tension_pN=tension, tension_sem_pN=tension_sem,
                 tension_reason=next((m.get("tension_reason") for m in ms if m.get("tension_reason")), None),
-                mass_per_length_kg_per_m=_num(ms[0].get("mass_per_length_kg_per_m")),
+                mass_per_length_kg_per_m=number(ms[0].get("mass_per_length_kg_per_m")),
                 plane_angle_to_scene_deg=[(r.get("plane") or {}).get("plane_angle_to_scene_deg") for r in runs])
 
 
 def comparison_block(cfg: dict, data: dict) -> dict:
     from mdbridge.analysis.dispersion import critical_compression
     from dna_models.units import Units
-    from dnarod.report.matched import interp_rod_curve
+    from dnarod.steps.matched import interp_rod_curve
     u = Units.paper()
     seeds = [int(s) for s in cfg["seeds"]]
     avs = sorted(data["rod"])
@@ -166,7 +162,7 @@ def html_table(comp: dict) -> str:
                   f"record {_f(md.get('speed_err_record_A_per_ps'), 2)}, seeds "
                   + (_f(md.get("speed_err_seeds_A_per_ps"), 2) if md.get("speed_err_seeds_A_per_ps") is not None
                      else "not estimable: one seed") + ")") if md else "n/a"
-        md_speed = (_f(md.get("speed_A_per_ps")) if math.isfinite(_num(md.get("speed_A_per_ps")))
+        md_speed = (_f(md.get("speed_A_per_ps")) if math.isfinite(number(md.get("speed_A_per_ps")))
                     else "refused: " + html.escape(str(md.get("reason", "")))) if md else "n/a"
         trs.append(
             f"<tr><td>{_f(r['A_v_A_per_ps'])}</td>"

@@ -1,4 +1,4 @@
-"""results.json and report entries of the coarse-graining loop (workflows/report/cgloop.py):
+"""results.json and report entries of the coarse-graining loop (workflows/steps/cgloop.py):
 the rod with the paper's constants, the uniform coarse-grained rod (the prediction) and
 the kicked MD (the measurement), side by side, each with its error. Keys:
 docs/coarse-graining.md, "The loop: results.json keys"."""
@@ -11,12 +11,7 @@ from pathlib import Path
 
 import numpy as np
 
-
-def _num(x):
-    try:
-        return float("nan") if x is None else float(x)
-    except (TypeError, ValueError):
-        return float("nan")
+from dnarod.report.values import mean_over_seeds, number
 
 
 def collect(cfg: dict, out: Path) -> dict:
@@ -31,16 +26,15 @@ def collect(cfg: dict, out: Path) -> dict:
 
 def results(cfg: dict, runs: dict, res: dict) -> dict:
     """The top-level keys (always present, NaN with the reason when the loop did not run)."""
-    from dnarod.report.report import _combine as _mean_err   # mean over seeds, as for the MD
     cg = cfg.get("coarse_grain", {}) or {}
     on = bool(cg.get("enabled", True)) and 0.0 in [float(a) for a in cfg["A_v_A_per_ps"]] \
         and cfg.get("md", {}).get("enabled", True)
     rows = [runs[s] for s in sorted(runs)]
-    sp, er = _mean_err([r.get("speed_A_per_ps") for r in rows], [r.get("speed_err_A_per_ps") for r in rows])
+    sp, er = mean_over_seeds([r.get("speed_A_per_ps") for r in rows], [r.get("speed_err_A_per_ps") for r in rows])
     d = [r.get("dispersion") or {} for r in rows]
-    dsp, der = _mean_err([x.get("speed_A_per_ps") for x in d], [x.get("speed_err_A_per_ps") for x in d])
+    dsp, der = mean_over_seeds([x.get("speed_A_per_ps") for x in d], [x.get("speed_err_A_per_ps") for x in d])
     reasons = sorted({r["reason"] for r in rows
-                      if r.get("reason") and not math.isfinite(_num(r.get("speed_A_per_ps")))})
+                      if r.get("reason") and not math.isfinite(number(r.get("speed_A_per_ps")))})
     if on and not rows:
         reasons = ["no coarse-grained rod run found (cgrod/seed*/analysis.json)"]
     if not on:
@@ -50,13 +44,13 @@ def results(cfg: dict, runs: dict, res: dict) -> dict:
         "cg_rod_wave_speed_err_A_per_ps": er,
         "cg_rod_dispersion_speed_A_per_ps": dsp,
         "cg_rod_dispersion_speed_err_A_per_ps": der,
-        "cg_rod_planarity": float(np.mean([_num(r.get("planarity")) for r in rows])) if rows else float("nan"),
+        "cg_rod_planarity": float(np.mean([number(r.get("planarity")) for r in rows])) if rows else float("nan"),
         "cg_rod_quantity": next((r.get("quantity") for r in rows if r.get("quantity")), None),
         "cg_rod_reason": "; ".join(reasons) or None,
         "cg_rod": {"seeds": sorted(runs), "runs": rows, "m": cg.get("m", 1),
                    "replicas": cg.get("replicas", 20),
                    "definition": "prediction: the uniform coarse-grained rod (sequence-averaged m-step material of "
-                                 "each seed's A_v = 0 MD, mapped by mdbridge.material.steps_to_rod) run with the "
+                                 "each seed's A_v = 0 MD, mapped by mdbridge.rod.material.steps_to_rod) run with the "
                                  "headline scene (same kick, length, shape and analysis as the paper-constant rod); "
                                  "error: spread over rod runs with the coarse-graining's bootstrap-replicate "
                                  "materials (+ the central fit error), then combined over seeds like the MD",
@@ -65,8 +59,8 @@ def results(cfg: dict, runs: dict, res: dict) -> dict:
                                             "directions, rho as measured; error over all bootstrap replicates"},
     }
     # the same keys whatever ran (NaN where a number is missing): runs stay comparable
-    md, rod = _num(res.get("md_wave_speed_A_per_ps")), _num(res.get("rod_wave_speed_A_per_ps"))
-    e = math.hypot(er, _num(res.get("md_wave_speed_err_A_per_ps")))
+    md, rod = number(res.get("md_wave_speed_A_per_ps")), number(res.get("rod_wave_speed_A_per_ps"))
+    e = math.hypot(er, number(res.get("md_wave_speed_err_A_per_ps")))
     out["cg_rod_minus_md_A_per_ps"] = {"value": sp - md, "err": e,
                                        "z": (sp - md) / e if e > 0 else float("nan")}
     out["cg_rod_over_paper_rod"] = sp / rod if rod else float("nan")
@@ -75,7 +69,7 @@ def results(cfg: dict, runs: dict, res: dict) -> dict:
 
 def html_section(res: dict) -> str:
     def f(x, nd=3):
-        x = _num(x)
+        x = number(x)
         return "n/a" if not math.isfinite(x) else f"{x:.{nd}g}"
 
     def pm(v, e):
@@ -105,21 +99,21 @@ def figure(res: dict):
     vals = [("rod (paper)", res.get("rod_wave_speed_A_per_ps"), res.get("rod_wave_speed_err_A_per_ps")),
             ("CG rod (predicted)", res.get("cg_rod_wave_speed_A_per_ps"), res.get("cg_rod_wave_speed_err_A_per_ps")),
             ("MD (measured)", res.get("md_wave_speed_A_per_ps"), res.get("md_wave_speed_err_A_per_ps"))]
-    if not any(math.isfinite(_num(v)) for _, v, _ in vals):
+    if not any(math.isfinite(number(v)) for _, v, _ in vals):
         return None
     import matplotlib.pyplot as plt
     fig, ax = plt.subplots(figsize=(6, 3.6))
     for i, (name, v, e) in enumerate(vals):
-        if math.isfinite(_num(v)):
-            ax.errorbar([i], [_num(v)], yerr=[_num(e) if math.isfinite(_num(e)) else 0.0], fmt="os"[i % 2],
+        if math.isfinite(number(v)):
+            ax.errorbar([i], [number(v)], yerr=[number(e) if math.isfinite(number(e)) else 0.0], fmt="os"[i % 2],
                         capsize=4, color=f"C{i}")
     for name, v, ls in (("Eq 39, paper's D", res.get("rod_dispersion_speed_A_per_ps"), ":"),
                         ("Eq 39, CG material", res.get("cg_rod_dispersion_speed_A_per_ps"), "--")):
-        if math.isfinite(_num(v)):
-            ax.axhline(_num(v), color="k", ls=ls, lw=0.8, label=name)
+        if math.isfinite(number(v)):
+            ax.axhline(number(v), color="k", ls=ls, lw=0.8, label=name)
     ax.set_xticks(range(3), [n for n, _, _ in vals])
     ax.set(xlabel="model [MD, paper rod, coarse-grained rod]", ylabel="speed [A/ps]",
-           title=f"A_v = {_num(res.get('headline_A_v_A_per_ps')):g} A/ps")
+           title=f"A_v = {number(res.get('headline_A_v_A_per_ps')):g} A/ps")
     ax.legend(fontsize=7)
     return fig
 

@@ -18,9 +18,10 @@ from pathlib import Path
 
 import numpy as np
 
-from mdbridge.gromacs.checks import DRIFT_TARGET_KJ_MOL_NS_ATOM as DRIFT_TARGET
+from mdbridge.md.gromacs.checks import DRIFT_TARGET_KJ_MOL_NS_ATOM as DRIFT_TARGET
 from mdbridge.jsonio import write_json
 from dnarod.report import prediction
+from dnarod.report.values import mean_over_seeds, number
 from dnarod.report.prediction import CAPTION as PREDICTION_CAPTION
 
 PAPER_MD_RUN_PS = 600.0
@@ -38,10 +39,6 @@ def _load(prefix: Path):
     if not j.is_file():
         return None, None
     return json.loads(j.read_text()), (dict(np.load(z)) if z.is_file() else None)
-
-
-def _num(x):
-    return float("nan") if x is None else float(x)
 
 
 def rod_md_rmsd(rod_npz, md_npz):
@@ -66,20 +63,7 @@ def _check(j):
         return float("nan")
     if not j.get("wave_check", {}).get("reliable", True):
         return float("nan")
-    return _num(j.get("wave_speed_check_A_per_ps"))
-
-
-def _combine(values, errors):
-    """Mean over seeds; error = sqrt(fit errors^2 / n^2 summed + between-seed variance / n)."""
-    v = np.array([_num(x) for x in values])
-    e = np.array([_num(x) for x in errors])
-    ok = np.isfinite(v)
-    if not ok.any():
-        return float("nan"), float("nan")
-    v, e = v[ok], e[ok]
-    n = len(v)
-    between = np.var(v, ddof=1) / n if n > 1 else 0.0
-    return float(v.mean()), float(math.sqrt(np.nansum(e ** 2) / n ** 2 + between))
+    return number(j.get("wave_speed_check_A_per_ps"))
 
 
 def _png(fig) -> str:
@@ -117,7 +101,7 @@ def results_json(cfg: dict, data: dict) -> dict:
     rod_j, _ = data["rod"].get(head, (None, None))
     md_runs = [data["md"].get((head, s), (None, None))[0] for s in seeds]
     md_runs = [m for m in md_runs if m]
-    md_speed, md_err = _combine([m["wave_speed_A_per_ps"] for m in md_runs],
+    md_speed, md_err = mean_over_seeds([m["wave_speed_A_per_ps"] for m in md_runs],
                                 [m["wave_speed_err_A_per_ps"] for m in md_runs])
     from dnarod.report.comparison import comparison_block
     comp = comparison_block(cfg, data)
@@ -128,22 +112,22 @@ def results_json(cfg: dict, data: dict) -> dict:
         md_speed, md_err = md_head.get("speed_A_per_ps", md_speed), md_head.get("speed_err_A_per_ps", md_err)
     res = {
         "headline_A_v_A_per_ps": head,
-        "rod_wave_speed_A_per_ps": _num(rod_j and rod_j["wave_speed_A_per_ps"]),
-        "rod_wave_speed_err_A_per_ps": _num(rod_j and rod_j["wave_speed_err_A_per_ps"]),
+        "rod_wave_speed_A_per_ps": number(rod_j and rod_j["wave_speed_A_per_ps"]),
+        "rod_wave_speed_err_A_per_ps": number(rod_j and rod_j["wave_speed_err_A_per_ps"]),
         "rod_wave_speed_check_A_per_ps": _check(rod_j),
-        "rod_dispersion_speed_A_per_ps": _num(rod_j and rod_j["dispersion"]["bend_branch_speed_A_per_ps"]),
+        "rod_dispersion_speed_A_per_ps": number(rod_j and rod_j["dispersion"]["bend_branch_speed_A_per_ps"]),
         "md_wave_speed_A_per_ps": md_speed,
         "md_wave_speed_err_A_per_ps": md_err,
-        "md_wave_speed_check_A_per_ps": _combine([_check(m) for m in md_runs],
+        "md_wave_speed_check_A_per_ps": mean_over_seeds([_check(m) for m in md_runs],
                                                  [0.0] * len(md_runs))[0] if md_runs else float("nan"),
         # the worst |drift| of the headline MD runs; target: DRIFT_TARGET (checks.py)
         "md_energy_drift_kJ_mol_per_ns_per_atom": max(
-            (_num(m.get("energy_drift_kJ_mol_per_ns_per_atom")) for m in md_runs), key=abs,
+            (number(m.get("energy_drift_kJ_mol_per_ns_per_atom")) for m in md_runs), key=abs,
             default=float("nan")),
         "md_energy_drift_target_kJ_mol_per_ns_per_atom": DRIFT_TARGET,
         "md_protocols": sorted({m.get("protocol", "paper") for m in md_runs}),
-        "rod_planarity": _num(rod_j and rod_j["planarity"]),
-        "md_planarity": float(np.mean([_num(m["planarity"]) for m in md_runs])) if md_runs else float("nan"),
+        "rod_planarity": number(rod_j and rod_j["planarity"]),
+        "md_planarity": float(np.mean([number(m["planarity"]) for m in md_runs])) if md_runs else float("nan"),
         "md_bp_intact_fraction": float(np.mean([m["bp_intact_fraction_final"] for m in md_runs]))
         if md_runs else float("nan"),
         "rod_run_ps": float(cfg["rod"]["run_ps"]),
@@ -156,10 +140,10 @@ def results_json(cfg: dict, data: dict) -> dict:
             "wave_speed": "NLS fit of forward+backward travelling waves to the k = 2 pi/L mode of u(s,t); "
                           "error: max(covariance, block bootstrap); *_check: phase velocity of the mode",
             "md_energy_drift": "least-squares slope of the conserved energy from 10 % of the NVE "
-                               "run to its end, per atom (mdbridge/gromacs/checks.py fit_drift); "
+                               "run to its end, per atom (mdbridge/md/gromacs/checks.py fit_drift); "
                                "worst headline run",
             "md_protocols": "equilibrated: v-rescale stage before the kick; paper: none "
-                            "(mdbridge/gromacs/equilibrate.py)",
+                            "(mdbridge/md/gromacs/equilibrate.py)",
             "planarity": "RMS out-of-plane / RMS in-plane displacement over the run (0 = planar)",
             "md_bp_intact_fraction": "fraction of base pairs with N1-N3 < 3.5 A (minimum image), "
                                      "last frame, mean over seeds",
@@ -282,14 +266,14 @@ def figures(cfg: dict, data: dict, res: dict) -> dict:
     if sw:
         fig, ax = plt.subplots(figsize=(6, 3.8))
         a = np.array([av for av, _ in sw])
-        v = np.array([_num(j["wave_speed_A_per_ps"]) for _, j in sw])
-        e = np.array([_num(j["wave_speed_err_A_per_ps"]) for _, j in sw])
+        v = np.array([number(j["wave_speed_A_per_ps"]) for _, j in sw])
+        e = np.array([number(j["wave_speed_err_A_per_ps"]) for _, j in sw])
         ax.errorbar(a, v, yerr=e, fmt="o-", label="rod (this run)")
         ax.axhline(sw[0][1]["dispersion"]["bend_branch_speed_A_per_ps"], color="k", ls=":",
                    label="Eq 39, small amplitude (bend branch)")
         ax.axhline(PAPER["rod_wave_speed_A_per_ps"], color="C1", ls="--", label="paper rod 1.4 A/ps")
         ax.axhline(PAPER["md_wave_speed_A_per_ps"], color="C2", ls="--", label="paper MD 2.2 A/ps")
-        mdv = [(av, _num(j["wave_speed_A_per_ps"])) for (av, s), (j, _) in data["md"].items() if j]
+        mdv = [(av, number(j["wave_speed_A_per_ps"])) for (av, s), (j, _) in data["md"].items() if j]
         if mdv:
             ax.plot(*zip(*mdv), "s", color="C3", label="MD (this run)")
         pos = a[a > 0]

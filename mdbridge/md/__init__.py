@@ -1,0 +1,4 @@
+"""The MD layer: all-atom duplexes from rod frames (`builder/`), GROMACS (`gromacs/`),
+back-mapping rod frames onto atoms (`backmap`), PDB files (`pdbio`) and the one
+Watson-Crick pairing check (`integrity`). It imports the rod layer and the ground floor,
+never analysis or coarsegrain (docs/architecture.md)."""

@@ -1,0 +1,332 @@
+"""Assemble DIR/conf.gro, topol.top (+ .itp), md.mdp, em.mdp and build.json.
+
+Order matters and is the reason for this module:
+1. the builder's whole (unwrapped) duplex, moved into the box planned from the rod;
+2. pdb2gmx with ring closure (topology.py), then the junction check (junction.py):
+   a build whose strands are not closed exactly like an interior step stops here;
+3. electrostatics variant (charges.py) and base restraints (posres.py);
+4. optional restrained minimisation (em.mdp), unwrapped against the input;
+5. velocities LAST, on the final coordinates: thermal + rod rigid-body field;
+6. a grompp run on md.mdp proves the inputs are accepted before anyone waits on them.
+"""
+from __future__ import annotations
+
+import json
+import warnings
+import platform
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from dna_models.errors import DnarodError, InputError
+from dna_models.units import ANGSTROM_PER_NM, Units
+from mdbridge.jsonio import write_json
+
+from . import charges, posres
+from .box import BoxPlan
+from .clashes import CLASH_A, closest_contact
+from .gmx import find_gmx, gmx_version, run_gmx, run_gmx_with_progress
+from .gro import Gro, read_gro, write_gro
+from .junction import junction_report, o3p_links
+from .equilibrate import PROTOCOLS, equilibrate
+from .mdp import MdSettings, render_em, render_md, read_mdp_value
+from .topology import parse_itp, run_pdb2gmx, write_pdb2gmx_input
+from .velocities import (base_pair_of_residue, kinetic_temperature, rigid_body_velocities,
+                         thermal_velocities)
+
+NM = ANGSTROM_PER_NM  # Angstrom per nm (dna_models.units)
+
+
+@dataclass
+class RodInitial:
+    """The rod at t = 0 sampled at the base pairs s_i = i L / n_bp, in A, ps, rad."""
+    origins_A: np.ndarray        # (n, 3) r(s_i)
+    R: np.ndarray                # (n, 3, 3) columns d1, d2, d3 (= bp x, y, z axes)
+    gamma_lab_A_ps: np.ndarray   # (n, 3)
+    omega_lab_rad_ps: np.ndarray  # (n, 3)
+    closure_length_A: float      # |r(s + L) - r(s)|
+
+    @property
+    def n_bp(self) -> int:
+        return len(self.origins_A)
+
+
+def rod_initial_from_run(run, n_bp: int, units: Units | None = None):
+    """RodInitial (t = 0) and the centerline over the whole run in A (T, N, 3), from a
+    rod run (mdbridge.rod.run.RodRun, solver units, fields in the internal frame,
+    directors[t, i, :, k] = d_k). Base pair i sits on grid point i N / n_bp (as
+    mdbridge.analysis does), so no interpolation is involved."""
+    from mdbridge.geometry.trajectory import BasePairTrajectory
+    u = units or Units.paper()
+    run.require("fields/gamma", "fields/omega")
+    traj = BasePairTrajectory.from_rod(run, n_bp, u)
+    every = len(run.s) // n_bp
+    D0 = np.asarray(run.directors, float)[0, ::every]            # (n, 3, 3), columns d_k
+    g = np.einsum("nik,nk->ni", D0, np.asarray(run.fields["gamma"], float)[0, ::every])
+    w = np.einsum("nik,nk->ni", D0, np.asarray(run.fields["omega"], float)[0, ::every])
+    rod = RodInitial(origins_A=traj.origins[0], R=traj.R[0],
+                     gamma_lab_A_ps=u.velocity_to_A_per_ps(g),
+                     omega_lab_rad_ps=u.angular_velocity_to_rad_per_ps(w),
+                     closure_length_A=float(np.linalg.norm(traj.period[0])))
+    return rod, u.length_to_A(np.asarray(run.centerline, float))
+
+
+def structure_chains(structure, shift_A) -> list[dict]:
+    """The builder's Structure (strand I then II, each 5'->3') as pdb2gmx input chains."""
+    chains = []
+    x = np.asarray(structure.coords, float) + np.asarray(shift_A, float)
+    for strand, cid in (("I", "A"), ("II", "B")):
+        idx = np.flatnonzero(structure.strands == strand)
+        residues: list[tuple] = []
+        for k in idx:
+            r = int(structure.resids[k])
+            if not residues or residues[-1][0] != r:
+                residues.append((r, str(structure.resnames[k]), []))
+            residues[-1][2].append((str(structure.names[k]), tuple(x[k])))
+        chains.append({"id": cid, "residues": residues})
+    return chains
+
+
+def _unwrap_against(x_nm, ref_nm, box_nm):
+    d = x_nm - ref_nm
+    return ref_nm + d - box_nm * np.round(d / box_nm)
+
+
+def _frames_of_gro(gro_path: Path, n_bp: int):
+    """Base-pair frames of a built structure, re-analysed with mdbridge.geometry (3DNA)."""
+    with warnings.catch_warnings():   # MDAnalysis 2.4 imports the deprecated xdrlib
+        warnings.simplefilter("ignore", DeprecationWarning)
+        import MDAnalysis as mda
+    from mdbridge.md.builder.duplex import base_pairs
+    from mdbridge.geometry.structure import BasePairFrames
+    u = mda.Universe(str(gro_path))
+    pairs = base_pairs(n_bp)
+    with warnings.catch_warnings():   # a single .gro frame has no time step: irrelevant here
+        warnings.simplefilter("ignore", UserWarning)
+        bp = BasePairFrames(u, pairs=pairs).run()
+    return np.asarray(bp.results.origins)[0], np.asarray(bp.results.R)[0]
+
+
+def frame_deviation(o1, R1, o2, R2, box_A=None) -> dict:
+    """Largest origin distance (A) and rotation angle (deg) between two sets of frames."""
+    d = np.asarray(o2) - np.asarray(o1)
+    if box_A is not None:
+        b = np.asarray(box_A, float)
+        d = d - b * np.round(d / b)
+    rel = np.einsum("nji,njk->nik", R1, R2)
+    cosang = np.clip((np.trace(rel, axis1=1, axis2=2) - 1.0) / 2.0, -1.0, 1.0)
+    ang = np.degrees(np.arccos(cosang))
+    return {"max_origin_A": float(np.linalg.norm(d, axis=1).max()),
+            "rms_origin_A": float(np.sqrt((np.linalg.norm(d, axis=1) ** 2).mean())),
+            "max_angle_deg": float(ang.max()), "rms_angle_deg": float(np.sqrt((ang ** 2).mean()))}
+
+
+def build_inputs(outdir: Path, structure, rod: RodInitial, box: BoxPlan, *, sequence: str,
+                 forcefield: str = "charmm27", electrostatics: str = "paper",
+                 temperature_K: float = 300.0, seed: int = 0, settings: MdSettings | None = None,
+                 minimize: bool = False, gmx: str | None = None, threads: int = 1,
+                 protocol: str = "paper", equilibrate_ps: float = 20.0,
+                 axial_pressure: bool = False, meta: dict | None = None, progress=None) -> dict:
+    """Write every MD input into OUTDIR and return the content of build.json.
+    gmx: as find_gmx (the given path, else $DNAROD_GMX, else the project's build, else PATH).
+
+    protocol "paper": thermal + rod velocities on the (minimised) build;
+    "equilibrated": a thermostatted stage of equilibrate_ps first (equilibrate.py),
+    optionally with the axis-only barostat, then rod velocities added.
+    progress, if given, is called as progress(stage, done, total, unit) while the
+    minimisation ("minimisation", steps) and the equilibration ("equilibration", ps) run
+    (workflows/progress.py, Stages, draws it)."""
+    gmx = find_gmx(gmx)
+    outdir = Path(outdir)
+    outdir.mkdir(parents=True, exist_ok=True)
+    for stale in ("build.json", "md.done", "checks.json"):
+        (outdir / stale).unlink(missing_ok=True)
+    settings = settings or MdSettings()
+    if protocol not in PROTOCOLS:
+        raise InputError(f"protocol {protocol!r}: allowed {', '.join(PROTOCOLS)}")
+    if protocol == "equilibrated" and not (temperature_K > 0 and equilibrate_ps > 0):
+        raise InputError("the equilibrated protocol needs --temperature > 0 and "
+                         f"--equilibrate-ps > 0 (got {temperature_K} K, {equilibrate_ps} ps)")
+    if axial_pressure and protocol != "equilibrated":
+        raise InputError("--axial-pressure acts in the equilibration stage: use --protocol equilibrated")
+    n = rod.n_bp
+    if len(sequence) != n:
+        raise InputError(f"sequence has {len(sequence)} bases but the rod has {n} base pairs")
+    if temperature_K < 0:
+        raise InputError(f"--temperature {temperature_K}: must be >= 0 K")
+    shift = np.asarray(box.shift_A, float)
+    box_nm = np.asarray(box.box_A, float) / NM
+
+    # 1-2. topology with ring closure, verified
+    pdb = outdir / "duplex_in.pdb"
+    write_pdb2gmx_input(pdb, structure_chains(structure, shift), forcefield)
+    lb_nm = float(np.max(box_nm)) * 2.0 + 1.0   # larger than any distance in the structure
+    top = run_pdb2gmx(gmx, pdb, outdir, forcefield, lb_nm=lb_nm)
+    mols = [parse_itp(p) for p in top["itps"]]
+    junctions = [junction_report(m) for m in mols]
+    bad = [j for j in junctions if not j["ok"]]
+    if len(mols) != 2 or bad:
+        raise DnarodError("ring closure failed: the junction terms of "
+                          + ", ".join(j["molecule"] for j in bad or junctions)
+                          + " differ from an interior step's: "
+                          + json.dumps(bad or junctions, indent=1)[:3000])
+
+    # 3. electrostatics and restraints
+    for p, m in zip(top["itps"], mols):
+        charges.apply_electrostatics(p, electrostatics)
+        posres.add_base_restraints(p, m)
+    mols = [parse_itp(p) for p in top["itps"]]
+    masses = np.concatenate([m.mass for m in mols])
+    total_charge = float(sum(m.charge.sum() for m in mols))
+    q_res = np.concatenate([np.bincount(m.resnr - m.resnr.min(), weights=m.charge)[
+        np.unique(m.resnr - m.resnr.min())] for m in mols])
+
+    g = read_gro(top["gro"])
+    names_itp: list[str] = sum((m.atomname for m in mols), [])
+    if g.n_atoms != len(masses) or g.name != names_itp:
+        raise DnarodError(f"{top['gro']}: atoms differ from the topology's ({g.n_atoms} vs {len(masses)})")
+    x_nm = g.x.copy()
+    (outdir / "em.mdp").write_text(render_em(settings))
+    (outdir / "md.mdp").write_text(render_md(settings))
+
+    # 4. optional restrained minimisation
+    em = None
+    if minimize:
+        em_in = Gro("dnarod: before minimisation", g.resid, g.resname, g.name, x_nm, None, box_nm)
+        write_gro(outdir / "em_in.gro", em_in)
+        run_gmx(gmx, ["grompp", "-f", "em.mdp", "-c", "em_in.gro", "-r", "em_in.gro", "-p",
+                      "topol.top", "-o", "em.tpr", "-po", "em_out.mdp", "-maxwarn", "0"], outdir,
+                log_name="gmx_grompp_em.log")
+        em_steps = int(read_mdp_value((outdir / "em.mdp").read_text(), "nsteps") or 0)
+        # -v: mdrun's step reports ("Step= k", 0-based: k + 1 steps made) drive the progress;
+        # it stops earlier once converged
+        run_gmx_with_progress(gmx, ["mdrun", "-v", "-deffnm", "em", "-nt", str(threads)], outdir,
+                              log_name="gmx_mdrun_em.log",
+                              on_step=None if progress is None else
+                              (lambda k: progress("minimisation", k + 1, em_steps, "steps")))
+        x_em = _unwrap_against(read_gro(outdir / "em.gro").x, x_nm, box_nm)
+        o0, R0 = _frames_of_gro(outdir / "em_in.gro", n)
+        write_gro(outdir / "em_whole.gro",
+                  Gro("dnarod: after minimisation (whole)", g.resid, g.resname, g.name, x_em, None, box_nm))
+        o1, R1 = _frames_of_gro(outdir / "em_whole.gro", n)
+        em = {"frames_moved": frame_deviation(o0, R0, o1, R1),
+              "max_atom_displacement_A": float(np.linalg.norm(x_em - x_nm, axis=1).max() * NM),
+              "log": str(outdir / "em.log")}
+        em.update(_em_summary(outdir / "gmx_mdrun_em.log"))
+        if not em["converged"]:
+            warnings.warn(f"{outdir}/em.log: the restrained minimisation did not reach Fmax < "
+                          "500 kJ/mol/nm; check closest_nonbonded_contact in build.json", stacklevel=2)
+        x_nm = x_em
+
+    # 5. equilibration stage (protocol "equilibrated"), then velocities on the final
+    #    coordinates: thermal (fresh, or the equilibrated ones) + the rod's field
+    eq = None
+    if protocol == "equilibrated":
+        write_gro(outdir / "eq_in.gro", Gro("dnarod: before equilibration", g.resid, g.resname,
+                                            g.name, x_nm, thermal_velocities(masses, temperature_K,
+                                                                             seed), box_nm))
+        eq = equilibrate(outdir, gmx, settings, ps=equilibrate_ps, temperature_K=temperature_K,
+                         axis=box.axis, axial_pressure=axial_pressure, threads=threads,
+                         box_nm=box_nm, progress=progress)
+        g_eq = read_gro(outdir / "eq.gro")
+        box_nm = g_eq.box
+        x_nm = _unwrap_against(g_eq.x, x_nm, box_nm)
+        v_th = g_eq.v
+        if not eq["stationary"]:
+            warnings.warn(f"{outdir}/eq.edr: temperature or potential energy still trends over the "
+                          f"second half of the {equilibrate_ps:g}-ps equilibration (build.json: "
+                          "equilibration); use a longer --equilibrate-ps", stacklevel=2)
+    else:
+        v_th = thermal_velocities(masses, temperature_K, seed)
+    bp = base_pair_of_residue(g.resid, n)
+    v_rod = rigid_body_velocities(x_nm * NM, bp, rod.origins_A + shift, rod.gamma_lab_A_ps,
+                                  rod.omega_lab_rad_ps)
+    v = v_th + v_rod
+    conf = Gro(f"dnarod periodic duplex {n} bp, {forcefield}, T={temperature_K} K, seed={seed}",
+               g.resid, g.resname, g.name, x_nm, v, box_nm)
+    write_gro(outdir / "conf.gro", conf)
+    np.save(outdir / "velocities_rod.npy", v_rod)
+
+    contact = closest_contact(x_nm * NM, box_nm * NM, mols, g.name, g.resid)
+    if contact["min_distance_A"] is not None and contact["min_distance_A"] < CLASH_A:
+        warnings.warn(f"{outdir}/conf.gro: {contact['n_below_clash']} atom pairs closer than "
+                      f"{CLASH_A} A (closest {contact['atoms']} at {contact['min_distance_A']:.2f} A)"
+                      "; MD will blow up from these contacts: build with --minimize",
+                      stacklevel=2)
+
+    # t = 0 geometry checks: frames of the built structure vs the rod's; junction links
+    o_b, R_b = _frames_of_gro(outdir / "conf.gro", n)
+    frames_t0 = frame_deviation(rod.origins_A + shift, rod.R, o_b, R_b, box.box_A)
+    links = o3p_links(x_nm, g.resid, g.name, n, box_nm)
+
+    # 6. grompp proves the inputs are accepted
+    run_gmx(gmx, ["grompp", "-f", "md.mdp", "-c", "conf.gro", "-p", "topol.top", "-o",
+                  "grompp_check.tpr", "-po", "grompp_check.mdp", "-maxwarn", "0"], outdir,
+            log_name="gmx_grompp_check.log")
+    for p in ("grompp_check.tpr", "grompp_check.mdp"):
+        (outdir / p).unlink(missing_ok=True)
+
+    u = Units.paper()
+    info = {
+        "sequence": sequence, "n_bp": n, "seed": seed, "temperature_K": temperature_K,
+        "forcefield": forcefield, "electrostatics": electrostatics,
+        "electrostatics_doc": charges.__doc__.strip(),
+        "total_charge_e": round(total_charge, 4) or 0.0, "n_atoms": int(g.n_atoms),
+        "nucleotide_charge_range_e": [round(float(q_res.min()), 4), round(float(q_res.max()), 4)],
+        "units": u.as_dict(),
+        "box": box.as_dict(), "box_nm": box_nm.tolist(),
+        "md_settings": settings.as_dict(),
+        "junctions": junctions,
+        "junction_O3P_t0_A": {s: {"junction": float(d["junction_A"]),
+                                  "interior_min": float(d["interior_A"].min()),
+                                  "interior_max": float(d["interior_A"].max())}
+                              for s, d in links.items()},
+        "frames_t0_vs_rod": frames_t0,
+        "closest_nonbonded_contact": contact,
+        "velocities": {
+            "rule": ("v = equilibrated (end of the v-rescale stage, eq.gro)" if eq else
+                     "v = thermal (Maxwell-Boltzmann, COM removed, rescaled to exactly T with "
+                     "3N-3 dof)") + " + gamma_lab(s_i) + omega_lab(s_i) x (x - r(s_i)) for every atom "
+                    "of both nucleotides of base pair i",
+            "thermal_temperature_K": float(kinetic_temperature(masses, v_th, 3 * len(masses) - 3))
+            if temperature_K > 0 else 0.0,
+            "rod_max_speed_nm_ps": float(np.linalg.norm(v_rod, axis=1).max()),
+            "total_momentum_amu_nm_ps": (masses[:, None] * v).sum(axis=0).tolist(),
+            "rod_momentum_amu_nm_ps": (masses[:, None] * v_rod).sum(axis=0).tolist(),
+            # comm-mode = Linear removes this at the first step (md.mdp)
+            "rod_com_velocity_nm_ps": ((masses[:, None] * v_rod).sum(axis=0) / masses.sum()).tolist(),
+        },
+        "minimization": em,
+        "protocol": protocol,
+        "protocol_doc": "equilibrated: v-rescale stage at T, then rod velocities added to the "
+                        "equilibrated ones, then NVE; paper: no equilibration (paper Sec 6.2)",
+        "equilibration": eq,
+        "residue_to_base_pair": "strand I residue k -> pair k; strand II residue r -> pair 2n+1-r "
+                                "(1-based, 3DNA numbering)",
+        "gmx": {"path": gmx, "version": gmx_version(gmx)},
+        "host": platform.node(),
+        "files": ["conf.gro", "topol.top"] + [p.name for p in top["itps"]]
+                 + ["md.mdp", "em.mdp", "build.json"],
+    }
+    info.update(meta or {})
+    write_json(outdir / "build.json", info)
+    return info
+
+
+def _em_summary(log: Path) -> dict:
+    import re
+    text = Path(log).read_text()
+    out: dict[str, bool | int | float] = {}
+    m = re.search(r"converged to Fmax < (\S+) in (\d+) steps", text)
+    if m:
+        out.update(converged=True, steps=int(m.group(2)))
+    else:
+        out["converged"] = False
+    m = re.search(r"Maximum force\s*=\s*(\S+)", text)
+    if m:
+        out["final_Fmax_kJ_mol_nm"] = float(m.group(1))
+    m = re.search(r"Potential Energy\s*=\s*(\S+)", text)
+    if m:
+        out["final_potential_kJ_mol"] = float(m.group(1))
+    return out

@@ -1,0 +1,122 @@
+"""Axial tension of the periodic, ligated duplex from a GROMACS energy file, and a box
+stretched along the helix axis (for measuring the tension at another length).
+
+Tension: F(t) = -P_aa(t) A(t), P_aa the pressure-tensor component along the helix axis
+(box axis a, the axis of `build.json: box.axis`) and A the box cross-section normal to it,
+both per energy frame (so a run with the axis-only barostat is measured too). The
+conversion and the sign are `md_tension_pN`'s (below): F > 0 is
+tension (the duplex pulls the box faces together, a negative axial pressure), in pN;
+1 bar over 1 nm^2 is 0.1 pN. In vacuum P_aa holds the kinetic term of the atoms too, so
+F is the thermodynamic force -dA_free/dL of the periodic duplex at box length L (what the
+barostat of `equilibrate.py` brings to zero). The error of its time mean is the blocking
+standard error (`mdbridge.stats.block_sem`). Validated against the box's own zero-tension length
+and the coarse-grained stretch modulus in docs/md.md ("Tension: validation on 21 bp")."""
+from __future__ import annotations
+
+import json
+import shutil
+from pathlib import Path
+
+import numpy as np
+
+from dna_models.errors import InputError
+from mdbridge.stats import block_sem, sem_longest_blocks
+
+from .energy import read_energies
+from .gro import read_gro, write_gro
+
+NM2_TO_A2 = 100.0
+BAR_A2_TO_PN = 1e5 * 1e-20 * 1e12   # 1 bar x 1 A^2 in pN (= 1e-3)
+
+
+def md_tension_pN(P_axis_bar, area_A2) -> np.ndarray:
+    """F = -P_axis A [pN] (P in bar, A in A^2); F > 0 is tension."""
+    return -np.asarray(P_axis_bar, float) * float(area_A2) * BAR_A2_TO_PN
+
+
+def tension_series(directory: Path, gmx: str, *, edr: str = "md.edr", axis: int | None = None,
+                   box_from: str = "conf.gro") -> dict:
+    """{"time": ps, "tension_pN": F(t), "length_nm": box length along the axis, "area_nm2",
+    "axis"} from DIR/EDR (axis from DIR/build.json unless given). A fixed box writes no
+    Box-* terms: its edges are then DIR/BOX_FROM's (the run's start)."""
+    d = Path(directory)
+    if axis is None:
+        bj = d / "build.json"
+        if not bj.is_file():
+            raise InputError(f"{bj}: missing; give the helix axis (0, 1, 2) instead")
+        axis = int(json.loads(bj.read_text())["box"]["axis"])
+    if not (d / edr).is_file():
+        raise InputError(f"{d / edr}: missing; the tension needs the run's energy file")
+    e = read_energies(d, gmx, edr=edr)
+    xyz = "XYZ"
+    name = f"Pres-{xyz[axis] * 2}"
+    if name not in e:
+        raise InputError(f"{d / edr}: no {name} in the energy file "
+                         f"(has {', '.join(k for k in e if k != 'time')})")
+    if not all(f"Box-{c}" in e for c in xyz):      # fixed box: edges of the start
+        if not (d / box_from).is_file():
+            raise InputError(f"{d / edr}: no Box-X/Y/Z terms (fixed box) and no {d / box_from}")
+        box = read_gro(d / box_from).box
+        for k, c in enumerate(xyz):
+            e[f"Box-{c}"] = np.full(len(e["time"]), float(box[k]))
+    across = [k for k in range(3) if k != axis]
+    area = e[f"Box-{xyz[across[0]]}"] * e[f"Box-{xyz[across[1]]}"]
+    P = e[name]
+    F = np.array([md_tension_pN([p], a * NM2_TO_A2)[0] for p, a in zip(P, area)])
+    return {"time": e["time"], "tension_pN": F, "pressure_bar": P,
+            "length_nm": e[f"Box-{xyz[axis]}"], "area_nm2": area, "axis": axis}
+
+
+def mean_with_error(t, y, *, discard_ps: float = 0.0) -> dict:
+    """Time mean of y after discarding the first discard_ps, its standard error, and a
+    stationarity check: the means of the two halves of the kept window differ by less than
+    3 x the standard error of that difference (each half on its own).
+
+    The error is the larger of `block_sem` (the first plateau of the blocking
+    curve) and the error from the longest blocks that leave 8 (`sem_longest_blocks`). The
+    MD tension needs the second: its instantaneous value is white noise of ~400 pN over a
+    slow part of ~30 pN (10-ps means of the 21-bp duplex; conformational changes such as
+    fraying), so the blocking curve is flat for short blocks (a false plateau, where
+    block_sem stops) and rises again beyond ~1 ps (docs/md.md, "Tension: validation on 21 bp")."""
+    t, y = np.asarray(t, float), np.asarray(y, float)
+    keep = t >= t[0] + discard_ps
+    t, y = t[keep], y[keep]
+    b = block_sem(y)
+    h = len(y) // 2
+
+    def err(x):
+        return max(block_sem(x)["sem"], sem_longest_blocks(x))
+
+    e1, e2 = err(y[:h]), err(y[h:])
+    diff = float(np.mean(y[h:]) - np.mean(y[:h]))
+    se = float(np.hypot(e1, e2))
+    long = sem_longest_blocks(y)
+    return {"mean": b["mean"], "sem": max(b["sem"], long), "sem_first_plateau": b["sem"],
+            "sem_plateau": b.get("plateau"), "sem_longest_blocks": long,
+            "block_length_frames": b.get("block_length"), "naive_sem": b.get("naive_sem"),
+            "n": b["n"], "window_ps": [float(t[0]), float(t[-1])],
+            "sem_rule": "larger of the first blocking plateau and the longest blocks leaving 8",
+            "halves": {"first": float(np.mean(y[:h])), "second": float(np.mean(y[h:])),
+                       "difference": diff, "difference_se": se, "stationary": bool(abs(diff) < 3.0 * se)}}
+
+
+def stretch_box(src: Path, dst: Path, factor: float, *, axis: int | None = None,
+                conf: str = "conf.gro") -> dict:
+    """Copy a build-md directory's inputs (conf.gro, topology, itp, md.mdp, build.json) to
+    DST with conf.gro scaled affinely by `factor` along the helix axis (coordinates and box
+    edge; velocities kept). Affine scaling keeps a periodic, ligated duplex closed: every
+    minimum-image vector, across the boundary too, scales by the same factor."""
+    src, dst = Path(src), Path(dst)
+    if factor <= 0:
+        raise InputError(f"stretch factor {factor}: must be > 0")
+    bj = json.loads((src / "build.json").read_text())
+    a = int(bj["box"]["axis"]) if axis is None else axis
+    dst.mkdir(parents=True, exist_ok=True)
+    for f in src.iterdir():
+        if f.suffix == ".itp" or f.name in ("topol.top", "md.mdp", "build.json"):
+            shutil.copy2(f, dst / f.name)
+    g = read_gro(src / conf)
+    g.x[:, a] *= factor
+    g.box[a] *= factor
+    write_gro(dst / "conf.gro", g)
+    return {"axis": a, "factor": factor, "box_nm": g.box.tolist()}
