@@ -30,7 +30,7 @@ struct Stop {};  // thrown by the test's save hook to end the first half
 
 Scene scene_for(const std::string& time) {
   Scene sc = rodtest::twisted_wave_scene(24, "p", "plus", 0.5);
-  sc.solver.time = time;
+  sc.solver.time = *from_string<TimeMethod>(time);
   sc.solver.rtol = sc.solver.atol = 1e-11;
   sc.solver.dt = time == "rk4" ? 0.01 : 0.05;
   sc.output.t_end = 2.6;
@@ -63,7 +63,8 @@ TEST_P(CheckpointResume, ResumedRunIsBitwiseTheUninterruptedRun) {
 
   Frames whole;
   Simulation ref(sc);
-  const RunSummary ref_sum = ref.run([&](const Frame& f) { whole.add(f); });
+  ref.add_observer(on_frame([&](const Frame& f) { whole.add(f); }));
+  const RunSummary ref_sum = ref.run();
   ASSERT_EQ(whole.t.size(), 14u);
   ASSERT_GT(ref_sum.steps, 20) << "too few steps to stop in the middle";
 
@@ -74,20 +75,22 @@ TEST_P(CheckpointResume, ResumedRunIsBitwiseTheUninterruptedRun) {
     {
       Simulation first(sc);
       long calls = 0;
-      first.set_checkpoint_hooks({[&] { return ++calls == stop_at; },
-                                  [&](const Checkpoint& c) {
-                                    write_checkpoint(file, c);
-                                    throw Stop{};
-                                  }});
-      EXPECT_THROW(first.run([&](const Frame& f) { parts.add(f); }), Stop);
+      first.add_observer(std::make_shared<CheckpointObserver>([&] { return ++calls == stop_at; },
+                                                              [&](const Checkpoint& c) {
+                                                                write_checkpoint(file, c);
+                                                                throw Stop{};
+                                                              }));
+      first.add_observer(on_frame([&](const Frame& f) { parts.add(f); }));
+      EXPECT_THROW(first.run(), Stop);
     }
     const Checkpoint c = read_checkpoint(file);
     EXPECT_EQ(c.next_frame, static_cast<int>(parts.t.size()));
-    EXPECT_EQ(c.method, GetParam());
+    EXPECT_EQ(to_string(c.method), GetParam());
     EXPECT_NO_THROW(check_checkpoint_matches(c, sc, file));
     Simulation second(sc);
     second.resume_from(c);
-    const RunSummary sum = second.run([&](const Frame& f) { parts.add(f); });
+    second.add_observer(on_frame([&](const Frame& f) { parts.add(f); }));
+    const RunSummary sum = second.run();
 
     ASSERT_EQ(parts.t.size(), whole.t.size());
     for (std::size_t k = 0; k < whole.t.size(); ++k) {
@@ -117,7 +120,7 @@ TEST(ReliabilityCheckpoint, FileRoundTripIsExact) {
   const std::string file = (dir.path / "x.ckpt").string();
   Checkpoint c;
   c.scene = "[rod]\nlength = 1\n";
-  c.method = "dopri5";
+  c.method = TimeMethod::dopri5;
   c.integrator.t = 0.1 + 0.2;  // not a short decimal: must survive bit for bit
   c.integrator.dt_next = 1.0 / 3.0;
   c.integrator.y = {1e-300, -0.0, 3.141592653589793, 2.0 / 7.0};
@@ -157,7 +160,7 @@ TEST(ReliabilityCheckpoint, InterruptedWriteKeepsThePreviousCheckpoint) {
   const std::string file = (dir.path / "x.ckpt").string();
   Checkpoint c;
   c.scene = "s";
-  c.method = "rk4";
+  c.method = TimeMethod::rk4;
   c.integrator.dt_next = 0.1;
   c.integrator.y = c.integrator.f = {1.0, 2.0};
   c.next_frame = 1;
@@ -198,7 +201,7 @@ TEST(ReliabilityCheckpoint, CheckpointOfAnotherSceneIsRefused) {
   b.solver.rtol = 1e-9;
   Checkpoint c;
   c.scene = checkpoint_scene_text(a);
-  c.method = "dop853";
+  c.method = TimeMethod::dop853;
   try {
     check_checkpoint_matches(c, b, file);
     FAIL();
@@ -213,7 +216,7 @@ TEST(ReliabilityCheckpoint, CheckpointOfAnotherSceneIsRefused) {
   EXPECT_NO_THROW(check_checkpoint_matches(c, d, file));
   // A checkpoint of another integrator or size is refused by the simulation.
   Simulation sim(b);
-  c.method = "rk4";
+  c.method = TimeMethod::rk4;
   EXPECT_THROW(sim.resume_from(c), InputError);
 }
 
