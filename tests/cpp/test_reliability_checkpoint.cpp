@@ -5,6 +5,7 @@
 // reconstruction anchor (centerline, directors) and the energy-drift check.
 // The independent truth is the uninterrupted run of the same scene.
 #include <gtest/gtest.h>
+#include <hdf5.h>
 #include <unistd.h>
 
 #include <csignal>
@@ -190,6 +191,36 @@ TEST(ReliabilityCheckpoint, DamagedOrMissingCheckpointNamesTheFile) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("junk.ckpt' is not an HDF5 file"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("without --resume"), std::string::npos) << e.what();
+  }
+  // A method that is no time integrator (the file holds solver.time's spelling).
+  const std::string odd = (dir.path / "odd.ckpt").string();
+  Checkpoint c;
+  c.scene = "s";
+  c.method = TimeMethod::dopri5;
+  c.integrator.dt_next = 0.1;
+  c.integrator.y = c.integrator.f = {1.0, 2.0};
+  c.next_frame = 1;
+  c.E0 = 1.0;
+  write_checkpoint(odd, c);
+  EXPECT_EQ(read_checkpoint(odd).method, TimeMethod::dopri5);  // control: the file as written reads
+  for (const char* method : {"euler", "auto"}) {
+    hid_t f = H5Fopen(odd.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    ASSERT_GE(f, 0);
+    H5Adelete(f, "method");
+    hid_t t = H5Tcopy(H5T_C_S1), sp = H5Screate(H5S_SCALAR);
+    H5Tset_size(t, H5T_VARIABLE);
+    hid_t a = H5Acreate2(f, "method", t, sp, H5P_DEFAULT, H5P_DEFAULT);
+    H5Awrite(a, t, &method);
+    H5Aclose(a), H5Sclose(sp), H5Tclose(t), H5Fclose(f);
+    try {
+      read_checkpoint(odd);
+      ADD_FAILURE() << method;
+    } catch (const InputError& e) {
+      const std::string m = e.what();
+      EXPECT_NE(m.find("attribute 'method' = \"" + std::string(method) + "\" is not a time integrator"),
+                std::string::npos)
+          << m;
+    }
   }
 }
 
