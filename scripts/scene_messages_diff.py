@@ -124,6 +124,7 @@ def main():
     ap.add_argument("new")
     ap.add_argument("--show", type=int, default=10, help="differences to print in full")
     a = ap.parse_args()
+    a.old, a.new = (str(Path(p).resolve()) for p in (a.old, a.new))  # each check runs in the scene's folder
     with tempfile.TemporaryDirectory() as tmp:
         folder = Path(tmp)
         scenes = made_scenes(folder)
@@ -151,7 +152,9 @@ def main():
                     diffs.append((vname, sets, old, new))
         print(f"{n} scenes ({errors} refused by the old build): {same} the same, {len(diffs)} differ")
         for vname, sets, old, new in diffs[:a.show]:
-            print(f"--- {vname} {sets}\nold ({old[0]}): {old[2] or old[1][:300]}\nnew ({new[0]}): {new[2] or new[1][:300]}")
+            print(f"--- {vname} {sets}")
+            for label, (code, out, err) in (("old", old), ("new", new)):
+                print(f"{label} ({code}): {err or out[:300]}")
         return 0 if not diffs else 1
 
 
