@@ -29,6 +29,18 @@ namespace {
 
 struct Stop {};  // thrown by the test's save hook to end the first half
 
+// A small valid checkpoint (not of any scene), for the file-level tests.
+Checkpoint small_checkpoint(TimeMethod method) {
+  Checkpoint c;
+  c.scene = "s";
+  c.method = method;
+  c.integrator.dt_next = 0.1;
+  c.integrator.y = c.integrator.f = {1.0, 2.0};
+  c.next_frame = 1;
+  c.E0 = 1.0;
+  return c;
+}
+
 Scene scene_for(const std::string& time) {
   Scene sc = rodtest::twisted_wave_scene(24, "p", "plus", 0.5);
   sc.solver.time = *from_string<TimeMethod>(time);
@@ -159,13 +171,7 @@ TEST(ReliabilityCheckpoint, InterruptedWriteKeepsThePreviousCheckpoint) {
   // published checkpoint is the previous one and still reads.
   TempDir dir;
   const std::string file = (dir.path / "x.ckpt").string();
-  Checkpoint c;
-  c.scene = "s";
-  c.method = TimeMethod::rk4;
-  c.integrator.dt_next = 0.1;
-  c.integrator.y = c.integrator.f = {1.0, 2.0};
-  c.next_frame = 1;
-  c.E0 = 1.0;
+  Checkpoint c = small_checkpoint(TimeMethod::rk4);
   write_checkpoint(file, c);
   { std::ofstream(file + ".tmp") << "half a checkpoint"; }
   EXPECT_EQ(read_checkpoint(file).integrator.y, c.integrator.y);
@@ -194,13 +200,7 @@ TEST(ReliabilityCheckpoint, DamagedOrMissingCheckpointNamesTheFile) {
   }
   // A method that is no time integrator (the file holds solver.time's spelling).
   const std::string odd = (dir.path / "odd.ckpt").string();
-  Checkpoint c;
-  c.scene = "s";
-  c.method = TimeMethod::dopri5;
-  c.integrator.dt_next = 0.1;
-  c.integrator.y = c.integrator.f = {1.0, 2.0};
-  c.next_frame = 1;
-  c.E0 = 1.0;
+  Checkpoint c = small_checkpoint(TimeMethod::dopri5);
   write_checkpoint(odd, c);
   EXPECT_EQ(read_checkpoint(odd).method, TimeMethod::dopri5);  // control: the file as written reads
   for (const char* method : {"euler", "auto"}) {
