@@ -36,7 +36,7 @@ struct Setup {
     rod.points = static_cast<int>(N);
     rod.Gamma0 = {0.0, 0.0, 1.0};
     rod.Omega0 = {0.0, 0.0, 1.0};
-    op = rodcore::make_derivative_operator(space, N, rod.length);
+    op = rodcore::make_derivative_operator(*rodcore::from_string<rodcore::SpaceMethod>(space), N, rod.length);
     rhs = std::make_unique<rodcore::RodRHS>(rod, mat, *op);
     rodcore::analytic::TwistedWave w;
     w.A = 0.3;
@@ -89,7 +89,7 @@ void Step(benchmark::State& state, const char* space) {
   // A step well inside the stability region at every N (the step size does
   // not change the cost of a step).
   io.dt = 0.5 / s.op->max_wavenumber();
-  auto integ = rodcore::make_time_integrator("dop853", sys, io);
+  auto integ = rodcore::make_time_integrator(rodcore::TimeMethod::dop853, sys, io);
   for (auto _ : state) {
     state.PauseTiming();
     integ->reset(0.0, s.y.data());
@@ -112,7 +112,8 @@ void PlanarRun(benchmark::State& state, const char* space, bool reduced) {
   rod.Gamma0 = {0.0, 0.0, 1.0};
   rod.Omega0 = {0.0, 0.0, 0.0};
   rodcore::Material mat;
-  auto op = rodcore::make_derivative_operator(space, N, rod.length);
+  auto op =
+      rodcore::make_derivative_operator(*rodcore::from_string<rodcore::SpaceMethod>(space), N, rod.length);
   rodcore::RodRHS rhs(rod, mat, *op);
   rodcore::analytic::UntwistedWave w;
   w.eps = 0.5;
@@ -140,7 +141,7 @@ void PlanarRun(benchmark::State& state, const char* space, bool reduced) {
   io.dt = 0.01;
   long steps = 0;
   for (auto _ : state) {
-    auto integ = rodcore::make_time_integrator("dop853", sys, io);
+    auto integ = rodcore::make_time_integrator(rodcore::TimeMethod::dop853, sys, io);
     integ->reset(0.0, start.data());
     while (integ->t() < 10.0) integ->step(10.0);
     steps = integ->steps();

@@ -4,6 +4,7 @@
 //              [--checkpoint-every SECONDS] [--resume]
 //   rodsim check SCENE.toml [--set ...]     validate and print the resolved scene
 //   rodsim kinds                            list initial-condition kinds and parameters
+//   rodsim --version                        version and git revision (as every output file records)
 //
 // Exit status: 0 ok, 2 bad input (scene, IC file, arguments), 3 numerical
 // error (the frames written before it stay readable in OUT.h5, complete = 0),
@@ -30,6 +31,7 @@
 #include "rodcore/initial_conditions.hpp"  // kinds (internal: rodsim is part of rodcore)
 #include "rodcore/scene_io.hpp"
 #include "rodcore/simulation.hpp"
+#include "rodcore/version.hpp"
 #include "signals.hpp"
 
 namespace {
@@ -171,6 +173,11 @@ int main(int argc, char** argv) {
       "130/143 stopped by SIGINT/SIGTERM after writing the checkpoint OUT.h5.ckpt (continue with --resume)."};
   app.require_subcommand(1);
   app.set_help_all_flag("--help-all", "Help for every subcommand");
+  // The same two values every output file records (attributes rodcore_version, git_revision).
+  app.set_version_flag(
+      "--version",
+      std::string("rodsim ") + rodcore::kRodcoreVersion + " (git revision " + rodcore::git_revision() + ")",
+      "Print the version and the git revision, as every output file records them");
 
   std::string scene_path, out_path;
   std::vector<std::string> sets;

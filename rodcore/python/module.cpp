@@ -215,7 +215,7 @@ Resolved resolve(const py::object& scene, const py::object& initial, const std::
     throw InputError(src.label + ": rod.points = " + std::to_string(probe.rod.points) +
                      " but the initial arrays have N = " + std::to_string(N) + " points");
   probe.initial = Initial{};
-  probe.initial.kind = "file";
+  probe.initial.kind = InitialKind::file;
   probe.initial.path = kArraysNote;
   return {std::move(probe), std::move(state)};
 }
@@ -260,7 +260,7 @@ py::dict run(const py::object& scene, const py::object& initial, const std::vect
     sim.add_observer(std::make_shared<H5Writer>(
         py::module_::import("os").attr("fspath")(output).cast<std::string>(), sc, s));
 
-  auto on_frame = [&](const Frame& fr) {
+  auto collect = [&](const Frame& fr) {
     time.push_back(fr.t);
     if (sc.output.internal)
       for (int f = 0; f < kFields; ++f)
@@ -275,10 +275,11 @@ py::dict run(const py::object& scene, const py::object& initial, const std::vect
       directors.insert(directors.end(), fr.directors, fr.directors + 9 * N);
   };
 
+  sim.add_observer(on_frame(collect));
   RunSummary sum;
   {
     py::gil_scoped_release release;  // the integration touches no Python object
-    sum = sim.run(on_frame);         // a NumericalError marks the file failed (H5Writer::failed)
+    sum = sim.run();                 // a NumericalError marks the file failed (H5Writer::failed)
   }
 
   const auto T = static_cast<py::ssize_t>(time.size());
@@ -300,7 +301,7 @@ py::dict run(const py::object& scene, const py::object& initial, const std::vect
   if (sc.output.centerline) out["centerline"] = array(centerline, {T, n, 3});
   if (sc.output.directors) out["directors"] = array(directors, {T, n, 3, 3});
   out["summary"] = summary_dict(sum);
-  Scene as_run = sim.scene();  // solver.space/time as resolved from "auto"
+  Scene as_run = sim.scene();  // solver.space/time as resolved from automatic
   as_run.initial.path = sc.initial.path;
   out["scene"] = scene_to_toml(as_run);
   out["scales"] = scales_dict();

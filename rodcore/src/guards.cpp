@@ -124,9 +124,11 @@ void validate_run_settings(const Scene& sc) {
   if (sc.output.frames < 1) throw InputError(sc.source + ": output.frames must be >= 1");
   if (!(sc.output.t_end >= 0.0) || !std::isfinite(sc.output.t_end))
     throw InputError(sc.source + ": output.t_end must be >= 0 and finite");
-  if (sc.solver.reduce != "auto" && sc.solver.reduce != "off")
-    throw InputError(sc.source + ": solver.reduce = \"" + sc.solver.reduce +
-                     "\" is not known; allowed: \"auto\", \"off\"");
+  // A scene built in code may hold an enum value cast from a bad integer.
+  for (const std::string& bad :
+       {invalid_choice("solver.space", sc.solver.space), invalid_choice("solver.time", sc.solver.time),
+        invalid_choice("solver.reduce", sc.solver.reduce), invalid_choice("initial.kind", sc.initial.kind)})
+    if (!bad.empty()) throw InputError(sc.source + ": " + bad);
 }
 
 void check_initial_finite(const Scene& sc, const std::vector<double>& y, const std::vector<double>& s) {

@@ -513,19 +513,22 @@ void TimeIntegrator::hermite(double t, double* out) const {
   }
 }
 
-const std::vector<std::string>& time_integrator_kinds() {
-  static const std::vector<std::string> kinds{"rk4", "rk4-doubling", "dopri5", "dop853"};
-  return kinds;
-}
-
-std::unique_ptr<TimeIntegrator> make_time_integrator(const std::string& kind, OdeSystem system,
+std::unique_ptr<TimeIntegrator> make_time_integrator(TimeMethod kind, OdeSystem system,
                                                      const IntegratorOptions& options) {
-  if (kind == "rk4") return std::make_unique<RK4>(std::move(system), options);
-  if (kind == "rk4-doubling") return std::make_unique<RK4Doubling>(std::move(system), options);
-  if (kind == "dopri5") return std::make_unique<Dopri5>(std::move(system), options);
-  if (kind == "dop853") return std::make_unique<Dop853>(std::move(system), options);
-  throw InputError("solver.time = \"" + kind +
-                   "\" is not known; allowed: \"rk4\", \"rk4-doubling\", \"dopri5\", \"dop853\"");
+  switch (kind) {
+    case TimeMethod::rk4:
+      return std::make_unique<RK4>(std::move(system), options);
+    case TimeMethod::rk4_doubling:
+      return std::make_unique<RK4Doubling>(std::move(system), options);
+    case TimeMethod::dopri5:
+      return std::make_unique<Dopri5>(std::move(system), options);
+    case TimeMethod::dop853:
+      return std::make_unique<Dop853>(std::move(system), options);
+    case TimeMethod::automatic:
+      break;
+  }
+  throw InputError("solver.time = \"" + to_string(kind) +
+                   "\" is not a time integrator; allowed: \"rk4\", \"rk4-doubling\", \"dopri5\", \"dop853\"");
 }
 
 }  // namespace rodcore

@@ -131,20 +131,21 @@ class Spectral final : public DerivativeOperator {
 
 }  // namespace
 
-std::unique_ptr<DerivativeOperator> make_derivative_operator(const std::string& kind, std::size_t N, double L,
+std::unique_ptr<DerivativeOperator> make_derivative_operator(SpaceMethod kind, std::size_t N, double L,
                                                              bool dealias) {
   if (!(L > 0.0) || !std::isfinite(L))
     throw InputError("derivative operator: rod length must be positive and finite, got " + std::to_string(L));
-  if (kind == "fd4") {
+  if (kind == SpaceMethod::fd4) {
     if (N < 5) throw InputError("solver.space = \"fd4\" needs rod.points >= 5, got " + std::to_string(N));
     return std::make_unique<FD4>(N, L);
   }
-  if (kind == "spectral") {
+  if (kind == SpaceMethod::spectral) {
     if (N < 4)
       throw InputError("solver.space = \"spectral\" needs rod.points >= 4, got " + std::to_string(N));
     return std::make_unique<Spectral>(N, L, dealias);
   }
-  throw InputError("solver.space = \"" + kind + "\" is not known; allowed: \"fd4\", \"spectral\"");
+  throw InputError("solver.space = \"" + to_string(kind) +
+                   "\" is not a derivative operator; allowed: \"fd4\", \"spectral\"");
 }
 
 }  // namespace rodcore

@@ -31,8 +31,8 @@ const char* planar_name(Planar p) { return p == Planar::omega2 ? "omega2" : "ome
 // (analytic) fields; O(N^-1/2) or more for a jump or grid-scale noise.
 double spectral_tail(const Scene& sc, const std::vector<double>& y) {
   const std::size_t N = static_cast<std::size_t>(sc.rod.points);
-  const auto full = make_derivative_operator("spectral", N, sc.rod.length, false);
-  const auto cut = make_derivative_operator("spectral", N, sc.rod.length, true);
+  const auto full = make_derivative_operator(SpaceMethod::spectral, N, sc.rod.length, false);
+  const auto cut = make_derivative_operator(SpaceMethod::spectral, N, sc.rod.length, true);
   std::vector<double> a(12 * N), b(12 * N);
   full->apply(y.data(), a.data(), 12);
   cut->apply(y.data(), b.data(), 12);
@@ -49,42 +49,30 @@ double spectral_tail(const Scene& sc, const std::vector<double>& y) {
 // FD4 takes about half the steps of spectral at the same tolerance).
 constexpr double kSmoothTail = 1e-6;
 
-// solver.space / solver.time = "auto" -> the measured default
+// solver.space / solver.time = automatic -> the measured default
 // (docs/performance.md, "Default method rule"); `note` says what and why.
 void resolve_method(Scene& sc, const std::vector<double>& y0, std::string& note) {
-  std::string why_space = "solver.space = \"" + sc.solver.space + "\" as given";
-  if (sc.solver.space == "auto") {
+  std::string why_space = "solver.space = \"" + to_string(sc.solver.space) + "\" as given";
+  if (sc.solver.space == SpaceMethod::automatic) {
     if (sc.solver.dealias || sc.rod.points < 5) {
-      sc.solver.space = "spectral";
+      sc.solver.space = SpaceMethod::spectral;
       why_space = sc.solver.dealias ? "spectral (auto: solver.dealias asks for it)"
                                     : "spectral (auto: fd4 needs at least 5 points)";
     } else {
       const double tail = spectral_tail(sc, y0);
-      sc.solver.space = tail > kSmoothTail ? "fd4" : "spectral";
-      why_space = sc.solver.space + " (auto: high-wavenumber content of the initial fields " + num(tail) +
-                  (tail > kSmoothTail ? " > " : " <= ") + num(kSmoothTail) +
+      sc.solver.space = tail > kSmoothTail ? SpaceMethod::fd4 : SpaceMethod::spectral;
+      why_space = to_string(sc.solver.space) + " (auto: high-wavenumber content of the initial fields " +
+                  num(tail) + (tail > kSmoothTail ? " > " : " <= ") + num(kSmoothTail) +
                   (tail > kSmoothTail ? ", non-smooth)" : ", smooth)");
     }
   }
-  std::string why_time = "solver.time = \"" + sc.solver.time + "\" as given";
-  if (sc.solver.time == "auto") {
-    sc.solver.time = "dop853";
+  std::string why_time = "solver.time = \"" + to_string(sc.solver.time) + "\" as given";
+  if (sc.solver.time == TimeMethod::automatic) {
+    sc.solver.time = TimeMethod::dop853;
     why_time = "dop853 (auto: the fastest at errors <= 1e-6 in the benchmarks)";
   }
   note = why_space + "; " + why_time;
 }
-
-// An observer made of plain functions (Simulation::run's handlers).
-struct FunctionObserver : Observer {
-  std::function<void(const Frame&)> on_frame;
-  std::function<void()> on_stepped;
-  void frame(const Simulation&, const Frame& f) override {
-    if (on_frame) on_frame(f);
-  }
-  void stepped(const Simulation&) override {
-    if (on_stepped) on_stepped();
-  }
-};
 
 }  // namespace
 
@@ -228,7 +216,7 @@ Simulation::Simulation(const Scene& scene, InitialState initial) : impl_(std::ma
     d.y0.insert(d.y0.end(), initial.q0.begin(), initial.q0.end());
     d.y0.insert(d.y0.end(), initial.r0.begin(), initial.r0.end());
   }
-  if (sc.solver.reduce == "off") {
+  if (sc.solver.reduce == Reduction::off) {
     d.reduce_note = "full system (solver.reduce = \"off\")";
   } else if (!planar_reduction_allowed(sc.rod)) {
     d.reduce_note = "full system: the intrinsic shape is not uniform Gamma0 = (0, 0, G03), Omega0 = 0";
@@ -244,12 +232,6 @@ Simulation::Simulation(const Scene& scene, InitialState initial) : impl_(std::ma
     d.reduce_note = std::string("reduced planar system (") + planar_name(*d.planar) +
                     " polarisation, 6 of 12 rows; paper Sec 4.1)";
   }
-  // Make sure the integrator kind is known now (InputError), not in run().
-  bool known = false;
-  for (const auto& k : time_integrator_kinds()) known = known || k == sc.solver.time;
-  if (!known)
-    throw InputError(sc.source + ": solver.time = \"" + sc.solver.time +
-                     "\" is not known; allowed: \"rk4\", \"rk4-doubling\", \"dopri5\", \"dop853\"");
   // The scene's [checks], as the first observers (guards.hpp).
   for (auto& g : make_guards(sc, d.s)) d.observers.push_back(std::move(g));
 }
@@ -267,8 +249,9 @@ void Simulation::resume_from(const Checkpoint& c) {
   if (d.started)
     throw InputError(d.scene.source + ": resume_from() must come before the first step_to()/run()");
   if (c.method != d.scene.solver.time)
-    throw InputError(d.scene.source + ": the checkpoint was made with solver.time = \"" + c.method +
-                     "\", the scene asks for \"" + d.scene.solver.time + "\"");
+    throw InputError(d.scene.source + ": the checkpoint was made with solver.time = \"" +
+                     to_string(c.method) + "\", the scene asks for \"" + to_string(d.scene.solver.time) +
+                     "\"");
   if (!c.reduced.empty() &&
       (!planar_reduction_allowed(d.scene.rod) || d.rhs->material_field().kind == MaterialKind::per_point ||
        !planar_material_coupling(d.rhs->material_field(),
@@ -315,7 +298,7 @@ void Simulation::rhs(const double* y, double* dydt) const { (*impl_->rhs)(y, dyd
 void Simulation::Impl::start(const Simulation& self) {
   const Scene& sc = scene;
   started = true;
-  summary.method = op->name() + "+" + sc.solver.time;
+  summary.method = op->name() + "+" + to_string(sc.solver.time);
 
   // Explicit fixed step: RK4 is stable on the imaginary axis up to
   // |lambda dt| = 2 sqrt 2 ~ 2.83; we allow 2.8 (1 % margin). For a uniform
@@ -326,7 +309,7 @@ void Simulation::Impl::start(const Simulation& self) {
   // (c_max the largest characteristic speed over the points, material.hpp; it
   // leaves out the lower-order terms, which raised the true radius by up to
   // 1.6x on the DNA rod).
-  if (sc.solver.time == "rk4") {
+  if (sc.solver.time == TimeMethod::rk4) {
     const bool uniform = sc.rod.Gamma0_s.empty() && sc.rod.Omega0_s.empty() &&
                          rhs->material_field().kind != MaterialKind::per_point;
     const double lambda = uniform ? linear_spectral_radius(*rhs) : wave_speed() * op->max_wavenumber();
@@ -518,27 +501,30 @@ RunSummary Simulation::summary() const {
   return s;
 }
 
-RunSummary Simulation::run(const FrameHandler& on_frame, const ProgressHandler& progress) {
+RunSummary Simulation::run() {
   Impl& d = *impl_;
-  std::shared_ptr<FunctionObserver> handlers;
-  if (on_frame || progress) {
-    handlers = std::make_shared<FunctionObserver>();
-    handlers->on_frame = on_frame;
-    if (progress)
-      handlers->on_stepped = [this, progress] { progress(impl_->integ->t(), impl_->scene.output.t_end); };
-    d.observers.push_back(handlers);
-  }
-  struct Remove {  // the handlers live for this call only
-    Impl& d;
-    const std::shared_ptr<FunctionObserver>& h;
-    ~Remove() {
-      if (h) d.observers.erase(std::remove(d.observers.begin(), d.observers.end(), h), d.observers.end());
-    }
-  } remove{d, handlers};
   step_to(std::max(d.t, d.frame_time(d.scene.output.frames - 1)));
   const RunSummary s = summary();
   for (auto& o : d.observers) o->finished(*this, s);
   return s;
+}
+
+// Deprecated shim: the handlers as observers (observer.hpp) for this call only.
+RunSummary Simulation::run(const FrameHandler& frame_handler, const ProgressHandler& progress) {
+  Impl& d = *impl_;
+  std::vector<std::shared_ptr<Observer>> handlers;
+  if (frame_handler) handlers.push_back(on_frame(frame_handler));
+  if (progress) handlers.push_back(on_progress(progress));
+  for (auto& h : handlers) d.observers.push_back(h);
+  struct Remove {
+    Impl& d;
+    const std::vector<std::shared_ptr<Observer>>& handlers;
+    ~Remove() {
+      for (const auto& h : handlers)
+        d.observers.erase(std::remove(d.observers.begin(), d.observers.end(), h), d.observers.end());
+    }
+  } remove{d, handlers};
+  return run();
 }
 
 Checkpoint Simulation::run_point() const {

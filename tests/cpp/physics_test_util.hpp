@@ -23,7 +23,7 @@ inline rodcore::Scene twisted_wave_scene(int N, const std::string& kappa, const 
   sc.rod.points = N;
   sc.rod.Gamma0 = {0.0, 0.0, 1.0};
   sc.rod.Omega0 = {0.0, 0.0, 1.0};
-  sc.initial.kind = "twisted_wave";
+  sc.initial.kind = rodcore::InitialKind::twisted_wave;
   sc.initial.numbers = {{"mode", 1.0}, {"A", A}};
   sc.initial.strings = {{"kappa", kappa}, {"branch", branch}};
   return sc;
@@ -42,14 +42,15 @@ struct RunResult {
 inline RunResult run_scene(const rodcore::Scene& sc) {
   RunResult r;
   rodcore::Simulation sim(sc);
-  r.summary = sim.run([&](const rodcore::Frame& f) {
+  sim.add_observer(rodcore::on_frame([&](const rodcore::Frame& f) {
     r.t.push_back(f.t);
     r.y.emplace_back(f.y, f.y + 12 * f.N);
     if (f.energy) r.energy.push_back(*f.energy);
     if (f.centerline) r.centerline.emplace_back(f.centerline, f.centerline + 3 * f.N);
     if (f.directors) r.directors.emplace_back(f.directors, f.directors + 9 * f.N);
     r.norm_error.push_back(f.max_director_norm_error);
-  });
+  }));
+  r.summary = sim.run();
   return r;
 }
 

@@ -54,8 +54,8 @@ struct Recorder : Observer {
 
 Scene wave(double t_end = 1.0, int frames = 6) {
   Scene sc = rodtest::twisted_wave_scene(32, "p", "plus", 0.3);
-  sc.solver.space = "spectral";
-  sc.solver.time = "dop853";
+  sc.solver.space = SpaceMethod::spectral;
+  sc.solver.time = TimeMethod::dop853;
   sc.output.t_end = t_end;
   sc.output.frames = frames;
   sc.output.energy = true;
@@ -128,7 +128,7 @@ TEST(ApiObservers, AFailedCheckStopsBeforeTheFrameReachesTheUser) {
 
 TEST(ApiObservers, FoldingIsCaughtAfterTheStep) {
   Scene sc = wave();
-  sc.initial.kind = "rest";
+  sc.initial.kind = InitialKind::rest;
   sc.initial.numbers.clear();
   sc.initial.strings.clear();
   const std::size_t N = 32;
@@ -153,4 +153,76 @@ TEST(ApiObservers, GivenInitialStateOfTheWrongSizeIsAnInputError) {
   InitialState init;
   init.y.assign(5, 0.0);
   EXPECT_THROW(Simulation(wave(), init), InputError);
+}
+
+// The old calls are thin shims over the observers (kept for one release):
+// run(on_frame, progress) and set_checkpoint_hooks() must give what the
+// observers give, call for call.
+TEST(ApiObservers, DeprecatedShimsGiveWhatTheObserversGive) {
+  struct Stop {};
+  struct Seen {
+    std::vector<std::vector<double>> frames;
+    std::vector<double> progress_t;
+    std::vector<double> checkpoint_t;
+    RunSummary summary;
+  };
+  const int stop_at = 7;  // the checkpoint after the 7th step ends the first run
+  auto observed = [&] {
+    Seen seen;
+    {
+      Simulation sim(wave());
+      int calls = 0;
+      sim.add_observer(std::make_shared<CheckpointObserver>([&] { return ++calls == stop_at; },
+                                                            [&](const Checkpoint& c) {
+                                                              seen.checkpoint_t.push_back(c.integrator.t);
+                                                              throw Stop{};
+                                                            }));
+      EXPECT_THROW(sim.run(), Stop);
+    }
+    Simulation sim(wave());
+    sim.add_observer(on_frame([&](const Frame& f) { seen.frames.emplace_back(f.y, f.y + 12 * f.N); }));
+    sim.add_observer(on_progress([&](double t, double t_end) {
+      EXPECT_EQ(t_end, 1.0);
+      seen.progress_t.push_back(t);
+    }));
+    seen.summary = sim.run();
+    return seen;
+  };
+  auto shims = [&] {
+    Seen seen;
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wdeprecated-declarations"
+    {
+      Simulation sim(wave());
+      int calls = 0;
+      sim.set_checkpoint_hooks({[&] { return ++calls == stop_at; },
+                                [&](const Checkpoint& c) {
+                                  seen.checkpoint_t.push_back(c.integrator.t);
+                                  throw Stop{};
+                                }});
+      EXPECT_THROW(sim.run(), Stop);
+    }
+    Simulation sim(wave());
+    seen.summary = sim.run([&](const Frame& f) { seen.frames.emplace_back(f.y, f.y + 12 * f.N); },
+                           [&](double t, double t_end) {
+                             EXPECT_EQ(t_end, 1.0);
+                             seen.progress_t.push_back(t);
+                           });
+    // The handlers lived for that call only: a second run() calls none of them.
+    const std::size_t frames = seen.frames.size(), progress = seen.progress_t.size();
+    sim.run();
+    EXPECT_EQ(seen.frames.size(), frames);
+    EXPECT_EQ(seen.progress_t.size(), progress);
+#pragma GCC diagnostic pop
+    return seen;
+  };
+  const Seen a = observed(), b = shims();
+  ASSERT_EQ(a.frames.size(), 6u);
+  EXPECT_TRUE(a.frames == b.frames);
+  ASSERT_EQ(a.progress_t.size(), static_cast<std::size_t>(a.summary.steps));
+  EXPECT_TRUE(a.progress_t == b.progress_t);
+  ASSERT_EQ(a.checkpoint_t.size(), 1u);
+  EXPECT_EQ(a.checkpoint_t, b.checkpoint_t);
+  EXPECT_EQ(a.summary.steps, b.summary.steps);
+  EXPECT_GT(a.checkpoint_t[0], 0.0);
 }

@@ -37,7 +37,7 @@ Scene small_scene(bool everything) {
   sc.output.energy_parts = everything;
   sc.output.centerline = everything;
   sc.output.directors = everything;
-  sc.initial.kind = "rest";
+  sc.initial.kind = InitialKind::rest;
   sc.initial.numbers["v1"] = 0.25;
   return sc;
 }

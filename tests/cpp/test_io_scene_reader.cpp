@@ -71,15 +71,15 @@ TEST(IoSceneReader, MinimalSceneGetsTheDocumentedDefaults) {
   EXPECT_EQ(sc.rod.Gamma0, def.rod.Gamma0);
   EXPECT_EQ(sc.material.C, def.material.C);
   EXPECT_EQ(sc.material.D, def.material.D);
-  EXPECT_EQ(sc.solver.space, "auto");  // resolved per scene by Simulation
-  EXPECT_EQ(sc.solver.time, "auto");
+  EXPECT_EQ(sc.solver.space, SpaceMethod::automatic);  // resolved per scene by Simulation
+  EXPECT_EQ(sc.solver.time, TimeMethod::automatic);
   EXPECT_EQ(sc.solver.time, def.solver.time);
   EXPECT_EQ(sc.solver.rtol, def.solver.rtol);
   EXPECT_EQ(sc.output.frames, def.output.frames);
-  EXPECT_EQ(sc.initial.kind, "rest");
+  EXPECT_EQ(sc.initial.kind, InitialKind::rest);
   EXPECT_EQ(sc.source, "scene.toml");
   // Every declared parameter of the kind is filled in, and nothing else.
-  const auto& kind = initial_kind("rest");
+  const auto& kind = initial_kind_spec(InitialKind::rest);
   EXPECT_EQ(sc.initial.numbers.size(), kind.numbers.size());
   for (const auto& p : kind.numbers) EXPECT_EQ(sc.initial.numbers.at(p.name), p.default_value) << p.name;
 }
@@ -118,7 +118,7 @@ fields = ["internal", "energy"]
   EXPECT_EQ(sc.rod.points, 48);
   EXPECT_EQ(sc.rod.Omega0, (Vec3{0, 0, 1}));
   EXPECT_EQ(sc.material.D, (Vec3{1.21, 1.21, 2.0207}));
-  EXPECT_EQ(sc.initial.kind, "file");
+  EXPECT_EQ(sc.initial.kind, InitialKind::file);
   EXPECT_EQ(fs::path(sc.initial.path), fs::absolute(dir.path / "ic.h5").lexically_normal());
   EXPECT_EQ(sc.solver.rtol, 1e-11);
   EXPECT_EQ(sc.output.frames, 3);
@@ -379,7 +379,7 @@ TEST(IoSceneReader, OverridesAreAppliedAndValidated) {
       kMinimal, "scene.toml", ".",
       {"solver.rtol=1e-8", "solver.space=fd4", "output.fields=[\"energy\"]", "rod.points=20"});
   EXPECT_EQ(sc.solver.rtol, 1e-8);
-  EXPECT_EQ(sc.solver.space, "fd4");
+  EXPECT_EQ(sc.solver.space, SpaceMethod::fd4);
   EXPECT_TRUE(sc.output.energy);
   EXPECT_FALSE(sc.output.internal);
   EXPECT_EQ(sc.rod.points, 20);

@@ -13,11 +13,12 @@ using namespace rodcore;
 
 TEST(AutoMethod, SmoothSceneGetsSpectralAndDop853) {
   Scene sc = rodtest::twisted_wave_scene(32, "p", "plus");
-  ASSERT_EQ(sc.solver.space, "auto");
-  ASSERT_EQ(sc.solver.time, "auto");
+  ASSERT_EQ(sc.solver.space, SpaceMethod::automatic);
+  ASSERT_EQ(sc.solver.time, TimeMethod::automatic);
   Simulation sim(sc);
-  EXPECT_EQ(sim.scene().solver.space, "spectral");
-  EXPECT_EQ(sim.scene().solver.time, "dop853");
+  EXPECT_EQ(sim.scene().solver.space, SpaceMethod::spectral);
+  EXPECT_EQ(sim.scene().solver.time, TimeMethod::dop853);
+  EXPECT_EQ(sim.given_scene().solver.space, SpaceMethod::automatic);
   sc.output.t_end = 0.1;
   const auto r = rodtest::run_scene(sc);
   EXPECT_EQ(r.summary.method, "spectral+dop853");
@@ -37,7 +38,7 @@ TEST(AutoMethod, JumpInTheInitialFieldsGetsFd4) {
     sc.rod.Gamma0_s[2 * 64 + i] = 1.0;
     sc.rod.Omega0_s[2 * 64 + i] = i < 32 ? 0.5 : 1.0;
   }
-  sc.initial.kind = "rest";
+  sc.initial.kind = InitialKind::rest;
   sc.output.t_end = 0.1;
   const auto r = rodtest::run_scene(sc);
   EXPECT_EQ(r.summary.method, "fd4+dop853");
@@ -50,8 +51,8 @@ TEST(AutoMethod, JumpInTheInitialFieldsGetsFd4) {
 
 TEST(AutoMethod, GivenMethodIsKept) {
   Scene sc = rodtest::twisted_wave_scene(32, "p", "plus");
-  sc.solver.space = "fd4";
-  sc.solver.time = "rk4";
+  sc.solver.space = SpaceMethod::fd4;
+  sc.solver.time = TimeMethod::rk4;
   sc.solver.dt = 1e-3;
   sc.output.t_end = 0.01;
   const auto r = rodtest::run_scene(sc);

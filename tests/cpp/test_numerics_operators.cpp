@@ -18,7 +18,7 @@ namespace {
 // f = exp(sin s) on L = 2 pi, f' = cos(s) exp(sin s)
 double deriv_error(const std::string& kind, int N) {
   const double L = 2.0 * kPi;
-  auto op = make_derivative_operator(kind, N, L);
+  auto op = make_derivative_operator(*from_string<SpaceMethod>(kind), N, L);
   std::vector<double> f(N), df(N);
   for (int i = 0; i < N; ++i) f[i] = std::exp(std::sin(i * L / N));
   op->apply(f.data(), df.data(), 1);
@@ -51,8 +51,8 @@ TEST(NumericsOperators, SpectralConvergesExponentially) {
 TEST(NumericsOperators, SpectralExactForResolvedModesNyquistZeroDealias) {
   const int N = 24;
   const double L = 3.0;
-  auto op = make_derivative_operator("spectral", N, L);
-  auto opd = make_derivative_operator("spectral", N, L, true);
+  auto op = make_derivative_operator(SpaceMethod::spectral, N, L);
+  auto opd = make_derivative_operator(SpaceMethod::spectral, N, L, true);
   std::vector<double> f(2 * N), df(2 * N), dfd(2 * N);
   for (int m : {1, 5, 8, 11, 12}) {
     const double k = 2 * kPi * m / L;
@@ -88,7 +88,7 @@ TEST(NumericsOperators, SkewSymmetric) {
   for (const char* kind : {"fd4", "spectral"}) {
     for (bool dealias : {false, true}) {
       const int N = 30;
-      auto op = make_derivative_operator(kind, N, 2.5, dealias);
+      auto op = make_derivative_operator(*from_string<SpaceMethod>(kind), N, 2.5, dealias);
       std::vector<double> u(N), v(N), du(N), dv(N);
       for (int i = 0; i < N; ++i) {
         u[i] = nd(gen);
@@ -110,7 +110,7 @@ TEST(NumericsOperators, SkewSymmetric) {
 TEST(NumericsOperators, FD4MaxWavenumberIsTheSymbolMaximum) {
   const int N = 2000;
   const double L = 1.0, h = L / N;
-  auto op = make_derivative_operator("fd4", N, L);
+  auto op = make_derivative_operator(SpaceMethod::fd4, N, L);
   double m = 0.0;
   for (int j = 0; j <= N / 2; ++j) {
     const double th = 2 * kPi * j / N;
@@ -121,7 +121,8 @@ TEST(NumericsOperators, FD4MaxWavenumberIsTheSymbolMaximum) {
 }
 
 TEST(NumericsOperators, BadKindOrSize) {
-  EXPECT_THROW(make_derivative_operator("fd2", 16, 1.0), InputError);
-  EXPECT_THROW(make_derivative_operator("fd4", 4, 1.0), InputError);
-  EXPECT_THROW(make_derivative_operator("spectral", 16, -1.0), InputError);
+  EXPECT_THROW(make_derivative_operator(SpaceMethod::automatic, 16, 1.0), InputError);
+  EXPECT_THROW(make_derivative_operator(static_cast<SpaceMethod>(99), 16, 1.0), InputError);
+  EXPECT_THROW(make_derivative_operator(SpaceMethod::fd4, 4, 1.0), InputError);
+  EXPECT_THROW(make_derivative_operator(SpaceMethod::spectral, 16, -1.0), InputError);
 }

@@ -42,7 +42,7 @@ TEST(PhysicsConvergence, FD4InSpaceIsFourthOrder) {
   std::vector<double> orders;
   for (int N : {16, 32, 64}) {
     Scene sc = twisted_wave_scene(N, "p", "plus", 0.5);
-    sc.solver.space = "fd4";
+    sc.solver.space = SpaceMethod::fd4;
     sc.solver.rtol = sc.solver.atol = 1e-13;
     const double e = wave_error(sc, 1.0);
     if (prev > 0) orders.push_back(std::log2(prev / e));
@@ -55,7 +55,7 @@ TEST(PhysicsConvergence, RK4InTimeIsFourthOrder) {
   std::vector<double> e;
   for (double dt : {0.02, 0.01, 0.005}) {
     Scene sc = twisted_wave_scene(16, "m", "plus", 0.5);
-    sc.solver.time = "rk4";
+    sc.solver.time = TimeMethod::rk4;
     sc.solver.dt = dt;
     e.push_back(wave_error(sc, 2.0));
   }
@@ -71,7 +71,7 @@ TEST(PhysicsConvergence, SpectralErrorFallsExponentially) {
     sc.source = "<test>";
     sc.rod.length = 2 * kPi;
     sc.rod.points = N;
-    sc.initial.kind = "untwisted_wave";
+    sc.initial.kind = InitialKind::untwisted_wave;
     sc.initial.numbers = {{"mode", 1.0}, {"epsilon", 0.3}};
     sc.initial.strings = {{"branch", "plus"}};
     sc.solver.rtol = sc.solver.atol = 1e-13;
@@ -106,7 +106,7 @@ TEST(PhysicsConvergence, UntwistedWaveResidualIsThirdOrderInEps) {
     rod.length = 2 * kPi;
     rod.points = N;
     Material m;
-    auto op = make_derivative_operator("spectral", N, rod.length);
+    auto op = make_derivative_operator(SpaceMethod::spectral, N, rod.length);
     RodRHS rhs(rod, m, *op);
     w.D1 = m.D[0];
     w.C3 = m.C[2];

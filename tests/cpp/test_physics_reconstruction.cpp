@@ -53,7 +53,7 @@ TEST(PhysicsReconstruction, DnaPlanarCenterlineAtTimeZero) {
   auto error = [](int N) {
     Scene sc;
     sc.source = "<test>";
-    sc.initial.kind = "dna_planar";
+    sc.initial.kind = InitialKind::dna_planar;
     sc.initial.numbers = {{"A_A", 10.0}};
     sc.rod.points = N;
     sc.output.centerline = true;
@@ -66,7 +66,7 @@ TEST(PhysicsReconstruction, DnaPlanarCenterlineAtTimeZero) {
     EXPECT_NEAR(O3 * L, 2 * kPi * 15, 1e-12);
     const double A = 10.0 / dna_units::ell_A;
     double e = 0.0, ed = 0.0, norm = 0.0;
-    sim.run([&](const Frame& f) {
+    sim.add_observer(on_frame([&](const Frame& f) {
       norm = f.max_director_norm_error;
       for (std::size_t i = 0; i < f.N; ++i) {
         const double s = i * L / f.N;
@@ -79,7 +79,8 @@ TEST(PhysicsReconstruction, DnaPlanarCenterlineAtTimeZero) {
           ed = std::max(ed, std::abs(f.directors[9 * i + 3 * a + 2] - d3[a]));
         }
       }
-    });
+    }));
+    sim.run();
     EXPECT_LT(norm, 1e-13);
     return std::pair{e, ed};
   };
@@ -134,14 +135,16 @@ TEST(PhysicsReconstruction, ClosureOfRingAndStraightRod) {
   sc.source = "<test>";
   sc.rod.length = 2 * kPi;
   sc.rod.points = 32;
-  sc.initial.kind = "ring_rotating";
+  sc.initial.kind = InitialKind::ring_rotating;
   sc.output.centerline = true;
   sc.output.t_end = 2.0;
   double gap = 1.0, rot = 1.0;
-  Simulation(sc).run([&](const Frame& f) {
+  Simulation ring(sc);
+  ring.add_observer(on_frame([&](const Frame& f) {
     gap = std::hypot((*f.end_to_end)[0], (*f.end_to_end)[1], (*f.end_to_end)[2]);
     rot = *f.end_rotation;
-  });
+  }));
+  ring.run();
   EXPECT_LT(gap, 1e-12);
   EXPECT_LT(rot, 1e-12);
   Scene st;
@@ -152,8 +155,10 @@ TEST(PhysicsReconstruction, ClosureOfRingAndStraightRod) {
   st.output.directors = true;
   st.output.t_end = 0.0;
   st.output.frames = 1;
-  Simulation(st).run([&](const Frame& f) {
+  Simulation straight(st);
+  straight.add_observer(on_frame([&](const Frame& f) {
     EXPECT_NEAR((*f.end_to_end)[2], 3.0, 1e-12);
     EXPECT_NEAR(*f.end_rotation, 0.5 * kPi, 1e-12);
-  });
+  }));
+  straight.run();
 }

@@ -25,7 +25,7 @@ Scene twisted_shear_scene() {
   sc.rod.points = 32;
   sc.rod.Gamma0 = {0.0, 0.0, 1.0};
   sc.rod.Omega0 = {0.0, 0.0, 2.0};  // two turns over the rod
-  sc.initial.kind = "shear_oscillation";
+  sc.initial.kind = InitialKind::shear_oscillation;
   sc.initial.numbers = {{"omega2", 0.4}, {"Gamma1", 0.5}, {"Gamma3", 1.1}};
   sc.solver.rtol = sc.solver.atol = 1e-12;
   sc.output.t_end = 3.0;

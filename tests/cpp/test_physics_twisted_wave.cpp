@@ -74,7 +74,7 @@ TEST_P(TwistedWave, SatisfiesRhsToRoundOff) {
     sc.material.D = {1.21, 1.21, 2.0};  // D3, C3, I3 are free in the exact solution
     sc.material.C = {1.0, 1.0, 1.7};
     sc.material.I = {1.0, 1.0, 3.0};
-    auto op = make_derivative_operator(space, 32, sc.rod.length);
+    auto op = make_derivative_operator(*from_string<SpaceMethod>(space), 32, sc.rod.length);
     RodRHS rhs(sc.rod, sc.material, *op);
     const auto y = make_initial_state(sc);
     std::vector<double> f(y.size());
@@ -105,8 +105,8 @@ TEST_P(TwistedWave, OnePeriodSpectralDop853Within1e9) {
   const Branch br = GetParam();
   Scene sc = twisted_wave_scene(16, br.kappa, br.branch, 0.5);
   const auto w = wave_of(sc);
-  sc.solver.space = "spectral";
-  sc.solver.time = "dop853";
+  sc.solver.space = SpaceMethod::spectral;
+  sc.solver.time = TimeMethod::dop853;
   sc.solver.rtol = 1e-12;
   sc.solver.atol = 1e-12;
   sc.output.t_end = w.period();

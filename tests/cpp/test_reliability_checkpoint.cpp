@@ -5,6 +5,7 @@
 // reconstruction anchor (centerline, directors) and the energy-drift check.
 // The independent truth is the uninterrupted run of the same scene.
 #include <gtest/gtest.h>
+#include <hdf5.h>
 #include <unistd.h>
 
 #include <csignal>
@@ -28,9 +29,21 @@ namespace {
 
 struct Stop {};  // thrown by the test's save hook to end the first half
 
+// A small valid checkpoint (not of any scene), for the file-level tests.
+Checkpoint small_checkpoint(TimeMethod method) {
+  Checkpoint c;
+  c.scene = "s";
+  c.method = method;
+  c.integrator.dt_next = 0.1;
+  c.integrator.y = c.integrator.f = {1.0, 2.0};
+  c.next_frame = 1;
+  c.E0 = 1.0;
+  return c;
+}
+
 Scene scene_for(const std::string& time) {
   Scene sc = rodtest::twisted_wave_scene(24, "p", "plus", 0.5);
-  sc.solver.time = time;
+  sc.solver.time = *from_string<TimeMethod>(time);
   sc.solver.rtol = sc.solver.atol = 1e-11;
   sc.solver.dt = time == "rk4" ? 0.01 : 0.05;
   sc.output.t_end = 2.6;
@@ -63,7 +76,8 @@ TEST_P(CheckpointResume, ResumedRunIsBitwiseTheUninterruptedRun) {
 
   Frames whole;
   Simulation ref(sc);
-  const RunSummary ref_sum = ref.run([&](const Frame& f) { whole.add(f); });
+  ref.add_observer(on_frame([&](const Frame& f) { whole.add(f); }));
+  const RunSummary ref_sum = ref.run();
   ASSERT_EQ(whole.t.size(), 14u);
   ASSERT_GT(ref_sum.steps, 20) << "too few steps to stop in the middle";
 
@@ -74,20 +88,22 @@ TEST_P(CheckpointResume, ResumedRunIsBitwiseTheUninterruptedRun) {
     {
       Simulation first(sc);
       long calls = 0;
-      first.set_checkpoint_hooks({[&] { return ++calls == stop_at; },
-                                  [&](const Checkpoint& c) {
-                                    write_checkpoint(file, c);
-                                    throw Stop{};
-                                  }});
-      EXPECT_THROW(first.run([&](const Frame& f) { parts.add(f); }), Stop);
+      first.add_observer(std::make_shared<CheckpointObserver>([&] { return ++calls == stop_at; },
+                                                              [&](const Checkpoint& c) {
+                                                                write_checkpoint(file, c);
+                                                                throw Stop{};
+                                                              }));
+      first.add_observer(on_frame([&](const Frame& f) { parts.add(f); }));
+      EXPECT_THROW(first.run(), Stop);
     }
     const Checkpoint c = read_checkpoint(file);
     EXPECT_EQ(c.next_frame, static_cast<int>(parts.t.size()));
-    EXPECT_EQ(c.method, GetParam());
+    EXPECT_EQ(to_string(c.method), GetParam());
     EXPECT_NO_THROW(check_checkpoint_matches(c, sc, file));
     Simulation second(sc);
     second.resume_from(c);
-    const RunSummary sum = second.run([&](const Frame& f) { parts.add(f); });
+    second.add_observer(on_frame([&](const Frame& f) { parts.add(f); }));
+    const RunSummary sum = second.run();
 
     ASSERT_EQ(parts.t.size(), whole.t.size());
     for (std::size_t k = 0; k < whole.t.size(); ++k) {
@@ -117,7 +133,7 @@ TEST(ReliabilityCheckpoint, FileRoundTripIsExact) {
   const std::string file = (dir.path / "x.ckpt").string();
   Checkpoint c;
   c.scene = "[rod]\nlength = 1\n";
-  c.method = "dopri5";
+  c.method = TimeMethod::dopri5;
   c.integrator.t = 0.1 + 0.2;  // not a short decimal: must survive bit for bit
   c.integrator.dt_next = 1.0 / 3.0;
   c.integrator.y = {1e-300, -0.0, 3.141592653589793, 2.0 / 7.0};
@@ -155,13 +171,7 @@ TEST(ReliabilityCheckpoint, InterruptedWriteKeepsThePreviousCheckpoint) {
   // published checkpoint is the previous one and still reads.
   TempDir dir;
   const std::string file = (dir.path / "x.ckpt").string();
-  Checkpoint c;
-  c.scene = "s";
-  c.method = "rk4";
-  c.integrator.dt_next = 0.1;
-  c.integrator.y = c.integrator.f = {1.0, 2.0};
-  c.next_frame = 1;
-  c.E0 = 1.0;
+  Checkpoint c = small_checkpoint(TimeMethod::rk4);
   write_checkpoint(file, c);
   { std::ofstream(file + ".tmp") << "half a checkpoint"; }
   EXPECT_EQ(read_checkpoint(file).integrator.y, c.integrator.y);
@@ -188,6 +198,30 @@ TEST(ReliabilityCheckpoint, DamagedOrMissingCheckpointNamesTheFile) {
     EXPECT_NE(std::string(e.what()).find("junk.ckpt' is not an HDF5 file"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("without --resume"), std::string::npos) << e.what();
   }
+  // A method that is no time integrator (the file holds solver.time's spelling).
+  const std::string odd = (dir.path / "odd.ckpt").string();
+  Checkpoint c = small_checkpoint(TimeMethod::dopri5);
+  write_checkpoint(odd, c);
+  EXPECT_EQ(read_checkpoint(odd).method, TimeMethod::dopri5);  // control: the file as written reads
+  for (const char* method : {"euler", "auto"}) {
+    hid_t f = H5Fopen(odd.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    ASSERT_GE(f, 0);
+    H5Adelete(f, "method");
+    hid_t t = H5Tcopy(H5T_C_S1), sp = H5Screate(H5S_SCALAR);
+    H5Tset_size(t, H5T_VARIABLE);
+    hid_t a = H5Acreate2(f, "method", t, sp, H5P_DEFAULT, H5P_DEFAULT);
+    H5Awrite(a, t, &method);
+    H5Aclose(a), H5Sclose(sp), H5Tclose(t), H5Fclose(f);
+    try {
+      read_checkpoint(odd);
+      ADD_FAILURE() << method;
+    } catch (const InputError& e) {
+      const std::string m = e.what();
+      EXPECT_NE(m.find("attribute 'method' = \"" + std::string(method) + "\" is not a time integrator"),
+                std::string::npos)
+          << m;
+    }
+  }
 }
 
 TEST(ReliabilityCheckpoint, CheckpointOfAnotherSceneIsRefused) {
@@ -198,7 +232,7 @@ TEST(ReliabilityCheckpoint, CheckpointOfAnotherSceneIsRefused) {
   b.solver.rtol = 1e-9;
   Checkpoint c;
   c.scene = checkpoint_scene_text(a);
-  c.method = "dop853";
+  c.method = TimeMethod::dop853;
   try {
     check_checkpoint_matches(c, b, file);
     FAIL();
@@ -213,7 +247,7 @@ TEST(ReliabilityCheckpoint, CheckpointOfAnotherSceneIsRefused) {
   EXPECT_NO_THROW(check_checkpoint_matches(c, d, file));
   // A checkpoint of another integrator or size is refused by the simulation.
   Simulation sim(b);
-  c.method = "rk4";
+  c.method = TimeMethod::rk4;
   EXPECT_THROW(sim.resume_from(c), InputError);
 }
 

@@ -31,10 +31,10 @@ using namespace rodcore;
 Scene dna_scene(const std::string& space, double dt, double t_end) {
   Scene sc;
   sc.source = "<test>";
-  sc.initial.kind = "dna_planar";
+  sc.initial.kind = InitialKind::dna_planar;
   sc.initial.numbers = {{"bp", 158.0}, {"turns", 15.0}, {"A_v_A_per_ps", 1.0}};
-  sc.solver.space = space;
-  sc.solver.time = "rk4";
+  sc.solver.space = *from_string<SpaceMethod>(space);
+  sc.solver.time = TimeMethod::rk4;
   sc.solver.dt = dt;
   sc.output.t_end = t_end;
   sc.output.frames = 11;
@@ -46,7 +46,7 @@ Scene dna_scene(const std::string& space, double dt, double t_end) {
 double step_limit(const std::string& space) {
   Simulation sim(dna_scene(space, 10.0, 1.0));
   try {
-    sim.run({});
+    sim.run();
   } catch (const NumericalError& e) {
     // The number after this phrase, followed by "(2.8 / spectral radius". (No
     // std::regex: GCC 12's <regex> trips -Wmaybe-uninitialized under ASan.)
@@ -77,7 +77,8 @@ TEST_P(Cfl, JustBelowTheLimitIsStableJustAboveIsRefused) {
   const double dt = 0.98 * limit;
   std::vector<double> E;
   Simulation sim(dna_scene(space, dt, 3000 * dt));
-  sim.run([&](const Frame& f) { E.push_back(*f.energy); });
+  sim.add_observer(on_frame([&](const Frame& f) { E.push_back(*f.energy); }));
+  sim.run();
   ASSERT_EQ(E.size(), 11u);
   for (double e : E) {
     EXPECT_LE(e, E[0] * (1.0 + 1e-9));
@@ -87,7 +88,8 @@ TEST_P(Cfl, JustBelowTheLimitIsStableJustAboveIsRefused) {
   // 1.02x: refused before the first step.
   Simulation refused(dna_scene(space, 1.02 * limit, 1.0));
   int frames = 0;
-  EXPECT_THROW(refused.run([&](const Frame&) { ++frames; }), NumericalError);
+  refused.add_observer(on_frame([&](const Frame&) { ++frames; }));
+  EXPECT_THROW(refused.run(), NumericalError);
   EXPECT_EQ(frames, 0);
 }
 
@@ -97,7 +99,8 @@ TEST_P(Cfl, JustAboveTheLimitReallyBlowsUp) {
   ASSERT_GT(limit, 0.0);
   Simulation sim(dna_scene(space, limit, 0.0));  // resolves the DNA rod
   const Rod rod = sim.scene().rod;
-  const auto op = make_derivative_operator(space, static_cast<std::size_t>(rod.points), rod.length);
+  const auto op = make_derivative_operator(*from_string<SpaceMethod>(space),
+                                           static_cast<std::size_t>(rod.points), rod.length);
   RodRHS rhs(rod, sim.scene().material, *op);
   const std::size_t n = rhs.size();
   // Rest state plus white noise of size 1e-10 in every field.
@@ -117,7 +120,7 @@ TEST_P(Cfl, JustAboveTheLimitReallyBlowsUp) {
     sys.f = [&](double, const double* y, double* f) { rhs(y, f); };
     IntegratorOptions io;
     io.dt = dt;
-    auto integ = make_time_integrator("rk4", sys, io);
+    auto integ = make_time_integrator(TimeMethod::rk4, sys, io);
     integ->reset(0.0, y0.data());
     for (int s = 0; s < steps; ++s) integ->step(1e300);
     double m = 0.0;

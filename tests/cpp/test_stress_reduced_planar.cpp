@@ -35,7 +35,7 @@ struct Problem {
     rod.points = static_cast<int>(N);
     rod.Gamma0 = {0.0, 0.0, 1.0};
     rod.Omega0 = {0.0, 0.0, 0.0};
-    op = make_derivative_operator(space, N, rod.length);
+    op = make_derivative_operator(*from_string<SpaceMethod>(space), N, rod.length);
     rhs = std::make_unique<RodRHS>(rod, mat, *op);
     analytic::UntwistedWave w;
     w.eps = 0.5;
@@ -57,7 +57,7 @@ std::vector<double> integrate(const std::string& kind, std::size_t n,
   IntegratorOptions io;
   io.rtol = io.atol = tol;
   io.dt = dt;
-  auto integ = make_time_integrator(kind, sys, io);
+  auto integ = make_time_integrator(*from_string<TimeMethod>(kind), sys, io);
   integ->reset(0.0, y0.data());
   while (integ->t() < t_end) integ->step(t_end);
   return integ->y();

@@ -32,12 +32,12 @@ Scene untwisted_scene(const std::string& time, const std::string& reduce) {
   sc.rod.points = 32;
   sc.rod.Gamma0 = {0.0, 0.0, 1.0};
   sc.rod.Omega0 = {0.0, 0.0, 0.0};
-  sc.initial.kind = "untwisted_wave";
+  sc.initial.kind = InitialKind::untwisted_wave;
   sc.initial.numbers = {{"mode", 2.0}, {"epsilon", 0.3}};
-  sc.solver.time = time;
+  sc.solver.time = *from_string<TimeMethod>(time);
   sc.solver.dt = 0.01;
   sc.solver.rtol = sc.solver.atol = 1e-9;
-  sc.solver.reduce = reduce;
+  sc.solver.reduce = *from_string<Reduction>(reduce);
   sc.output.t_end = 2.0;
   sc.output.frames = 7;
   sc.output.energy = sc.output.energy_parts = true;
@@ -80,13 +80,13 @@ INSTANTIATE_TEST_SUITE_P(AllIntegrators, ReducedRun,
 TEST(ReducedRun, OtherPolarisationIsReducedToo) {
   // A lab translation along d2 of a straight untwisted rod: gamma2 only.
   Scene sc = untwisted_scene("dop853", "auto");
-  sc.initial.kind = "rest";
+  sc.initial.kind = InitialKind::rest;
   sc.initial.numbers = {{"v2", 0.3}};
   const auto red = run_scene(sc);
   EXPECT_TRUE(red.summary.reduced);
   EXPECT_NE(red.summary.reduce_note.find("omega1 polarisation"), std::string::npos)
       << red.summary.reduce_note;
-  sc.solver.reduce = "off";
+  sc.solver.reduce = Reduction::off;
   expect_same_runs(run_scene(sc), red);
 }
 
@@ -94,7 +94,7 @@ TEST(ReducedRun, TinyOutOfPlaneComponentIsNotReduced) {
   // Detection uses exact zeros: gamma1 and gamma2 both non-zero is in
   // neither polarisation, however small gamma2 is.
   Scene sc = untwisted_scene("dop853", "auto");
-  sc.initial.kind = "rest";
+  sc.initial.kind = InitialKind::rest;
   sc.initial.numbers = {{"v1", 0.3}, {"v2", 1e-300}};
   const auto r = run_scene(sc);
   EXPECT_FALSE(r.summary.reduced);
@@ -118,12 +118,12 @@ TEST(ReducedRun, ResumeFromACheckpointIsExact) {
     Simulation sim(sc);
     int calls = 0;
     struct Stop {};
-    sim.set_checkpoint_hooks({[&] { return ++calls == 5; },
-                              [&](const Checkpoint& c) {
-                                write_checkpoint(path, c);
-                                throw Stop{};
-                              }});
-    EXPECT_THROW(sim.run({}), Stop);
+    sim.add_observer(std::make_shared<CheckpointObserver>([&] { return ++calls == 5; },
+                                                          [&](const Checkpoint& c) {
+                                                            write_checkpoint(path, c);
+                                                            throw Stop{};
+                                                          }));
+    EXPECT_THROW(sim.run(), Stop);
   }
   const Checkpoint c = read_checkpoint(path);
   std::filesystem::remove(path);
@@ -133,7 +133,8 @@ TEST(ReducedRun, ResumeFromACheckpointIsExact) {
   Simulation sim(sc);
   sim.resume_from(c);
   rodtest::RunResult rest;
-  rest.summary = sim.run([&](const Frame& f) { rest.y.emplace_back(f.y, f.y + 12 * f.N); });
+  sim.add_observer(on_frame([&](const Frame& f) { rest.y.emplace_back(f.y, f.y + 12 * f.N); }));
+  rest.summary = sim.run();
   EXPECT_TRUE(rest.summary.reduced);
   ASSERT_EQ(rest.y.size(), whole.y.size() - static_cast<std::size_t>(c.next_frame));
   for (std::size_t j = 0; j < rest.y.size(); ++j)
@@ -141,7 +142,7 @@ TEST(ReducedRun, ResumeFromACheckpointIsExact) {
 
   // A reduced checkpoint cannot be resumed by a scene that forbids it.
   Scene twisted = sc;
-  twisted.initial.kind = "rest";
+  twisted.initial.kind = InitialKind::rest;
   twisted.initial.numbers.clear();
   twisted.rod.Omega0 = {0.0, 0.0, 0.5};
   Simulation other(twisted);

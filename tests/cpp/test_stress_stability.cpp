@@ -32,7 +32,7 @@ TEST(LinearSpectralRadius, UntwistedRodEqualsDispersionRelationAtKmax) {
     rod.Gamma0 = {0.0, 0.0, 1.0};
     rod.Omega0 = {0.0, 0.0, 0.0};
     Material m;
-    auto op = make_derivative_operator(space, 32, rod.length);
+    auto op = make_derivative_operator(*from_string<SpaceMethod>(space), 32, rod.length);
     RodRHS rhs(rod, m, *op);
     const double k = op->max_wavenumber();
     const double expected = std::max(
@@ -60,7 +60,7 @@ double rk4_growth(const RodRHS& rhs, double dt, int steps) {
   sys.f = [&](double, const double* a, double* b) { rhs(a, b); };
   IntegratorOptions io;
   io.dt = dt;
-  auto integ = make_time_integrator("rk4", sys, io);
+  auto integ = make_time_integrator(TimeMethod::rk4, sys, io);
   integ->reset(0.0, y.data());
   try {
     for (int n = 0; n < steps; ++n) integ->step(1e300);
@@ -84,7 +84,7 @@ TEST(LinearSpectralRadius, Rk4BoundaryOnTheDnaRod) {
     rod.Gamma0 = {0.0, 0.0, 1.0};
     rod.Omega0 = {0.0, 0.0, 2.0 * std::numbers::pi * 15.0 / rod.length};
     Material m;
-    auto op = make_derivative_operator(space, 64, rod.length);
+    auto op = make_derivative_operator(*from_string<SpaceMethod>(space), 64, rod.length);
     RodRHS rhs(rod, m, *op);
     const double dt_star = 2.0 * std::sqrt(2.0) / linear_spectral_radius(rhs);
     EXPECT_LT(rk4_growth(rhs, 0.97 * dt_star, 600), 100.0) << space;

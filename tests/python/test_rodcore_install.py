@@ -1,6 +1,6 @@
-"""rodcore as an installed C++ package (issue 11, section 2): `cmake --install`
-into a temporary prefix, then an outside project (tests/cpp/find_package/)
-does find_package(rodcore) + target_link_libraries(app PRIVATE rodcore::rodcore),
+"""rodcore as an installed C++ package: `cmake --install` into a temporary
+prefix, then an outside C++-only project (tests/cpp/find_package/, LANGUAGES
+CXX) does find_package(rodcore) + target_link_libraries(app PRIVATE rodcore::rodcore),
 builds against the public headers only and runs the exact twisted-rod wave
 (paper Eq 24). The app checks Gamma1 against A cos(w t - k s) with w from Eq 26
 (written out in the app, not taken from rodcore), energy conservation, and
@@ -33,6 +33,14 @@ def app(bin_dir, tmp_path_factory):
     for h in (prefix / "include" / "rodcore").iterdir():  # nothing of toml++ or HDF5 leaks
         text = h.read_text()
         assert "toml++" not in text and "<hdf5.h>" not in text, h.name
+    # The link dependencies are imported targets that rodcoreConfig.cmake finds
+    # (pkg-config, no compiler test), never library paths of this machine.
+    targets = next(prefix.glob("**/cmake/rodcore/rodcoreTargets.cmake")).read_text()
+    links = re.findall(r'INTERFACE_LINK_LIBRARIES "([^"]*)"', targets)
+    assert links and not any("/" in item for line in links for item in line.split(";")), links
+    # The outside project is a plain C++ one: a package that needs C to find
+    # its dependencies (CMake's FindHDF5 compiles a C program) fails to configure.
+    assert re.search(r"project\(\w+ LANGUAGES CXX\)", (APP_SRC / "CMakeLists.txt").read_text())
     appdir = tmp / "app"
     cfg = subprocess.run(["cmake", "-S", str(APP_SRC), "-B", str(appdir), f"-DCMAKE_PREFIX_PATH={prefix}",
                           "-DCMAKE_BUILD_TYPE=Release"], capture_output=True, text=True)

@@ -31,6 +31,22 @@ def test_help_is_for_newcomers(rodsim):
     assert p.returncode == 0 and "--output" in p.stdout and "--quiet" in p.stdout
 
 
+def test_version_is_what_every_output_file_records(rodsim, tmp_path):
+    p = run(rodsim, "--version")
+    assert p.returncode == 0 and p.stderr == "", p.stderr
+    m = re.fullmatch(r"rodsim (\S+) \(git revision (\S+)\)\n", p.stdout)
+    assert m, p.stdout
+    # The version is the one project(dnarod VERSION ...) sets, and both values
+    # are the attributes the same rodsim writes into its output.
+    cmake = (ROOT / "CMakeLists.txt").read_text()
+    assert m.group(1) == re.search(r"project\(dnarod VERSION (\S+)", cmake).group(1)
+    out = tmp_path / "v.h5"
+    q = run(rodsim, "run", SCENES / "twisted_wave.toml", "-o", out, "-q", "--set", "output.t_end=0.1")
+    assert q.returncode == 0, q.stderr
+    with h5py.File(out, "r") as f:
+        assert (f.attrs["rodcore_version"], f.attrs["git_revision"]) == (m.group(1), m.group(2))
+
+
 def test_run_writes_a_complete_file_and_a_summary_line(rodsim, tmp_path):
     out = tmp_path / "wave.h5"
     p = run(rodsim, "run", SCENES / "twisted_wave.toml", "-o", out)

@@ -15,9 +15,10 @@
 // one, so a kill during the write never spoils the last good checkpoint.
 //
 // Simulation::checkpoint() makes one, Simulation::resume_from() continues
-// from one, and the observer CheckpointWriter writes them during a run
-// (when: its `due` predicate; rodsim's is a wall-clock timer or a stop
-// signal, rodcore/cli/signals.hpp).
+// from one, the observer CheckpointObserver hands them to a function during
+// a run and CheckpointWriter writes them to the file (when: their `due`
+// predicate; rodsim's is a wall-clock timer or a stop signal,
+// rodcore/cli/signals.hpp).
 #pragma once
 #include <functional>
 #include <limits>
@@ -44,10 +45,10 @@ struct IntegratorState {
 };
 
 struct Checkpoint {
-  std::string scene;           // checkpoint_scene_text() of the run's scene
-  std::string method;          // solver.time, e.g. "dop853"
-  IntegratorState integrator;  // t, dt_next, y, f, controller memory, counters
-  int next_frame = 0;          // output frames 0 .. next_frame-1 are already written
+  std::string scene;                          // checkpoint_scene_text() of the run's scene
+  TimeMethod method = TimeMethod::automatic;  // solver.time as run (never automatic in a file)
+  IntegratorState integrator;                 // t, dt_next, y, f, controller memory, counters
+  int next_frame = 0;                         // output frames 0 .. next_frame-1 are already written
   double E0 = std::numeric_limits<double>::quiet_NaN();  // energy at t = 0
   double energy_drift = 0.0;                             // largest relative drift over the frames so far
   double wall_seconds = 0.0;                             // wall time spent on the run so far
@@ -73,25 +74,42 @@ Checkpoint read_checkpoint(const std::string& path);
 void check_checkpoint_matches(const Checkpoint& checkpoint, const Scene& scene,
                               const std::string& checkpoint_file);
 
-// The observer that writes checkpoints: after every accepted step whose
+// The observer that takes checkpoints: after every accepted step whose
 // frames are delivered (and while frames remain), it asks `due()`; when it
-// says yes it writes the checkpoint to `path` and calls `written(checkpoint)`,
-// which may throw to stop the run (rodsim does after a stop signal). A run
-// that ends (finished or failed numerically) removes the file: continuing
-// would meet the same error, and a stale checkpoint must never be paired
-// with a later output.
-class CheckpointWriter : public Observer {
+// says yes it hands sim.checkpoint() to `save`, which may throw to stop the
+// run. The one rule of when a checkpoint is complete and worth taking.
+class CheckpointObserver : public Observer {
+ public:
+  CheckpointObserver(std::function<bool()> due, std::function<void(const Checkpoint&)> save);
+  void stepped(const Simulation& sim) override;
+
+ protected:
+  virtual void save(const Checkpoint& checkpoint);
+
+ private:
+  std::function<bool()> due_;
+  std::function<void(const Checkpoint&)> save_;
+};
+
+// The observer that writes checkpoints to a file: a CheckpointObserver whose
+// save writes the checkpoint to `path` (atomically) and then calls
+// `written(checkpoint)`, which may throw to stop the run (rodsim does after a
+// stop signal). A run that ends (finished or failed numerically) removes the
+// file: continuing would meet the same error, and a stale checkpoint must
+// never be paired with a later output.
+class CheckpointWriter : public CheckpointObserver {
  public:
   CheckpointWriter(std::string path, std::function<bool()> due,
                    std::function<void(const Checkpoint&)> written = {});
-  void stepped(const Simulation& sim) override;
   void finished(const Simulation& sim, const RunSummary& summary) override;
   void failed(const Simulation& sim, const std::string& message) override;
   const std::string& path() const { return path_; }
 
+ protected:
+  void save(const Checkpoint& checkpoint) override;
+
  private:
   std::string path_;
-  std::function<bool()> due_;
   std::function<void(const Checkpoint&)> written_;
 };
 

@@ -16,7 +16,9 @@
 // NumericalError stops the run (then rethrown). An observer may throw to stop.
 #pragma once
 #include <cstddef>
+#include <functional>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -91,5 +93,29 @@ class Observer {
   virtual void finished(const Simulation&, const RunSummary&) {}
   virtual void failed(const Simulation&, const std::string& /*message*/) {}
 };
+
+// An observer made of plain functions, for a use that needs no class of its
+// own; an empty function is not called.
+//   sim.add_observer(rodcore::on_frame([&](const rodcore::Frame& f) { times.push_back(f.t); }));
+struct FunctionObserver : Observer {
+  std::function<void(const Simulation&)> on_started;
+  std::function<void(const Simulation&, const StepView&)> on_step;
+  std::function<void(const Simulation&, const Frame&)> on_frame;
+  std::function<void(const Simulation&)> on_stepped;
+  std::function<void(const Simulation&, const RunSummary&)> on_finished;
+  std::function<void(const Simulation&, const std::string&)> on_failed;
+  void started(const Simulation& sim) override;
+  void step(const Simulation& sim, const StepView& view) override;
+  void frame(const Simulation& sim, const Frame& frame) override;
+  void stepped(const Simulation& sim) override;
+  void finished(const Simulation& sim, const RunSummary& summary) override;
+  void failed(const Simulation& sim, const std::string& message) override;
+};
+
+// f(frame) at every output frame (the old Simulation::run(on_frame)).
+std::shared_ptr<FunctionObserver> on_frame(std::function<void(const Frame&)> f);
+// f(t, t_end) after every accepted step once its frames are delivered: t the
+// integrator's time, t_end the last output time (the old run(..., progress)).
+std::shared_ptr<FunctionObserver> on_progress(std::function<void(double t, double t_end)> f);
 
 }  // namespace rodcore

@@ -2,15 +2,136 @@
 // (scene_reader.hpp) and the Python module both produce this struct; the
 // solver only ever sees a Scene, never a file. See docs/scenes.md.
 #pragma once
+#include <array>
 #include <limits>
 #include <map>
+#include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "rodcore/dna_units.hpp"  // generated from dna_models (the one source of the defaults)
 #include "rodcore/state.hpp"
 
 namespace rodcore {
+
+// ---- Choices: a setting that is one of a few values is an enum, never a
+// string. Each has one table of spellings, ChoiceNames<E>::all, in the order
+// messages list them: scene files, output attributes, messages and the
+// Python module all spell the values from it (to_string, from_string), and
+// the TOML reader maps a scene's string onto the enum with it. A new value is
+// one enumerator and one row of its table.
+template <class E>
+struct ChoiceNames;  // specialised below for each choice
+
+template <class E>
+struct Spelling {
+  E value;
+  std::string_view name;
+};
+
+template <class E>
+concept Choice = requires {
+  ChoiceNames<E>::all;
+};
+
+// solver.space: the spatial derivative (operators.hpp). automatic: chosen by
+// Simulation from the initial fields (docs/performance.md).
+enum class SpaceMethod { automatic, fd4, spectral };
+template <>
+struct ChoiceNames<SpaceMethod> {
+  static constexpr std::array<Spelling<SpaceMethod>, 3> all{
+      {{SpaceMethod::automatic, "auto"}, {SpaceMethod::fd4, "fd4"}, {SpaceMethod::spectral, "spectral"}}};
+};
+
+// solver.time: the time integrator (integrators.hpp). automatic: dop853.
+enum class TimeMethod { automatic, rk4, rk4_doubling, dopri5, dop853 };
+template <>
+struct ChoiceNames<TimeMethod> {
+  static constexpr std::array<Spelling<TimeMethod>, 5> all{{{TimeMethod::automatic, "auto"},
+                                                            {TimeMethod::rk4, "rk4"},
+                                                            {TimeMethod::rk4_doubling, "rk4-doubling"},
+                                                            {TimeMethod::dopri5, "dopri5"},
+                                                            {TimeMethod::dop853, "dop853"}}};
+};
+
+// solver.reduce: automatic: the reduced planar system when the scene allows
+// it (reduced_planar.hpp); off: always the full system.
+enum class Reduction { automatic, off };
+template <>
+struct ChoiceNames<Reduction> {
+  static constexpr std::array<Spelling<Reduction>, 2> all{
+      {{Reduction::automatic, "auto"}, {Reduction::off, "off"}}};
+};
+
+// initial.kind: the registry of initial conditions (initial_conditions.hpp
+// declares each kind's parameters and makes its state).
+enum class InitialKind {
+  rest,
+  twisted_wave,
+  untwisted_wave,
+  shear_oscillation,
+  dna_planar,
+  ring_rotating,
+  ring_twisting,
+  file
+};
+template <>
+struct ChoiceNames<InitialKind> {
+  static constexpr std::array<Spelling<InitialKind>, 8> all{
+      {{InitialKind::rest, "rest"},
+       {InitialKind::twisted_wave, "twisted_wave"},
+       {InitialKind::untwisted_wave, "untwisted_wave"},
+       {InitialKind::shear_oscillation, "shear_oscillation"},
+       {InitialKind::dna_planar, "dna_planar"},
+       {InitialKind::ring_rotating, "ring_rotating"},
+       {InitialKind::ring_twisting, "ring_twisting"},
+       {InitialKind::file, "file"}}};
+};
+
+// Is `value` one of the table's (a value cast from a bad integer is not)?
+template <Choice E>
+constexpr bool is_known(E value) {
+  for (const auto& s : ChoiceNames<E>::all)
+    if (s.value == value) return true;
+  return false;
+}
+
+// The spelling of a value, e.g. to_string(TimeMethod::rk4_doubling) == "rk4-doubling".
+template <Choice E>
+std::string to_string(E value) {
+  for (const auto& s : ChoiceNames<E>::all)
+    if (s.value == value) return std::string(s.name);
+  return "(not a valid value: " + std::to_string(static_cast<int>(value)) + ")";
+}
+
+// The value of a spelling, or nothing if it is not one.
+template <Choice E>
+constexpr std::optional<E> from_string(std::string_view name) {
+  for (const auto& s : ChoiceNames<E>::all)
+    if (s.name == name) return s.value;
+  return std::nullopt;
+}
+
+// Every spelling, in table order (for messages and docs).
+template <Choice E>
+std::vector<std::string> choice_names() {
+  std::vector<std::string> out;
+  for (const auto& s : ChoiceNames<E>::all) out.emplace_back(s.name);
+  return out;
+}
+
+// What the code may set a value to, for messages: `key = 7 is not a valid
+// value; allowed: "auto", "off"` (a value cast from a bad integer), or "" if
+// `value` is one of the table's.
+template <Choice E>
+std::string invalid_choice(const std::string& key, E value) {
+  if (is_known(value)) return {};
+  std::string allowed;
+  for (const auto& s : ChoiceNames<E>::all)
+    allowed += (allowed.empty() ? "\"" : ", \"") + std::string(s.name) + "\"";
+  return key + " = " + std::to_string(static_cast<int>(value)) + " is not a valid value; allowed: " + allowed;
+}
 
 // The rod's material, dimensionless (Eqs 7-9, 15; docs/numerics.md, "General
 // material"). Stored energy W = 1/2 e.K e with e = (Gamma - Gamma0, Omega -
@@ -44,27 +165,27 @@ struct Rod {
   std::vector<double> Omega0_s;
 };
 
-// Initial condition: a named kind with its parameters. Each kind declares its
+// Initial condition: a kind with its parameters. Each kind declares its
 // parameters (name, default, allowed range, doc) in initial_conditions.hpp;
 // the reader validates against that table, so `numbers` holds every
 // parameter of the kind (defaults filled in) and nothing else.
 struct Initial {
-  std::string kind = "rest";
+  InitialKind kind = InitialKind::rest;
   std::map<std::string, double> numbers;
   std::map<std::string, std::string> strings;  // e.g. branch = "plus"
   std::string path;                            // kind = "file": absolute path to HDF5
 };
 
 struct SolverOptions {
-  std::string space = "auto";  // "auto" | "fd4" | "spectral" (auto: resolved by Simulation)
-  bool dealias = false;        // spectral only: 2/3-rule filter on the derivative
-  std::string time = "auto";   // "auto" | "rk4" | "rk4-doubling" | "dopri5" | "dop853" (auto: dop853)
+  SpaceMethod space = SpaceMethod::automatic;  // automatic: resolved by Simulation
+  bool dealias = false;                        // spectral only: 2/3-rule filter on the derivative
+  TimeMethod time = TimeMethod::automatic;     // automatic: dop853
   double rtol = 1e-10;
   double atol = 1e-10;
   double dt = 1e-2;       // fixed step, or first step of adaptive schemes
   double dt_min = 1e-12;  // adaptive step below this: NumericalError
   long max_steps = 100000000;
-  std::string reduce = "auto";  // "auto" | "off": reduced planar system when allowed
+  Reduction reduce = Reduction::automatic;  // the reduced planar system when allowed
 };
 
 struct OutputOptions {

@@ -5,16 +5,17 @@
 //   rodcore::Scene scene = rodcore::read_scene_file("dna158.toml");  // scene_io.hpp
 //   rodcore::Simulation sim(scene);
 //   sim.add_observer(std::make_shared<rodcore::H5Writer>("out.h5", sim));  // h5_writer.hpp
+//   sim.add_observer(rodcore::on_frame([](const rodcore::Frame& f) { /* ... */ }));
 //   rodcore::RunSummary summary = sim.run();      // or: sim.step_to(t) in pieces
 //   sim.time(); sim.state(); sim.energy();         // the state now
 //
 // The solver works in the paper's dimensionless variables only (Sec 2.2);
 // scenes in DNA units (e.g. dna_planar's A_v_A_per_ps) are converted when
 // the initial state is made, by the scene layer (library rodcore_scene,
-// exported as rodcore::scene). Three members are defined there, because they
+// exported as rodcore::scene). Two members are defined there, because they
 // need the scene's initial-condition kinds or its TOML text:
-// Simulation(const Scene&), checkpoint() and set_checkpoint_hooks(). The
-// rest is the solver core (rodcore::core).
+// Simulation(const Scene&) and checkpoint(). The rest is the solver core
+// (rodcore::core).
 #pragma once
 #include <array>
 #include <functional>
@@ -63,13 +64,18 @@ class Simulation {
   // (the frames already delivered are complete).
   void step_to(double t);
 
-  // Integrate to the last output time, calling on_frame at each output time
-  // (including t = 0) and progress after every step, then the observers'
+  // Integrate to the last output time (step_to), then the observers'
   // finished(). Returns the summary (also: summary()).
+  RunSummary run();
+  RunSummary summary() const;  // of the steps taken so far
+
+  // Deprecated (kept for one release): run() with two handlers that live for
+  // this call only. The same is sim.add_observer(on_frame(f)) and
+  // sim.add_observer(on_progress(p)) (observer.hpp), then run().
   using FrameHandler = std::function<void(const Frame&)>;
   using ProgressHandler = std::function<void(double t, double t_end)>;
-  RunSummary run(const FrameHandler& on_frame = {}, const ProgressHandler& progress = {});
-  RunSummary summary() const;  // of the steps taken so far
+  [[deprecated("add_observer(on_frame(f)) / add_observer(on_progress(p)), then run()")]] RunSummary run(
+      const FrameHandler& on_frame, const ProgressHandler& progress = {});
 
   // Checkpoints (checkpoint.hpp). checkpoint(): the run point now; valid
   // between steps once their frames are delivered (as in Observer::stepped).
@@ -78,15 +84,17 @@ class Simulation {
   // InputError if it does not belong to this scene.
   Checkpoint checkpoint() const;
   void resume_from(const Checkpoint& checkpoint);
-  // Older interface, kept: a CheckpointWriter-like observer with these hooks.
+  // Deprecated (kept for one release): the same is
+  // add_observer(std::make_shared<CheckpointObserver>(due, save)) (checkpoint.hpp).
   struct CheckpointHooks {
     std::function<bool()> due;
     std::function<void(const Checkpoint&)> save;
   };
-  void set_checkpoint_hooks(CheckpointHooks hooks);
+  [[deprecated("add_observer(std::make_shared<CheckpointObserver>(due, save))")]] void set_checkpoint_hooks(
+      CheckpointHooks hooks);
 
-  // The scene as run: solver.space and solver.time resolved from "auto";
-  // given_scene(): as given ("auto" kept; what checkpoints record).
+  // The scene as run: solver.space and solver.time resolved from automatic;
+  // given_scene(): as given (automatic kept; what checkpoints record).
   const Scene& scene() const;
   const Scene& given_scene() const;
   std::vector<double> grid() const;          // s_i

@@ -22,7 +22,7 @@ namespace rodcore {
 std::vector<std::unique_ptr<Observer>> make_guards(const Scene& scene, const std::vector<double>& s);
 
 // The run settings a Simulation needs before anything else (rod size,
-// output times, solver.reduce). Throws InputError.
+// output times, enum values that are one of their table's). Throws InputError.
 void validate_run_settings(const Scene& scene);
 
 // Throws InputError naming the first non-finite initial value (component, point, s).

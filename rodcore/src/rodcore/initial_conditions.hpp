@@ -1,4 +1,5 @@
-// Initial conditions: a registry of named kinds. Each kind declares its
+// Initial conditions: a registry of kinds (the enum InitialKind of
+// scene.hpp, one entry each). Each kind declares its
 // parameters (so the scene reader can validate them and docs can list them),
 // may derive rod settings it implies, makes the 12 N initial state, and may
 // fix the lab frame of the rod at s = 0 (for reconstruction; default: the
@@ -29,8 +30,13 @@ struct ChoiceSpec {
   std::string doc;
 };
 
-struct InitialKind {
-  std::string name, doc;
+// A kind of the registry: the enumerator of scene.hpp, its spelling, and
+// what the kind declares and does.
+struct InitialKindSpec {
+  explicit InitialKindSpec(InitialKind kind);
+  InitialKind kind;
+  std::string name;  // to_string(kind)
+  std::string doc;
   std::vector<ParamSpec> numbers;
   std::vector<ChoiceSpec> strings;
   // Optional: fill/verify rod settings the kind implies (e.g. the DNA scene
@@ -44,9 +50,10 @@ struct InitialKind {
   std::function<void(const Scene&, Quat& q0, Vec3& r0)> anchor;
 };
 
-const std::vector<InitialKind>& initial_kinds();
-// Throws InputError listing the allowed names.
-const InitialKind& initial_kind(const std::string& name);
+// Every kind, in the order of scene.hpp's ChoiceNames<InitialKind>.
+const std::vector<InitialKindSpec>& initial_kinds();
+// The registry entry of a kind. Throws InputError for a value that is not one.
+const InitialKindSpec& initial_kind_spec(InitialKind kind);
 
 // The value of a numeric parameter: scene value, else the declared default,
 // else InputError (required). Also checks the declared range.

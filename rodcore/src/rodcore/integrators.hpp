@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "rodcore/checkpoint.hpp"  // IntegratorState
+#include "rodcore/scene.hpp"       // TimeMethod
 
 namespace rodcore {
 
@@ -101,11 +102,9 @@ class TimeIntegrator {
   long steps_ = 0, rejected_ = 0, rhs_evals_ = 0;
 };
 
-// kind = "rk4" | "rk4-doubling" | "dopri5" | "dop853"; throws InputError.
-std::unique_ptr<TimeIntegrator> make_time_integrator(const std::string& kind, OdeSystem system,
+// kind = rk4 | rk4_doubling | dopri5 | dop853; throws InputError otherwise
+// (automatic is resolved by Simulation before).
+std::unique_ptr<TimeIntegrator> make_time_integrator(TimeMethod kind, OdeSystem system,
                                                      const IntegratorOptions& options);
-
-// The names above, for messages and docs.
-const std::vector<std::string>& time_integrator_kinds();
 
 }  // namespace rodcore

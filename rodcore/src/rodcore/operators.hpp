@@ -16,6 +16,8 @@
 #include <memory>
 #include <string>
 
+#include "rodcore/scene.hpp"  // SpaceMethod
+
 namespace rodcore {
 
 class DerivativeOperator {
@@ -43,8 +45,9 @@ class DerivativeOperator {
   double L_;
 };
 
-// kind = "fd4" | "spectral"; throws InputError otherwise (or N too small).
-std::unique_ptr<DerivativeOperator> make_derivative_operator(const std::string& kind, std::size_t N, double L,
+// kind = fd4 | spectral; throws InputError otherwise (automatic is resolved
+// by Simulation before) or when N is too small.
+std::unique_ptr<DerivativeOperator> make_derivative_operator(SpaceMethod kind, std::size_t N, double L,
                                                              bool dealias = false);
 
 }  // namespace rodcore

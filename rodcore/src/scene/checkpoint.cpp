@@ -127,7 +127,7 @@ void write_checkpoint(const std::string& path, const Checkpoint& c) {
     if (!f.valid()) throw Error("cannot create checkpoint file '" + tmp + "' (is the folder writable?)");
     put(f, "format", static_cast<long long>(kCheckpointFormat));
     put(f, "scene", c.scene);
-    put(f, "method", c.method);
+    put(f, "method", to_string(c.method));
     put(f, "t", c.integrator.t);
     put(f, "dt_next", c.integrator.dt_next);
     put(f, "next_frame", static_cast<long long>(c.next_frame));
@@ -165,7 +165,11 @@ Checkpoint read_checkpoint(const std::string& path) {
                      " (resume with the rodsim that wrote it)");
   Checkpoint c;
   c.scene = r.text("scene");
-  c.method = r.text("method");
+  const std::string method = r.text("method");
+  const auto time = from_string<TimeMethod>(method);
+  if (!time || *time == TimeMethod::automatic)
+    r.bad("attribute 'method' = \"" + method + "\" is not a time integrator");
+  c.method = *time;
   c.integrator.t = r.number("t");
   c.integrator.dt_next = r.number("dt_next");
   c.next_frame = static_cast<int>(r.integer("next_frame"));
@@ -211,13 +215,23 @@ void check_checkpoint_matches(const Checkpoint& c, const Scene& scene, const std
                    "' now. Resume with the same scene and --set options, or run again without --resume.");
 }
 
+CheckpointObserver::CheckpointObserver(std::function<bool()> due, std::function<void(const Checkpoint&)> save)
+    : due_(std::move(due)), save_(std::move(save)) {}
+
+void CheckpointObserver::stepped(const Simulation& sim) {
+  if (sim.frames_delivered() >= sim.scene().output.frames || !due_ || !due_()) return;
+  save(sim.checkpoint());
+}
+
+void CheckpointObserver::save(const Checkpoint& c) {
+  if (save_) save_(c);
+}
+
 CheckpointWriter::CheckpointWriter(std::string path, std::function<bool()> due,
                                    std::function<void(const Checkpoint&)> written)
-    : path_(std::move(path)), due_(std::move(due)), written_(std::move(written)) {}
+    : CheckpointObserver(std::move(due), {}), path_(std::move(path)), written_(std::move(written)) {}
 
-void CheckpointWriter::stepped(const Simulation& sim) {
-  if (sim.frames_delivered() >= sim.scene().output.frames || !due_ || !due_()) return;
-  const Checkpoint c = sim.checkpoint();
+void CheckpointWriter::save(const Checkpoint& c) {
   write_checkpoint(path_, c);
   if (written_) written_(c);
 }

@@ -104,13 +104,12 @@ void check_rod_value(const std::set<std::string>& set_keys, const std::string& k
                      "\", which implies " + num(implied) + "; remove rod." + key + " or make it agree");
 }
 
-std::vector<InitialKind> build_kinds() {
-  std::vector<InitialKind> k;
+std::vector<InitialKindSpec> build_kinds() {
+  std::vector<InitialKindSpec> k;
 
   // ------------------------------------------------------------- rest
   {
-    InitialKind r;
-    r.name = "rest";
+    InitialKindSpec r(InitialKind::rest);
     r.doc = "The intrinsic shape at rest: Gamma = Gamma0(s), Omega = Omega0(s), omega = 0, and a "
             "rigid translation with lab-frame velocity (v1, v2, v3), i.e. gamma(s) = R(s)^T v "
             "with R(s) the intrinsic directors (d_k(0) = e_k). Stays at rest / translating.";
@@ -153,8 +152,7 @@ std::vector<InitialKind> build_kinds() {
 
   // ----------------------------------------------------- twisted_wave
   {
-    InitialKind r;
-    r.name = "twisted_wave";
+    InitialKindSpec r(InitialKind::twisted_wave);
     r.doc = "Exact large-amplitude bend-shear wave of a straight twisted rod (paper Eq 24 in the "
             "checked form of docs/numerics.md), k = 2 pi mode / L; needs rod.Gamma0 = [0,0,G03], "
             "rod.Omega0 = [0,0,O03] and material C1 = C2 = I1 = I2 = 1.";
@@ -172,8 +170,7 @@ std::vector<InitialKind> build_kinds() {
 
   // --------------------------------------------------- untwisted_wave
   {
-    InitialKind r;
-    r.name = "untwisted_wave";
+    InitialKindSpec r(InitialKind::untwisted_wave);
     r.doc = "Asymptotic bend-shear wave of a straight untwisted rod, paper Eqs 40-45 with the "
             "corrections of docs/numerics.md, k = 2 pi mode / L; needs rod.Omega0 = 0, "
             "rod.Gamma0 = [0,0,G03], material C1 = C2 = I1 = I2 = 1.";
@@ -196,8 +193,7 @@ std::vector<InitialKind> build_kinds() {
 
   // ------------------------------------------------ shear_oscillation
   {
-    InitialKind r;
-    r.name = "shear_oscillation";
+    InitialKindSpec r(InitialKind::shear_oscillation);
     r.doc = "Pure shear oscillation (paper Sec 3.1.1, Fig 4): every cross-section tilts by the same "
             "angle, the centerline stays straight. Untwisted rod: the s-independent state omega = "
             "(0, omega2, 0), Gamma = (Gamma1, 0, Gamma3), gamma = 0, Omega = Omega0. Twisted rod "
@@ -257,8 +253,7 @@ std::vector<InitialKind> build_kinds() {
 
   // -------------------------------------------------------- dna_planar
   {
-    InitialKind r;
-    r.name = "dna_planar";
+    InitialKindSpec r(InitialKind::dna_planar);
     r.doc = "The paper's 158-bp DNA scene (Sec 6.1, Table 1): a straight twisted rod along lab Y "
             "(d1 || Z, d2 || X at s = 0) with centerline r(s,0) = (0, s, A cos(2 pi s/L)) made "
             "entirely by shear, and lab velocity (0, 0, A_v sin(2 pi s/L)). Sets rod.length = "
@@ -322,8 +317,7 @@ std::vector<InitialKind> build_kinds() {
 
   // ------------------------------------------------------ ring_rotating
   {
-    InitialKind r;
-    r.name = "ring_rotating";
+    InitialKindSpec r(InitialKind::ring_rotating);
     r.doc = "A rod closed into a ring (Omega1 = 2 pi / L: the directors turn once over the "
             "fiducial length; radius Gamma3 L / 2 pi) with uniform tangential velocity gamma3. "
             "balanced = 1: Gamma3 from the force balance gamma3^2/Gamma3 = C3 (Gamma3 - Gamma03) "
@@ -364,8 +358,7 @@ std::vector<InitialKind> build_kinds() {
 
   // ------------------------------------------------------ ring_twisting
   {
-    InitialKind r;
-    r.name = "ring_twisting";
+    InitialKindSpec r(InitialKind::ring_twisting);
     r.doc = "A rod closed into a ring, Omega = (0, A, Omega03), Gamma = Gamma0, spinning about "
             "its centerline with uniform omega3 (paper Eq 46: with Omega0 = 0, Omega1 = A sin "
             "omega3 t, Omega2 = A cos omega3 t). A = 0 means 2 pi / L (closed ring). An "
@@ -390,8 +383,7 @@ std::vector<InitialKind> build_kinds() {
 
   // --------------------------------------------------------------- file
   {
-    InitialKind r;
-    r.name = "file";
+    InitialKindSpec r(InitialKind::file);
     r.doc = "Initial fields from an HDF5 file (initial.path): datasets s (N) and fields/gamma, "
             "fields/omega, fields/Gamma, fields/Omega (N x 3, internal frame).";
     r.make = [](const Scene& sc, const std::vector<double>& s, std::vector<double>& y) {
@@ -404,7 +396,7 @@ std::vector<InitialKind> build_kinds() {
   return k;
 }
 
-const ParamSpec* find_number(const InitialKind& kind, const std::string& name) {
+const ParamSpec* find_number(const InitialKindSpec& kind, const std::string& name) {
   for (const auto& p : kind.numbers)
     if (p.name == name) return &p;
   return nullptr;
@@ -412,21 +404,31 @@ const ParamSpec* find_number(const InitialKind& kind, const std::string& name) {
 
 }  // namespace
 
-const std::vector<InitialKind>& initial_kinds() {
-  static const std::vector<InitialKind> kinds = build_kinds();
+InitialKindSpec::InitialKindSpec(InitialKind k) : kind(k), name(to_string(k)) {}
+
+const std::vector<InitialKindSpec>& initial_kinds() {
+  static const std::vector<InitialKindSpec> kinds = [] {
+    std::vector<InitialKindSpec> k = build_kinds();
+    // One entry per enumerator, in the order of scene.hpp's table (the order
+    // messages and docs list them).
+    const auto& all = ChoiceNames<InitialKind>::all;
+    bool same = k.size() == all.size();
+    for (std::size_t i = 0; same && i < k.size(); ++i) same = k[i].kind == all[i].value;
+    if (!same)
+      throw Error("initial_conditions.cpp: build_kinds() must list every InitialKind in table order");
+    return k;
+  }();
   return kinds;
 }
 
-const InitialKind& initial_kind(const std::string& name) {
+const InitialKindSpec& initial_kind_spec(InitialKind kind) {
   for (const auto& k : initial_kinds())
-    if (k.name == name) return k;
-  std::string allowed;
-  for (const auto& k : initial_kinds()) allowed += (allowed.empty() ? "\"" : ", \"") + k.name + "\"";
-  throw InputError("initial.kind = \"" + name + "\" is not known; allowed: " + allowed);
+    if (k.kind == kind) return k;
+  throw InputError(invalid_choice("initial.kind", kind));
 }
 
 double initial_number(const Initial& initial, const std::string& name) {
-  const InitialKind& kind = initial_kind(initial.kind);
+  const InitialKindSpec& kind = initial_kind_spec(initial.kind);
   const ParamSpec* p = find_number(kind, name);
   if (!p) throw Error("initial kind \"" + kind.name + "\" has no parameter \"" + name + "\"");
   double v = p->default_value;
@@ -440,7 +442,7 @@ double initial_number(const Initial& initial, const std::string& name) {
 }
 
 std::string initial_string(const Initial& initial, const std::string& name) {
-  const InitialKind& kind = initial_kind(initial.kind);
+  const InitialKindSpec& kind = initial_kind_spec(initial.kind);
   for (const auto& c : kind.strings) {
     if (c.name != name) continue;
     std::string v = c.default_value;
@@ -456,7 +458,7 @@ std::string initial_string(const Initial& initial, const std::string& name) {
 }
 
 std::vector<double> make_initial_state(const Scene& scene) {
-  const InitialKind& kind = initial_kind(scene.initial.kind);
+  const InitialKindSpec& kind = initial_kind_spec(scene.initial.kind);
   const std::size_t N = static_cast<std::size_t>(scene.rod.points);
   if (scene.rod.points <= 0 || !(scene.rod.length > 0.0))
     throw InputError(scene.source + ": rod.points and rod.length must be positive");
@@ -472,7 +474,7 @@ std::vector<double> make_initial_state(const Scene& scene) {
 }
 
 std::pair<Quat, Vec3> initial_anchor(const Scene& scene) {
-  const InitialKind& kind = initial_kind(scene.initial.kind);
+  const InitialKindSpec& kind = initial_kind_spec(scene.initial.kind);
   Quat q{1.0, 0.0, 0.0, 0.0};
   Vec3 r{0.0, 0.0, 0.0};
   if (kind.anchor) kind.anchor(scene, q, r);

@@ -1,6 +1,7 @@
 // The parts of Simulation that belong to the scene layer: making the initial
 // state from a scene's initial condition (a kind, possibly in DNA units,
-// initial_conditions.hpp) and recording the scene in checkpoints. The solver
+// initial_conditions.hpp), recording the scene in checkpoints, and the
+// deprecated set_checkpoint_hooks(). The solver
 // core (simulation.cpp) only ever sees the dimensionless InitialState.
 #include <set>
 
@@ -15,7 +16,7 @@ namespace {
 // A scene built in code may leave the rod to the kind (e.g. dna_planar).
 Scene with_rod(const Scene& scene) {
   Scene sc = scene;
-  const InitialKind& kind = initial_kind(sc.initial.kind);
+  const InitialKindSpec& kind = initial_kind_spec(sc.initial.kind);
   if (kind.derive_rod && (sc.rod.length <= 0.0 || sc.rod.points <= 0)) {
     std::set<std::string> keys;
     if (sc.rod.points > 0) keys.insert("points");
@@ -36,15 +37,6 @@ InitialState initial_state_of(const Scene& sc) {
   return init;
 }
 
-// The observer behind set_checkpoint_hooks().
-struct HookObserver : Observer {
-  Simulation::CheckpointHooks hooks;
-  void stepped(const Simulation& sim) override {
-    if (sim.frames_delivered() < sim.scene().output.frames && hooks.due && hooks.save && hooks.due())
-      hooks.save(sim.checkpoint());
-  }
-};
-
 }  // namespace
 
 Simulation::Simulation(const Scene& scene) : Simulation(with_rod(scene), initial_state_of(with_rod(scene))) {}
@@ -55,10 +47,9 @@ Checkpoint Simulation::checkpoint() const {
   return c;
 }
 
+// Deprecated shim: the hooks are a CheckpointObserver's (checkpoint.hpp).
 void Simulation::set_checkpoint_hooks(CheckpointHooks hooks) {
-  auto h = std::make_shared<HookObserver>();
-  h->hooks = std::move(hooks);
-  add_observer(std::move(h));
+  add_observer(std::make_shared<CheckpointObserver>(std::move(hooks.due), std::move(hooks.save)));
 }
 
 }  // namespace rodcore

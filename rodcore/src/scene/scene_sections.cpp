@@ -1,0 +1,255 @@
+// One reader and one writer per scene section (scene_sections.hpp). A reader
+// asks its Section for each key in the order "Allowed keys" lists them,
+// checks what lies within its section, and leaves what needs other sections
+// in the SceneDraft; a writer gives every key of its section, resolved.
+#include "rodcore/scene_sections.hpp"
+
+#include <cmath>
+
+#include "rodcore/initial_conditions.hpp"
+#include "rodcore/material.hpp"
+
+namespace rodcore {
+namespace {
+
+const double kInf = std::numeric_limits<double>::infinity();
+
+// ---- [rod]: the fiducial length, the grid and the intrinsic shape
+
+void read_rod(Section& rod, SceneDraft& d) {
+  Scene& sc = d.scene;
+  for (const char* k : {"length", "points", "Gamma0", "Omega0"})
+    if (rod.has(k)) d.set_keys.insert(k);
+  if (rod.has("intrinsic_file")) d.set_keys.insert({"Gamma0", "Omega0"});
+  rod.number("length", sc.rod.length, positive());
+  rod.integer("points", sc.rod.points, Range{1, 1e8});
+  rod.shape("Gamma0", sc.rod.Gamma0, sc.rod.Gamma0_s);
+  rod.shape("Omega0", sc.rod.Omega0, sc.rod.Omega0_s);
+  d.intrinsic_file = rod.path("intrinsic_file", "intrinsic-shape file");
+  if (!d.intrinsic_file.empty() && (rod.has("Gamma0") || rod.has("Omega0")))
+    rod.fail("intrinsic_file", rod.get("intrinsic_file"),
+             "give either rod.intrinsic_file or rod.Gamma0/rod.Omega0, not both");
+}
+
+std::string write_rod(const Scene& sc) {
+  const Rod& r = sc.rod;
+  std::string o = "length = " + toml_num(r.length) + "\npoints = " + std::to_string(r.points) + "\n";
+  if (sc.material.file_has_shape) return o + "# Gamma0, Omega0: from material.material_file\n";
+  o += "Gamma0 = " + (r.Gamma0_s.empty() ? toml_vec(r.Gamma0) : toml_profile(r.Gamma0_s, r.points)) + "\n";
+  o += "Omega0 = " + (r.Omega0_s.empty() ? toml_vec(r.Omega0) : toml_profile(r.Omega0_s, r.points)) + "\n";
+  return o;
+}
+
+// ---- [material]: the paper's diagonals C, D, I, or a full K (6 x 6) and I
+// (3 x 3), and rho; or a per-point material file (material.hpp).
+
+void read_material(Section& mat, SceneDraft& d) {
+  Scene& sc = d.scene;
+  for (const char* k : {"C", "D", "I", "K", "rho", "material_file"})
+    if (mat.has(k)) d.set_keys.insert(k);
+  for (const char* k : {"C", "D"})
+    if (mat.has(k) && mat.has("K"))
+      mat.fail(k, mat.get(k),
+               "give either material.K (the full 6 x 6 stiffness) or material.C/material.D (its "
+               "diagonal shorthand), not both");
+  mat.vec3("C", sc.material.C, positive());
+  mat.vec3("D", sc.material.D, positive());
+  if (auto n = mat.get("K")) {
+    sc.material.K =
+        mat.matrix_of("K", *n, 6,
+                      "a symmetric positive-definite 6 x 6 matrix (6 arrays of 6 numbers), rows and "
+                      "columns Gamma1, Gamma2, Gamma3, Omega1, Omega2, Omega3");
+    check_stiffness(sc.material.K.data(), mat.context().where(mat.key("K"), n));
+  }
+  if (auto n = mat.get("I")) {
+    auto a = n->as_array();
+    if (a && !a->empty() && a->get(0)->is_array()) {
+      sc.material.I_full = mat.matrix_of("I", *n, 3,
+                                         "3 numbers > 0 (a diagonal I) or a symmetric positive-definite "
+                                         "3 x 3 matrix (3 arrays of 3 numbers)");
+      check_inertia(sc.material.I_full.data(), mat.context().where(mat.key("I"), n));
+    } else {
+      sc.material.I = mat.vec3_of("I", *n, positive());
+    }
+  }
+  mat.number("rho", sc.material.rho, positive());
+  d.material_file = mat.path("material_file", "material file");
+  if (!d.material_file.empty())
+    for (const char* k : {"C", "D", "I", "K", "rho"})
+      if (mat.has(k))
+        mat.fail(k, mat.get(k),
+                 "give either material.material_file (K, I, rho at every grid point) or "
+                 "material." +
+                     std::string(k) + ", not both");
+  // A diagonal K or I is the paper's shorthand: store it as C, D / I, so
+  // everything that reads C, D, I (the analytic kinds, records) sees it.
+  auto off_diagonal_zero = [](const std::vector<double>& A, int n) {
+    for (int k = 0; k < n * n; ++k)
+      if (k / n != k % n && A[k] != 0.0) return false;
+    return true;
+  };
+  if (sc.material.K.size() == 36 && off_diagonal_zero(sc.material.K, 6)) {
+    for (int c = 0; c < 3; ++c) {
+      sc.material.C[c] = sc.material.K[c * 7];
+      sc.material.D[c] = sc.material.K[(c + 3) * 7];
+    }
+    sc.material.K.clear();
+  }
+  if (sc.material.I_full.size() == 9 && off_diagonal_zero(sc.material.I_full, 3)) {
+    for (int c = 0; c < 3; ++c) sc.material.I[c] = sc.material.I_full[c * 4];
+    sc.material.I_full.clear();
+  }
+}
+
+std::string write_material(const Scene& sc) {
+  const Material& m = sc.material;
+  if (!m.file.empty()) return "material_file = " + toml_str(m.file) + "\n";
+  std::string o = m.K.empty() ? "C = " + toml_vec(m.C) + "\nD = " + toml_vec(m.D) + "\n"
+                              : "K = " + toml_matrix(m.K, 6) + "\n";
+  o += "I = " + (m.I_full.empty() ? toml_vec(m.I) : toml_matrix(m.I_full, 3)) + "\nrho = " + toml_num(m.rho) +
+       "\n";
+  return o;
+}
+
+// ---- [initial]: the kind declares its own parameters (initial_conditions.hpp).
+
+void read_initial(Section& ini, SceneDraft& d) {
+  Initial& initial = d.scene.initial;
+  ini.choice("kind", initial.kind);
+  const InitialKindSpec& kind = initial_kind_spec(initial.kind);
+  for (const auto& p : kind.numbers) {
+    Range r{p.min, p.max, false, false};
+    std::string what = "a number" + (p.unit.empty() ? std::string() : " [" + p.unit + "]");
+    if (auto n = ini.get(p.name)) {
+      initial.numbers[p.name] = ini.number_of(p.name, *n, r, what);
+    } else if (std::isnan(p.default_value)) {
+      ini.fail(
+          p.name, nullptr,
+          "is required for initial.kind = \"" + kind.name + "\" (" + p.doc + "); allowed: " + r.text(what));
+    } else {
+      initial.numbers[p.name] = p.default_value;
+    }
+  }
+  for (const auto& c : kind.strings) {
+    if (auto n = ini.get(c.name)) initial.strings[c.name] = ini.string_of(c.name, *n, c.allowed);
+    else initial.strings[c.name] = c.default_value;
+  }
+  if (initial.kind == InitialKind::file) {
+    if (!ini.has("path"))
+      ini.fail("path", nullptr,
+               "is required for initial.kind = \"file\": the HDF5 file with s and "
+               "fields/{gamma,omega,Gamma,Omega}");
+    initial.path = ini.path("path", "initial-condition file");
+  } else {
+    ini.refuse("path", "is only used by initial.kind = \"file\" (this scene has kind \"" + kind.name + "\")");
+  }
+}
+
+std::string write_initial(const Scene& sc) {
+  std::string o = "kind = " + toml_str(to_string(sc.initial.kind)) + "\n";
+  for (const auto& [k, v] : sc.initial.numbers) o += k + " = " + toml_num(v) + "\n";
+  for (const auto& [k, v] : sc.initial.strings) o += k + " = " + toml_str(v) + "\n";
+  if (!sc.initial.path.empty()) o += "path = " + toml_str(sc.initial.path) + "\n";
+  return o;
+}
+
+// ---- [solver]: the method (space, time, reduction) and its tolerances.
+
+void read_solver(Section& sol, SceneDraft& d) {
+  SolverOptions& s = d.scene.solver;
+  sol.choice("space", s.space);
+  sol.boolean("dealias", s.dealias);
+  sol.choice("time", s.time);
+  sol.number("rtol", s.rtol, {0.0, 1.0, true, true});
+  sol.number("atol", s.atol, positive());
+  sol.number("dt", s.dt, positive());
+  sol.number("dt_min", s.dt_min, positive());
+  sol.integer("max_steps", s.max_steps, Range{1, 9e18});
+  sol.choice("reduce", s.reduce);
+  if (s.dealias && s.space == SpaceMethod::fd4)
+    sol.fail("dealias", sol.get("dealias"), "applies only to solver.space = \"spectral\" (found \"fd4\")");
+  if (s.dt_min > s.dt)
+    sol.fail("dt_min", sol.get("dt_min"),
+             "found " + fmt_num(s.dt_min) + "; must not exceed solver.dt = " + fmt_num(s.dt));
+}
+
+std::string write_solver(const Scene& sc) {
+  const SolverOptions& s = sc.solver;
+  return "space = " + toml_str(to_string(s.space)) + "\ndealias = " + (s.dealias ? "true" : "false") +
+         "\ntime = " + toml_str(to_string(s.time)) + "\nrtol = " + toml_num(s.rtol) +
+         "\natol = " + toml_num(s.atol) + "\ndt = " + toml_num(s.dt) + "\ndt_min = " + toml_num(s.dt_min) +
+         "\nmax_steps = " + std::to_string(s.max_steps) + "\nreduce = " + toml_str(to_string(s.reduce)) +
+         "\n";
+}
+
+// ---- [output]: the output times, the fields written, checkpoints.
+
+const std::vector<std::string> kOutputFields = {"internal", "energy", "energy_parts", "centerline",
+                                                "directors"};
+
+void read_output(Section& out, SceneDraft& d) {
+  OutputOptions& o = d.scene.output;
+  out.number("t_end", o.t_end, positive());
+  out.integer("frames", o.frames, Range{2, 1e8});
+  if (auto n = out.get("fields")) {
+    auto a = n->as_array();
+    if (!a)
+      out.fail("fields", n,
+               "found " + describe(*n) + "; allowed: an array of strings from " + join(kOutputFields));
+    o.internal = o.energy = o.energy_parts = false;
+    o.centerline = o.directors = false;
+    for (std::size_t i = 0; i < a->size(); ++i) {
+      std::string f = out.string_of("fields[" + std::to_string(i) + "]", *a->get(i), kOutputFields);
+      if (f == "internal") o.internal = true;
+      if (f == "energy") o.energy = true;
+      if (f == "energy_parts") o.energy_parts = true;
+      if (f == "centerline") o.centerline = true;
+      if (f == "directors") o.directors = true;
+    }
+  }
+  out.number("checkpoint_interval_s", o.checkpoint_interval_s, Range{0.0, kInf, false, false});
+}
+
+std::string write_output(const Scene& sc) {
+  const OutputOptions& out = sc.output;
+  std::vector<std::string> fields;
+  if (out.internal) fields.push_back("internal");
+  if (out.energy) fields.push_back("energy");
+  if (out.energy_parts) fields.push_back("energy_parts");
+  if (out.centerline) fields.push_back("centerline");
+  if (out.directors) fields.push_back("directors");
+  return "t_end = " + toml_num(out.t_end) + "\nframes = " + std::to_string(out.frames) + "\nfields = [" +
+         join(fields) + "]\ncheckpoint_interval_s = " + toml_num(out.checkpoint_interval_s) + "\n";
+}
+
+// ---- [checks]: bad numerics never pass silently (guards.hpp).
+
+void read_checks(Section& chk, SceneDraft& d) {
+  Checks& c = d.scene.checks;
+  chk.number("max_energy_drift", c.max_energy_drift, positive());
+  chk.number("max_director_norm_error", c.max_director_norm_error, positive());
+  chk.boolean("stop_on_fold", c.stop_on_fold);
+}
+
+std::string write_checks(const Scene& sc) {
+  const Checks& c = sc.checks;
+  return "max_energy_drift = " + toml_num(c.max_energy_drift) +
+         "\nmax_director_norm_error = " + toml_num(c.max_director_norm_error) +
+         "\nstop_on_fold = " + (c.stop_on_fold ? "true" : "false") + "\n";
+}
+
+}  // namespace
+
+const std::vector<SectionReader>& scene_sections() {
+  static const std::vector<SectionReader> sections = {
+      {"rod", read_rod, write_rod},
+      {"material", read_material, write_material},
+      {"initial", read_initial, write_initial, /*read_last=*/true},
+      {"solver", read_solver, write_solver},
+      {"output", read_output, write_output},
+      {"checks", read_checks, write_checks},
+  };
+  return sections;
+}
+
+}  // namespace rodcore
