@@ -37,15 +37,6 @@ def block_starts(n_frames: int, b: int, n_boot: int, rng: np.random.Generator) -
     return rng.integers(0, n_frames - b + 1, size=(n_boot, n_blocks))
 
 
-def block_weights(n_frames: int, b: int, starts: np.ndarray) -> np.ndarray:
-    """(n_boot, T) frame counts of the replicates given by `starts` (for checks)."""
-    n_boot = len(starts)
-    idx = (starts[:, :, None] + np.arange(b)[None, None, :]).reshape(n_boot, -1)[:, :n_frames]
-    W = np.zeros((n_boot, n_frames))
-    np.add.at(W, (np.repeat(np.arange(n_boot), n_frames), idx.ravel()), 1.0)
-    return W
-
-
 def block_sums(x: np.ndarray, starts: np.ndarray, b: int, chunk: int = 16) -> np.ndarray:
     """(n_boot, F) sums of x (T, F) over each replicate's frames, from cumulative sums:
     a block costs one difference, so a replicate costs T / b row additions instead of

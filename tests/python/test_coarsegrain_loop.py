@@ -1,4 +1,4 @@
-"""The coarse-graining loop against a known uniform rod material (issue 14, item 3).
+"""The coarse-graining loop against a known uniform rod material.
 
 Truth: a uniform rod with stiffness K* = diag(1, 1, 1.19, 1.8, 1.8, 2.5) (bend 1.8, not the
 paper's 1.21), I* = (1, 1, 2), rho* = 1, on the 42-bp, 4-turn ring. Its equilibrium

@@ -1,4 +1,4 @@
-"""Coarse-graining against ensembles with a known answer (issue 14).
+"""Coarse-graining against ensembles with a known answer.
 
 Truth: step parameters drawn from Gaussians with known per-step means and coupled
 6x6 stiffness K (Olson et al. 1998's own tables, tests/data/olson1998/), as an AR(1) series

@@ -1,4 +1,4 @@
-"""The equilibration stage before the kick and the axis-only barostat (issue 12, item 3).
+"""The equilibration stage before the kick and the axis-only barostat.
 
 Truths: v-rescale at T gives a kinetic temperature near T (canonical
 fluctuation sqrt(2/(3N)) ~ 2 % for 1,335 atoms); the final velocities are the

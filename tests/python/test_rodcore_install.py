@@ -1,4 +1,4 @@
-"""rodcore as an installed C++ package (issue 11, section 2): `cmake --install`
+"""rodcore as an installed C++ package: `cmake --install`
 into a temporary prefix, then an outside project (tests/cpp/find_package/)
 does find_package(rodcore) + target_link_libraries(app PRIVATE rodcore::rodcore),
 builds against the public headers only and runs the exact twisted-rod wave

@@ -1,4 +1,4 @@
-"""The coarse-graining loop of `dnarod compare`: the rod predicts the MD (issue 14, item 3).
+"""The coarse-graining loop of `dnarod compare`: the rod predicts the MD.
 
     python -m dnarod.steps.cgloop coarse-grain MD_DIR OUT_DIR [--m M] [--temperature K]
         [--min-effective N] [--max-open-fraction F] [--discard N] [--m-max M]

@@ -1,4 +1,4 @@
-"""A rod held in the MD's box at the MD's own rest length (issue 15, item 3).
+"""A rod held in the MD's box at the MD's own rest length.
 
 The MD box fixes the lab length of the duplex at n x rise (the scene's rise, 3.38 A). If
 the duplex's zero-tension length L0 (from the MD's axis-only pressure-coupled
