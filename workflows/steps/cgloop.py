@@ -123,7 +123,7 @@ def refused(out_dir: Path, reason: str, extra: dict | None = None) -> dict:
 
 def cg_rod(scene_path, cg_dir, md_dir, out_dir, rodsim, m=1, n_replicas=20, n_boot=200,
            sequence_dependent=False) -> dict:
-    from mdbridge.coarsegrain.bootstrap import spread
+    from mdbridge.stats import spread
     from mdbridge.coarsegrain.cgrod import as_json, eq39_prediction, materials, read_replicas
     from mdbridge.rod.run import load_scene
     from dnarod.steps.analyse import analyse_rod, rod_dispersion
