@@ -222,7 +222,7 @@ def _sequence_dependent(cg_dir, md_dir, out, rodsim, scene, n_boot) -> dict:
                 "A_v_A_per_ps": ini.get("A_v_A_per_ps"), "A_A": 0.0,
                 "box_rise_A": u.length_to_A(info["box_length"]) / info["n_bp"],
                 "dispersion": rod_dispersion(scene)}
-        (d / "scene.json").write_text(json.dumps(meta))
+        write_json(d / "scene.json", meta)
         _run_rodsim(rodsim, d / "scene.toml", d / "rod.h5")
         r = analyse_rod(d / "scene.toml", d / "rod.h5", d / "analysis", n_boot)
     except DnarodError as e:

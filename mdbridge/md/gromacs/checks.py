@@ -27,6 +27,7 @@ from mdbridge.md.integrity import INTACT_CUTOFF_A, central_atoms, pair_distances
 
 from .energy import read_energies
 from .junction import o3p_links
+from mdbridge.jsonio import write_json
 
 
 # THE drift of an NVE run, used everywhere (checks.json, report, bench/md_drift.py):
@@ -182,7 +183,5 @@ def write_checks(directory: Path, *, gmx: str) -> dict:
                        "ok": bool(min(side) > cutoff_A),
                        "per_frame_A": [float(x) for x in side]},
     }
-    tmp = d / "checks.json.part"
-    tmp.write_text(json.dumps(checks, indent=1))
-    tmp.replace(d / "checks.json")
+    write_json(d / "checks.json", checks)
     return checks
