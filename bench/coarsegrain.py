@@ -1,5 +1,5 @@
-"""Speed of `dnarod coarse-grain` (issue 14: a 600-frame trajectory of the 158-bp
-duplex in <= 30 s on 2 cores).
+"""Speed of `dnarod coarse-grain` (the budget, docs/coarse-graining.md: a 600-frame
+trajectory of the 158-bp duplex in <= 30 s on 2 cores).
 
 Makes a synthetic 600-frame trajectory of the periodic, ligated 158-bp duplex
 (15 turns) with the toolkit's builder: step parameters drawn as an AR(1) series

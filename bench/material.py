@@ -1,4 +1,4 @@
-"""RHS cost by material kind (issue 13 item 4): diagonal uniform, coupled
+"""RHS cost by material kind: diagonal uniform, coupled
 uniform and coupled per point, at N = 158, 1000, 1024, both operators, and
 the diagonal kernel of this build against a base build (e.g. the commit
 before the general material); optionally the same material benchmarks of a

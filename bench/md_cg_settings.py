@@ -1,6 +1,6 @@
-"""Does the coarse-grained stiffness depend on the MD integration setting? (issue 12, item 2:
-"the coarse-grained stiffness must stay within its errors when the time step is halved or
-gmx_d is used"), measured once on the 21-bp duplex.
+"""Does the coarse-grained stiffness depend on the MD integration setting? It must stay
+within its errors when the time step is halved or gmx_d is used; measured once on the
+21-bp duplex.
 
     python bench/md_cg_settings.py [--work /tmp/md_tension] [--ps 400] [--gmx gmx] [--gmx-d gmx_d]
 

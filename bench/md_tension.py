@@ -1,4 +1,4 @@
-"""Validate the MD tension on the 21-bp duplex (issue 15, item 2): the zero-tension length of
+"""Validate the MD tension on the 21-bp duplex: the zero-tension length of
 the axis-only barostat, and the tension difference between two fixed box lengths against
 the stretch modulus of the same MD.
 

@@ -26,7 +26,7 @@ echo "== output cost, rod vs MD, cost per point"
 echo "== RHS cost by material kind (diagonal, coupled, per point); BENCH_BASE_BUILD=dir also times a base build"
 "$PYTHON" "$DNAROD_ROOT/bench/material.py" --build "$DNAROD_BUILD" --out "$OUT" \
   ${BENCH_BASE_BUILD:+--base-build "$BENCH_BASE_BUILD"} --rounds "$([[ -n "$QUICK" ]] && echo 1 || echo 5)"
-echo "== coarse-graining a 600-frame 158-bp trajectory (issue 14 budget: 30 s)"
+echo "== coarse-graining a 600-frame 158-bp trajectory (budget: 30 s)"
 "$PYTHON" "$DNAROD_ROOT/bench/coarsegrain.py" --out "$OUT"
 echo "== coarse-graining bootstrap: stated errors against the block length (calibration, ~10 s CPU)"
 "$PYTHON" "$DNAROD_ROOT/bench/cg_block_length.py" --out "$OUT"

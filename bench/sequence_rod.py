@@ -1,5 +1,5 @@
 """The paper's 158-bp scene with its MD's own random sequence under Olson 1998,
-next to the paper's uniform rod (issue 13): rod runs of 600 ps at A_v = 1 A/ps
+next to the paper's uniform rod: rod runs of 600 ps at A_v = 1 A/ps
 and the standing-mode phase speed fitted by the comparison's analysis
 (mdbridge.analysis.WaveAnalysis + the standing-mode fit, exactly as `dnarod
 compare` does for a rod: workflows/steps/analyse.py, analyse_rod).

@@ -16,7 +16,6 @@ zero base-pair parameters: STEP_PARAMETERS below.
 FIBRE_RISE_A = 3.375   # Arnott fibre B-DNA helical rise [Angstrom] (pitch 33.75 A / 10)
 RISE_A = 3.38          # rounded rise per base pair used for ideal duplexes [Angstrom]
 TWIST_DEG = 36.0       # helical twist per base pair [degrees] (10 bp per turn)
-BP_PER_TURN = 360.0 / TWIST_DEG
 
 #: step parameters (shift, slide, rise [A], tilt, roll, twist [deg]) of ideal B-DNA
 STEP_PARAMETERS = (0.0, 0.0, RISE_A, 0.0, 0.0, TWIST_DEG)

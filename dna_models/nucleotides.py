@@ -19,7 +19,6 @@ from .errors import InputError
 DATA = Path(__file__).resolve().parent / "data"
 BASES = ("A", "C", "G", "T")
 PURINES = ("A", "G")
-PYRIMIDINES = ("C", "T")
 #: GROMACS charmm27.ff residue names of the DNA nucleotides
 CHARMM_RESNAME = {"A": "DA", "C": "DC", "G": "DG", "T": "DT"}
 

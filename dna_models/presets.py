@@ -77,6 +77,3 @@ def olson1998() -> ElasticPreset:
     return ElasticPreset(name="olson1998", C=C, D=D, I=tuple(u.I * r for r in u.I_ratios), rho=u.rho,
                          source="Olson et al. 1998 PNAS 95:11163, sequence average "
                                 "(dna_models/data/olson1998_average.toml)")
-
-
-PRESETS = {"paper": paper, "olson1998": olson1998}

@@ -40,6 +40,10 @@ def dumps(o, indent: int = 1) -> str:
 
 
 def write_json(path, o, indent: int = 1) -> Path:
+    """Write O to PATH whole or not at all: the text goes to PATH.part first, which then
+    replaces PATH (a reader never sees half a file)."""
     path = Path(path)
-    path.write_text(dumps(o, indent) + "\n")
+    tmp = path.with_name(path.name + ".part")
+    tmp.write_text(dumps(o, indent) + "\n")
+    tmp.replace(path)
     return path

@@ -9,7 +9,7 @@ PACKAGES=(
   # C++ libraries of rodcore (see README "Dependencies" for why each)
   libeigen3-dev libfftw3-dev libhdf5-dev libtomlplusplus-dev libcli11-dev
   pybind11-dev libgtest-dev libgmock-dev libbenchmark-dev
-  # sanitizer/fuzzer toolchain (tests of issue 8)
+  # sanitizer/fuzzer toolchain (scripts/test_sanitize.sh)
   clang libclang-rt-14-dev
   # molecular dynamics
   gromacs
@@ -20,7 +20,7 @@ PACKAGES=(
   python3 python3-dev python3-numpy python3-scipy python3-matplotlib
   python3-h5py python3-mdanalysis python3-pytest python3-hypothesis
   python3-yaml python3-toml python3-jsonschema snakemake
-  # real components the tests drive (issue 16): the report in headless Chromium through
+  # real components the tests drive: the report in headless Chromium through
   # chromedriver, a local SLURM cluster, PyMOL for the viewing files
   chromium chromium-driver python3-selenium slurm-wlm munge pymol python3-pymol
   # installing the toolkit (scripts/install.sh: pip install -e . with Debian's setuptools)

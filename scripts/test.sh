@@ -16,7 +16,7 @@ cd "$DNAROD_ROOT"
 # -P: the checkout folder is not put on sys.path, so the tests see only the
 # installed toolkit (pyproject.toml sets -rs --strict-markers).
 t0=$SECONDS; "$PYTHON" -P -m pytest -q tests/python "$@"; echo "-- pytest: $((SECONDS - t0)) s"
-# Issue 8: the same C++ tests under AddressSanitizer + UndefinedBehaviorSanitizer
+# The same C++ tests under AddressSanitizer + UndefinedBehaviorSanitizer
 # (build-asan/), then a short libFuzzer run of the scene reader (build-fuzz/).
 # DNAROD_SKIP_SANITIZE=1 leaves them out (say so in any report that uses it).
 if [ "${DNAROD_SKIP_SANITIZE:-0}" = 1 ]; then

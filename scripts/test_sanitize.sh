@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 8, "no silent bad numbers" at the level of the code itself:
+# "No silent bad numbers" (docs/reliability.md) at the level of the code itself:
 #   1. AddressSanitizer + UndefinedBehaviorSanitizer build of rodcore and its
 #      GoogleTest suites (build-asan/, -DDNAROD_SANITIZE=ON), run with CTest.
 #      Any leak, out-of-bounds access, use-after-free or undefined behaviour

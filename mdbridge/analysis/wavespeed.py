@@ -28,6 +28,7 @@ import numpy as np
 from scipy.optimize import least_squares, minimize_scalar
 
 from dna_models.errors import InputError
+from mdbridge.stats import circular_block_indices, e_folding_lag
 
 
 def mode_amplitude(u: np.ndarray, mode: int = 1) -> np.ndarray:
@@ -83,19 +84,6 @@ def _rss_scan(t, c, grid, offset, chunk=1024):
     return out
 
 
-def _block_length(r: np.ndarray) -> int:
-    r = r - r.mean()
-    var = np.vdot(r, r).real
-    if var == 0:
-        return 1
-    n = len(r)
-    for lag in range(1, n // 4):
-        rho = np.vdot(r[:-lag], r[lag:]).real / var
-        if rho < np.exp(-1):
-            return lag
-    return max(1, n // 4)
-
-
 def fit_wave_speed(times_ps, c, k_per_A, offset=False, n_boot=200, seed=0) -> dict:
     """Estimator 1: nonlinear LS of c(t) = A_+ e^{-iwt} + A_- e^{iwt} (+ B if offset)."""
     t = np.asarray(times_ps, float)
@@ -135,14 +123,13 @@ def fit_wave_speed(times_ps, c, k_per_A, offset=False, n_boot=200, seed=0) -> di
 
     # moving-block residual bootstrap (circular blocks)
     rng = np.random.default_rng(seed)
-    b = _block_length(r)
+    b = e_folding_lag(r)
     fitted = c - r
     n = len(t)
     half = max(3 * dw, 10 * w_err_cov if np.isfinite(w_err_cov) else 3 * dw)
     boot = []
     for _ in range(n_boot):
-        starts = rng.integers(0, n, size=int(np.ceil(n / b)))
-        idx = (starts[:, None] + np.arange(b)[None, :]).ravel()[:n] % n
+        idx = circular_block_indices(n, b, rng)
         cb = fitted + r[idx]
         local = np.linspace(max(w - half, w_min / 2), w + half, 41)
         rl = _rss_scan(tc, cb, local, offset)

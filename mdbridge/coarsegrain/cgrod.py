@@ -37,7 +37,7 @@ import numpy as np
 from dna_models.errors import InputError
 from dna_models.units import Units
 
-from .bootstrap import spread
+from mdbridge.stats import spread
 
 REPLICAS_FORMAT = "dnarod-cg-replicas/1"
 

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .autocorrelation import integrated_time
+from mdbridge.stats import integrated_time
 
 GRID = 40
 

@@ -4,12 +4,12 @@ error (docs/coarse-graining.md).
 
 Order of work, each piece in its own module:
  1. equilibration stretch discarded (equilibration.py), minimum length checked
-    against the autocorrelation times (autocorrelation.py);
+    against the autocorrelation times (mdbridge/stats.py);
  2. m-step composition of the steps (composition.py), windows containing an excluded
     step dropped;
  3. per window: mean, covariance, K = kT cov^-1 with the finite-sample correction
     (stiffness.py); sequence averages; continuum constants (continuum.py);
- 4. errors: moving-block bootstrap over frames of the whole of 2-3 (bootstrap.py);
+ 4. errors: moving-block bootstrap over frames of the whole of 2-3 (mdbridge/stats.py);
  5. checks: first half against second half, estimate against frames used;
  6. optional rest-shape correction of a pre-stressed (box-constrained) duplex
     (prestress.py).
@@ -24,8 +24,8 @@ import numpy as np
 
 from dna_models.errors import InputError
 
-from .autocorrelation import integrated_time
-from .bootstrap import block_length, block_starts, block_sums, replicate_moments, spread, weighted_moments
+from mdbridge.stats import integrated_time
+from mdbridge.stats import block_length, block_starts, block_sums, replicate_moments, spread, weighted_moments
 from .composition import compose
 from .continuum import TWIST, contour_constants, physical_constants
 from .ensemble import StepEnsemble

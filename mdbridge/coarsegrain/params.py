@@ -1,5 +1,5 @@
 """params.json: every number of a coarse-graining, with its unit and error, in the
-layout of issue 14 (docs/coarse-graining.md lists every key)."""
+layout docs/coarse-graining.md lists key by key."""
 from __future__ import annotations
 
 from pathlib import Path

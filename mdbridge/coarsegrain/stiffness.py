@@ -17,7 +17,7 @@ import numpy as np
 
 from dna_models.errors import InputError
 
-from .autocorrelation import integrated_time
+from mdbridge.stats import integrated_time
 
 
 def bias_factor(n_eff, p: int):

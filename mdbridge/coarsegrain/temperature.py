@@ -8,18 +8,17 @@ freedom over all atoms would understate T by up to a third. The atoms kept carry
 3 k_B T each by equipartition except for a heavy atom X bound to a constrained H:
 its share is (3 m_X + 2 m_H) / (m_X + m_H) k_B T, 2.6 % low for C-H; reported as a
 bound, not corrected (the fraction of such atoms is reported too).
-An .edr energy file gives the thermostat's temperature through `gmx energy`.
+An .edr energy file gives the thermostat's temperature through `gmx energy`
+(mdbridge/md/gromacs/energy.py, the one reader).
 """
 from __future__ import annotations
 
-import subprocess
-import tempfile
 from pathlib import Path
 
 import numpy as np
 
-from dna_models.errors import InputError
-
+from dna_models.errors import ExternalToolError, InputError
+from mdbridge.md.gromacs.energy import energy_series
 from mdbridge.md.gromacs.velocities import kinetic_temperature as _kinetic
 
 _WATER = {"SOL", "WAT", "HOH", "TIP3", "TIP3P", "SPC", "TIP4", "TIP4P", "T3P", "SPCE"}
@@ -59,24 +58,18 @@ def kinetic_temperature(universe, start=None, stop=None, step=None, max_frames=M
 
 
 def edr_temperature(edr_path, gmx: str = "gmx", begin_ps=None):
-    """Mean 'Temperature' of a GROMACS .edr (via `gmx energy`)."""
+    """Mean 'Temperature' of a GROMACS .edr (mdbridge/md/gromacs/energy.py, `gmx energy`)."""
     edr = Path(edr_path)
     if not edr.is_file():
         raise InputError(f"{edr}: energy file not found")
-    with tempfile.TemporaryDirectory() as tmp:
-        out = Path(tmp) / "T.xvg"
-        args = [gmx, "-quiet", "energy", "-f", str(edr), "-o", str(out)]
-        if begin_ps is not None:
-            args += ["-b", str(begin_ps)]
-        try:
-            p = subprocess.run(args, input="Temperature\n\n", capture_output=True, text=True, timeout=120)
-        except FileNotFoundError:
-            raise InputError(f"{edr}: reading an .edr needs GROMACS ('{gmx}' not found); "
-                             "give --temperature instead") from None
-        if p.returncode != 0 or not out.is_file():
-            raise InputError(f"{edr}: gmx energy failed to extract 'Temperature': {p.stderr.strip()[-400:]}")
-        rows = [ln.split() for ln in out.read_text().splitlines() if ln and ln[0] not in "#@"]
-        T = np.array([float(r[1]) for r in rows if len(r) >= 2])
+    try:
+        e = energy_series(edr.resolve(), gmx, ("Temperature",), begin_ps=begin_ps)
+    except FileNotFoundError:
+        raise InputError(f"{edr}: reading an .edr needs GROMACS ('{gmx}' not found); "
+                         "give --temperature instead") from None
+    except ExternalToolError as err:
+        raise InputError(f"{edr}: gmx energy failed to extract 'Temperature': {str(err)[-400:]}") from None
+    T = e.get("Temperature", np.zeros(0))
     if not len(T):
         raise InputError(f"{edr}: no 'Temperature' term")
     return float(T.mean()), float(T.std())

@@ -76,7 +76,7 @@ def test_buckling_strain_from_the_linearisation():
     c = critical_compression(L, u.D_star[0], u.C_star[2])
     k = 2 * math.pi / L
     e = c["strain"]
-    assert -0.004 < e < -0.003                               # ~0.35 % (issue 15)
+    assert -0.004 < e < -0.003                               # ~0.35 %
     w_just_stable, _ = linear_frequencies(k, u.D_star[0], 1 + 0.99 * e, u.C_star[2] * 0.99 * e)
     w_at, _ = linear_frequencies(k, u.D_star[0], 1 + e, u.C_star[2] * e)
     assert w_just_stable > 1e-4 and w_at < 1e-6

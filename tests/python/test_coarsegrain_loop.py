@@ -1,4 +1,4 @@
-"""The coarse-graining loop against a known uniform rod material (issue 14, item 3).
+"""The coarse-graining loop against a known uniform rod material.
 
 Truth: a uniform rod with stiffness K* = diag(1, 1, 1.19, 1.8, 1.8, 2.5) (bend 1.8, not the
 paper's 1.21), I* = (1, 1, 2), rho* = 1, on the 42-bp, 4-turn ring. Its equilibrium
@@ -128,7 +128,7 @@ def test_rod_runs_predict_the_known_material(tmp_path, rodsim):
     stated error, and the replicate-run error agrees with Eq 39's spread over the same
     replicates (the linear propagation) within the scatter of an 8-sample spread."""
     from dnarod.steps import analyse as steps, cgloop
-    from mdbridge.coarsegrain.bootstrap import spread
+    from mdbridge.stats import spread
     from mdbridge.coarsegrain.cgrod import eq39_speed, materials
     from mdbridge.coarsegrain.params import build_params, write_params
     cgd = tmp_path / "cg"

@@ -1,4 +1,4 @@
-"""m-step composition and continuum limits against independent truths (issue 14).
+"""m-step composition and continuum limits against independent truths.
 
 * Composition: the m-step parameters equal the CEHS step parameters between base
   pairs i and i + m of the frames rebuilt from the steps (mdbridge.geometry,

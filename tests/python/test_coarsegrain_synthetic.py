@@ -1,4 +1,4 @@
-"""Coarse-graining against ensembles with a known answer (issue 14).
+"""Coarse-graining against ensembles with a known answer.
 
 Truth: step parameters drawn from Gaussians with known per-step means and coupled
 6x6 stiffness K (Olson et al. 1998's own tables, tests/data/olson1998/), as an AR(1) series
@@ -155,7 +155,7 @@ def test_too_few_frames_is_a_clear_error():
 def test_block_replicates_equal_explicitly_resampled_frames():
     """The cumulative-sum replicate moments equal numpy's mean and covariance of the
     frames the blocks select (T = 103 not a multiple of b = 10: the last block is cut)."""
-    from mdbridge.coarsegrain.bootstrap import block_starts, replicate_moments
+    from mdbridge.stats import block_starts, replicate_moments
     rng = np.random.default_rng(0)
     q = rng.normal(size=(103, 4, 6))
     st = block_starts(103, 10, 5, rng)

@@ -1,4 +1,4 @@
-"""The equilibration stage before the kick and the axis-only barostat (issue 12, item 3).
+"""The equilibration stage before the kick and the axis-only barostat.
 
 Truths: v-rescale at T gives a kinetic temperature near T (canonical
 fluctuation sqrt(2/(3N)) ~ 2 % for 1,335 atoms); the final velocities are the
@@ -74,3 +74,19 @@ def test_equilibrated_protocol_needs_a_temperature(gmx, tmp_path):
     from dna_models.errors import InputError
     with pytest.raises(InputError, match="temperature"):
         make(tmp_path, T=0.0, gmx=gmx, protocol="equilibrated")
+
+
+def test_edr_temperature_is_gmx_energys_own_average(equilibrated, gmx, tmp_path):
+    """The coarse-graining's --edr temperature (read through mdbridge/md/gromacs/energy.py)
+    against the average gmx energy prints itself, from the stage's real eq.edr."""
+    import re
+    import subprocess
+    from mdbridge.coarsegrain.temperature import edr_temperature
+    d = equilibrated[0]
+    p = subprocess.run([gmx, "energy", "-f", str(d / "eq.edr"), "-o", str(tmp_path / "T.xvg")],
+                       input="Temperature\n\n", capture_output=True, text=True, check=True)
+    avg = float(re.search(r"^Temperature\s+(\S+)", p.stdout, re.M).group(1))
+    T, sd = edr_temperature(d / "eq.edr", gmx=gmx)
+    assert T == pytest.approx(avg, abs=1e-3) and 0 < sd < 30
+    # control: a later start reads a different stretch of the same file
+    assert edr_temperature(d / "eq.edr", gmx=gmx, begin_ps=1.5)[0] != pytest.approx(T, abs=1e-6)

@@ -1,4 +1,4 @@
-"""A killed MD continues from its checkpoint to the same trajectory (issue 12, item 1).
+"""A killed MD continues from its checkpoint to the same trajectory.
 
 The truth is an uninterrupted run of the same inputs with the same gmx, thread
 count and mdrun -reprod: the interrupted-and-resumed run must give the same

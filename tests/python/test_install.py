@@ -1,4 +1,4 @@
-"""The installed toolkit is this checkout (issue 11, "no stale installs").
+"""The installed toolkit is this checkout.
 
 One install serves the whole machine (scripts/install.sh: pip's editable
 install of mdbridge, dna_models, dnarod; CMake's install of the compiled

@@ -1,4 +1,4 @@
-"""Errors at the terminal (issue 16, item 4): each says what failed, which file, and what
+"""Errors at the terminal: each says what failed, which file, and what
 to try. One test per case that did not, run as a user runs the command.
 
 Before: a missing rod file quoted h5py's low-level errno text; a file MDAnalysis cannot

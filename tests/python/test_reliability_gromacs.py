@@ -1,4 +1,4 @@
-"""MD that fails must say so clearly and must never look finished (issue 8).
+"""MD that fails must say so clearly and must never look finished.
 
 The real chain through the command line: `dnarod build-md` of a sheared 21-bp
 duplex without --minimize, then `dnarod run-md`. The paper's dna_planar scene

@@ -1,4 +1,4 @@
-"""No accepted bad input, scene side (issue 8): regressions found by the
+"""No accepted bad input, scene side: regressions found by the
 scene-reader fuzz target (fuzz/scene_reader_fuzz.cpp), checked through
 rodsim as a user meets them: a scene is either accepted (exit 0) or refused
 with exit 2 and a message naming the file and key -- never exit 1."""

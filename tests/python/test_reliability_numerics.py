@@ -1,4 +1,4 @@
-"""No silent bad numbers (issue 8): each numerical check of rodsim, provoked
+"""No silent bad numbers: each numerical check of rodsim, provoked
 on purpose, stops the run with exit status 3 and a message that says what
 happened, where (t, and s where there is a place) and what to try; the
 frames written before it stay readable in OUT.h5 with complete = 0 and the

@@ -1,4 +1,4 @@
-"""Never lose a run (issue 8): rodsim stopped by SIGTERM, SIGINT or SIGKILL
+"""Never lose a run: rodsim stopped by SIGTERM, SIGINT or SIGKILL
 continues with `--resume` to a file equal, bit for bit, to the file of an
 uninterrupted run of the same scene (the independent truth), for a
 fixed-step and an adaptive scheme; checkpoints of another scene are refused;

@@ -1,4 +1,4 @@
-"""No accepted bad input, structures (issue 8): cases the geometry owners'
+"""No accepted bad input, structures: cases the geometry owners'
 tests (tests/python/test_geometry_structure.py) do not cover. The truth is
 by construction: an all-atom duplex built by mdbridge.md.builder with a nucleotide
 removed has a broken strand; a pair list naming a nucleotide twice or with

@@ -1,4 +1,4 @@
-"""The general rod material (issue 13 items 1-2; docs/numerics.md, "General
+"""The general rod material (docs/numerics.md, "General
 material"): a full symmetric positive-definite 6 x 6 K, a non-diagonal I and a
 density rho, uniform or per grid point.
 

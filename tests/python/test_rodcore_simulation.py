@@ -1,4 +1,4 @@
-"""The Python rodcore.Simulation object (issue 11, section 2): construct from a
+"""The Python rodcore.Simulation object: construct from a
 scene, step it, read the state, attach callbacks, evaluate the RHS. Truths:
 the exact twisted-rod wave (Eq 24, written out in test_rodcore_module.py),
 energy conservation, and the one-shot rodcore.run() of the same scene (the

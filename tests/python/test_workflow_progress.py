@@ -1,4 +1,4 @@
-"""workflows/progress.py: the one progress mechanism (issue 12, item 6).
+"""workflows/progress.py: the one progress mechanism.
 
 Truths: the rate and time left are arithmetic on the updates given (a fake
 clock), the plain line parses back to the numbers it was made from, and a

@@ -1,4 +1,4 @@
-"""Progress displays of the commands that run long (issue 16, item 4), each run for real
+"""Progress displays of the commands that run long, each run for real
 on tiny inputs, once under a pseudo-terminal and once in a pipe.
 
 On a terminal each shows a live line (dnarod.progress: redrawn with a carriage return);

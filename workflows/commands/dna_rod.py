@@ -8,6 +8,7 @@ from pathlib import Path
 import numpy as np
 
 from dna_models.errors import InputError
+from mdbridge.jsonio import write_json
 
 NAME = "dna-rod"
 HELP = "a sequence-dependent DNA rod: per-step file, grid material, closed pre-stressed rest state, scene"
@@ -135,7 +136,7 @@ def run(args):
             "rest_iterations": rest.iterations, "elastic_energy": rest.energy,
             "elastic_energy_kT": rest.energy / u.kT_to_rod(sm.temperature_K),
             "axis0": rest.axis0.tolist(), "kick_A_per_ps": args.kick}
-    (out / "rest.json").write_text(json.dumps(info, indent=1))
+    write_json(out / "rest.json", info)
     print(f"dna-rod: rest state tension {T_pN:.2f} pN, torque {M_pNnm:.3f} pN nm, statics residual "
           f"{rest.statics_residual:.2e}, closure {rest.closure_rotation_rad:.2e} rad / "
           f"{info['closure_length_error_A']:.2e} A", file=sys.stderr)

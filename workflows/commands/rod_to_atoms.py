@@ -7,6 +7,7 @@ from pathlib import Path
 import numpy as np
 
 from dna_models.errors import InputError
+from mdbridge.jsonio import write_json
 
 NAME = "rod-to-atoms"
 HELP = "write a rod run as an all-atom trajectory (like an MD build) or as a coarse bead model"
@@ -160,7 +161,7 @@ def _atoms(args, md, build, out, R, o, t, stages) -> int:
                                   "closest_nonbonded_heavy_A": "closest heavy-atom pair that is not 1-2 or 1-3 "
                                                                "bonded, within 4 A (null: none)"}}
         path = out.with_suffix(".chemistry.json")
-        path.write_text(json.dumps(report, indent=1))
+        write_json(path, report)
         msg += (f"; O3'-P {links.min():.2f}-{links.max():.2f} A, closest contact "
                 f"{np.nanmin(np.where(np.isfinite(contact), contact, np.nan)):.2f} A ({path.name})")
     stages.close()

@@ -1,4 +1,4 @@
-"""The coarse-graining loop of `dnarod compare`: the rod predicts the MD (issue 14, item 3).
+"""The coarse-graining loop of `dnarod compare`: the rod predicts the MD.
 
     python -m dnarod.steps.cgloop coarse-grain MD_DIR OUT_DIR [--m M] [--temperature K]
         [--min-effective N] [--max-open-fraction F] [--discard N] [--m-max M]
@@ -123,7 +123,7 @@ def refused(out_dir: Path, reason: str, extra: dict | None = None) -> dict:
 
 def cg_rod(scene_path, cg_dir, md_dir, out_dir, rodsim, m=1, n_replicas=20, n_boot=200,
            sequence_dependent=False) -> dict:
-    from mdbridge.coarsegrain.bootstrap import spread
+    from mdbridge.stats import spread
     from mdbridge.coarsegrain.cgrod import as_json, eq39_prediction, materials, read_replicas
     from mdbridge.rod.run import load_scene
     from dnarod.steps.analyse import analyse_rod, rod_dispersion
@@ -222,7 +222,7 @@ def _sequence_dependent(cg_dir, md_dir, out, rodsim, scene, n_boot) -> dict:
                 "A_v_A_per_ps": ini.get("A_v_A_per_ps"), "A_A": 0.0,
                 "box_rise_A": u.length_to_A(info["box_length"]) / info["n_bp"],
                 "dispersion": rod_dispersion(scene)}
-        (d / "scene.json").write_text(json.dumps(meta))
+        write_json(d / "scene.json", meta)
         _run_rodsim(rodsim, d / "scene.toml", d / "rod.h5")
         r = analyse_rod(d / "scene.toml", d / "rod.h5", d / "analysis", n_boot)
     except DnarodError as e:

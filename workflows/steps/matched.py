@@ -1,4 +1,4 @@
-"""The matched rod-vs-MD comparison of `dnarod compare` (issue 15): per run the standing-mode
+"""The matched rod-vs-MD comparison of `dnarod compare`: per run the standing-mode
 fit with its three-part error (mdbridge/analysis/mode_error.py), amplitude, strain and
 tension (mdbridge/analysis/matched.py); across runs the regime labels, the rod's frequency
 at the MD's amplitude, the baseline tension and the buckling check. Keys: docs/analysis.md,

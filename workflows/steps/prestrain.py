@@ -1,4 +1,4 @@
-"""A rod held in the MD's box at the MD's own rest length (issue 15, item 3).
+"""A rod held in the MD's box at the MD's own rest length.
 
 The MD box fixes the lab length of the duplex at n x rise (the scene's rise, 3.38 A). If
 the duplex's zero-tension length L0 (from the MD's axis-only pressure-coupled
@@ -18,7 +18,6 @@ comparison, not run.
 """
 from __future__ import annotations
 
-import json
 import math
 from pathlib import Path
 
@@ -26,6 +25,7 @@ import numpy as np
 
 from dna_models.errors import InputError
 from dna_models.units import Units
+from mdbridge.jsonio import write_json
 
 
 def gamma03_from_rest_length(n_bp: int, rise_box_A: float, rest_length_A: float) -> float:
@@ -106,5 +106,5 @@ def make_prestrain_scene(base_path, out_path, Gamma03: float, A_v: float, run_ps
             "dispersion": {"fiducial_length": L, "D1": D1, "Gamma03": Gamma03,
                            "bend_branch_speed_A_per_ps": pred["bend_branch_speed_A_per_ps"],
                            "with_tension": pred}}
-    out.with_suffix(".json").write_text(json.dumps(meta, indent=1))
+    write_json(out.with_suffix(".json"), meta)
     return meta

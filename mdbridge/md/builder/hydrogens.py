@@ -25,6 +25,7 @@ from pathlib import Path
 import numpy as np
 
 from dna_models.errors import ExternalToolError
+from mdbridge.jsonio import write_json
 
 # interior residues of strand I cover A, C, G, T; strand II (complement) too
 PROBE_SEQUENCE = "GACGTCAG"
@@ -90,7 +91,7 @@ def main(argv=None):
     p.add_argument("--gmx", default=None, help="gmx executable (else $DNAROD_GMX, else PATH)")
     p.add_argument("-o", "--output", default=str(H_DATA))
     args = p.parse_args(argv)
-    Path(args.output).write_text(json.dumps(generate(args.gmx), indent=1) + "\n")
+    write_json(args.output, generate(args.gmx))
     print(f"wrote {args.output}")
 
 

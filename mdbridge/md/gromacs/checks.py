@@ -5,7 +5,7 @@
 - NVE energy drift from md.edr (via `gmx energy`; MDAnalysis's EDR reader needs
   pyedr, which Debian does not ship): linear-fit slope and largest excursion;
 - fraction of intact Watson-Crick pairs per frame: N1(purine)-N3(pyrimidine)
-  < 3.5 A, minimum image;
+  < 3.5 A, minimum image (mdbridge/md/integrity.py, the one definition);
 - base-pair frames at t = 0 re-analysed from the built structure vs the rod's
   (copied from build.json, where they were measured);
 - smallest distance between the duplex and its side-wall images (the images
@@ -22,12 +22,12 @@ import numpy as np
 from dna_models.errors import ExternalToolError
 
 from dna_models.units import ANGSTROM_PER_NM as NM
+from mdbridge.md.builder.duplex import base_pairs
+from mdbridge.md.integrity import INTACT_CUTOFF_A, central_atoms, pair_distances
 
 from .energy import read_energies
 from .junction import o3p_links
-
-WC_CUTOFF_A = 3.5
-PURINES = ("DA", "DG")
+from mdbridge.jsonio import write_json
 
 
 # THE drift of an NVE run, used everywhere (checks.json, report, bench/md_drift.py):
@@ -77,19 +77,6 @@ def energy_drift(directory: Path, gmx: str, n_atoms: int) -> dict:
                               "mean": float(col["Temperature"].mean())},
         })
     return out
-
-
-def wc_pairs(resid, resname, names, n_bp: int):
-    """Atom indices (i, j) of N1(purine)-N3(pyrimidine) for each base pair k = 1..n."""
-    where = {(int(r), str(a)): k for k, (r, a) in enumerate(zip(resid, names))}
-    rn = {int(r): str(n) for r, n in zip(resid, resname)}
-    from mdbridge.md.builder.duplex import base_pairs
-    out = []
-    for a, b in base_pairs(n_bp):
-        ia = where[(a, "N1" if rn[a] in PURINES else "N3")]
-        ib = where[(b, "N1" if rn[b] in PURINES else "N3")]
-        out.append((ia, ib))
-    return np.array(out)
 
 
 def _transverse_whole(x, box, axis):
@@ -154,15 +141,16 @@ def write_checks(directory: Path, *, gmx: str) -> dict:
     axis = int(build["box"]["axis"])
     u = mda.Universe(str(d / "conf.gro"), str(d / "md.xtc"))
     resid = u.atoms.resids
-    resname = list(u.atoms.resnames)
     names = list(u.atoms.names)
-    pairs = wc_pairs(resid, resname, names, n)
-    times, pos, boxes, side = [], [], [], []
+    residue = {int(r.resid): r for r in u.residues}
+    wc_a, wc_b = central_atoms([(residue[i], residue[j]) for i, j in base_pairs(n)])
+    times, pos, boxes, side, dist = [], [], [], [], []
     for ts in u.trajectory:
         times.append(ts.time)
         pos.append(u.atoms.positions.astype(float))
         boxes.append(ts.dimensions[:3].astype(float))
         side.append(min_side_image_distance(pos[-1], boxes[-1], axis))
+        dist.append(pair_distances(wc_a.positions, wc_b.positions, ts.dimensions))
     X = np.array(pos)                  # (T, N, 3) A
     B = np.array(boxes)                # (T, 3) A
     # O3'-P links per frame (box may in principle change; NVE keeps it fixed)
@@ -173,10 +161,7 @@ def write_checks(directory: Path, *, gmx: str) -> dict:
         inner = np.array([lk[s]["interior_A"] for lk in links])
         junction[s] = {"junction_min_A": float(j.min()), "junction_max_A": float(j.max()),
                        "interior_min_A": float(inner.min()), "interior_max_A": float(inner.max())}
-    dv = X[:, pairs[:, 1]] - X[:, pairs[:, 0]]
-    dv -= B[:, None, :] * np.round(dv / B[:, None, :])
-    dist = np.linalg.norm(dv, axis=-1)                    # (T, n_bp)
-    intact = (dist < WC_CUTOFF_A).mean(axis=1)
+    intact = (np.array(dist) < INTACT_CUTOFF_A).mean(axis=1)   # (T,) mdbridge/md/integrity.py
     cutoff_A = float(build["md_settings"]["cutoff_nm"]) * NM
     checks = {
         "n_frames": len(times), "times_ps": [float(times[0]), float(times[-1])],
@@ -185,7 +170,7 @@ def write_checks(directory: Path, *, gmx: str) -> dict:
                            and v["junction_min_A"] >= v["interior_min_A"] - 0.05
                            for v in junction.values()),
         "energy": energy_drift(d, gmx, u.atoms.n_atoms),
-        "watson_crick": {"criterion": f"N1(purine)-N3(pyrimidine) < {WC_CUTOFF_A} A, minimum image",
+        "watson_crick": {"criterion": f"N1(purine)-N3(pyrimidine) < {INTACT_CUTOFF_A} A, minimum image",
                          "times_ps": [float(t) for t in times],
                          "fraction_intact": [float(f) for f in intact],
                          "final_fraction_intact": float(intact[-1]),
@@ -198,7 +183,5 @@ def write_checks(directory: Path, *, gmx: str) -> dict:
                        "ok": bool(min(side) > cutoff_A),
                        "per_frame_A": [float(x) for x in side]},
     }
-    tmp = d / "checks.json.part"
-    tmp.write_text(json.dumps(checks, indent=1))
-    tmp.replace(d / "checks.json")
+    write_json(d / "checks.json", checks)
     return checks

@@ -6,6 +6,7 @@ MDAnalysis's EDR reader needs pyedr, which Debian does not ship.
 """
 from __future__ import annotations
 
+import tempfile
 from pathlib import Path
 
 import numpy as np
@@ -23,14 +24,31 @@ def read_xvg(path: Path) -> tuple[list[str], np.ndarray]:
     return legends, np.array(rows)
 
 
-def read_energies(directory: Path, gmx: str, edr: str = "md.edr") -> dict:
-    """Time series of md.edr (via `gmx energy`): {"time": ..., "Potential": ..., ...}."""
-    d = Path(directory)
-    run_gmx(gmx, ["energy", "-f", edr, "-o", "energy.xvg"], d,
-            stdin="Potential\nKinetic-En.\nTotal-Energy\nConserved-En.\nTemperature\n"
-                  "Pres-XX\nPres-YY\nPres-ZZ\nBox-X\nBox-Y\nBox-Z\n\n",
-            log_name="gmx_energy.log")
-    names, data = read_xvg(d / "energy.xvg")
-    out = {n: data[:, k + 1] for k, n in enumerate(names)}
-    out["time"] = data[:, 0]
+# the terms every run directory's energy.xvg holds (checks.json, equilibration, tension)
+RUN_TERMS = ("Potential", "Kinetic-En.", "Total-Energy", "Conserved-En.", "Temperature",
+             "Pres-XX", "Pres-YY", "Pres-ZZ", "Box-X", "Box-Y", "Box-Z")
+
+
+def energy_series(edr, gmx: str, terms=RUN_TERMS, *, cwd: Path | None = None,
+                  begin_ps: float | None = None) -> dict:
+    """Time series of TERMS of the energy file EDR (via `gmx energy`): {"time": ...,
+    legend: series, ...}, the legends as gmx writes them ("Kinetic En." for "Kinetic-En.").
+    In CWD (energy.xvg and gmx_energy.log stay there), else in a temporary folder. A term
+    the file lacks is left out by gmx; ExternalToolError when gmx fails."""
+    args = ["energy", "-f", str(edr), "-o", "energy.xvg"]
+    if begin_ps is not None:
+        args += ["-b", str(begin_ps)]
+    stdin = "".join(f"{k}\n" for k in terms) + "\n"
+    with tempfile.TemporaryDirectory(prefix="dnarod-energy-") as tmp:
+        d = Path(cwd) if cwd is not None else Path(tmp)
+        run_gmx(gmx, args, d, stdin=stdin, log_name="gmx_energy.log", timeout_s=None if cwd else 120)
+        names, data = read_xvg(d / "energy.xvg")
+    out = {n: data[:, k + 1] for k, n in enumerate(names)} if len(data) else {}
+    out["time"] = data[:, 0] if len(data) else np.zeros(0)
     return out
+
+
+def read_energies(directory: Path, gmx: str, edr: str = "md.edr") -> dict:
+    """Time series of DIRECTORY/EDR (a run's md.edr or eq.edr): {"time": ..., "Potential":
+    ..., ...}; energy.xvg is left in DIRECTORY."""
+    return energy_series(edr, gmx, cwd=Path(directory))

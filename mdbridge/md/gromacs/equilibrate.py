@@ -26,6 +26,8 @@ from pathlib import Path
 
 import numpy as np
 
+from mdbridge.stats import time_block_sem
+
 from .energy import read_energies
 from .gmx import run_gmx, run_gmx_with_progress
 from .mdp import MdSettings, render_md
@@ -77,15 +79,6 @@ def render_equilibration(s: MdSettings, *, ps: float, temperature_K: float, axis
     return text
 
 
-def _block_se(t, y, block_ps=BLOCK_PS) -> float:
-    edges = np.arange(t[0], t[-1] + 1e-9, block_ps)
-    means = [y[(t >= a) & (t < a + block_ps)].mean() for a in edges
-             if ((t >= a) & (t < a + block_ps)).sum() > 0]
-    if len(means) < 2:
-        return float(np.std(y) / np.sqrt(max(len(y), 1)))
-    return float(np.std(means, ddof=1) / np.sqrt(len(means)))
-
-
 def stationarity(t, y) -> dict:
     """The stated test on the second half of a series (see module doc): the means of
     its two quarters (third and fourth of the stage) agree within twice their
@@ -96,7 +89,7 @@ def stationarity(t, y) -> dict:
     q4 = t >= t0 + 0.75 * (t1 - t0)
     h = q3 | q4
     diff = float(y[q4].mean() - y[q3].mean())
-    se = float(np.hypot(_block_se(t[q3], y[q3]), _block_se(t[q4], y[q4])))
+    se = float(np.hypot(time_block_sem(t[q3], y[q3], BLOCK_PS), time_block_sem(t[q4], y[q4], BLOCK_PS)))
     return {"mean_second_half": float(y[h].mean()), "change_between_quarters": diff,
             "standard_error_of_change": se, "stationary": bool(abs(diff) < 2.0 * se)}
 
@@ -135,7 +128,7 @@ def equilibrate(outdir: Path, gmx: str, settings: MdSettings, *, ps: float, temp
                         f"across, ref-p 0, tau-p {TAU_P_PS} ps",
             "box_length_start_nm": float(L[0]),
             "zero_tension_length_nm": float(L[h].mean()),
-            "zero_tension_length_se_nm": _block_se(t[h], L[h], LENGTH_BLOCK_PS),
+            "zero_tension_length_se_nm": time_block_sem(t[h], L[h], LENGTH_BLOCK_PS),
             "zero_tension_length_se_doc": f"standard error from {LENGTH_BLOCK_PS:g}-ps block "
                                           "means over the second half; understated unless the "
                                           "half holds several barostat periods (see the range)",

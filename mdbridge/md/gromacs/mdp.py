@@ -147,15 +147,6 @@ def render_em(s: MdSettings, *, posres_define: str = "-DPOSRES_BASES", nsteps: i
     return "\n".join(lines) + "\n"
 
 
-def set_nsteps(mdp_text: str, nsteps: int) -> str:
-    """md.mdp with nsteps replaced (run-md chooses the length at run time)."""
-    out = []
-    for ln in mdp_text.splitlines():
-        key = ln.split("=")[0].strip().lower().replace("_", "-")
-        out.append(f"nsteps                  = {nsteps}" if key == "nsteps" else ln)
-    return "\n".join(out) + "\n"
-
-
 def read_mdp_value(mdp_text: str, key: str) -> str | None:
     key = key.lower().replace("_", "-")
     for ln in mdp_text.splitlines():

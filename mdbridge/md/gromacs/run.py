@@ -30,6 +30,7 @@ from dna_models.errors import ExternalToolError, InputError
 
 from .gmx import find_gmx, gmx_version, run_gmx, run_gmx_with_progress
 from .mdp import read_mdp_value
+from mdbridge.jsonio import write_json
 
 PARTS = {"md.part.xtc": "md.xtc", "md.part.edr": "md.edr", "md.part.log": "md.log",
          "confout.part.gro": "confout.gro", "md.part.cpt": "md.cpt", "md.part.tpr": "md.tpr"}
@@ -185,7 +186,7 @@ def run_md(directory: Path, *, ps: float | None = None, steps: int | None = None
         run_gmx(gmx_path, ["grompp", "-f", "md_run.mdp", "-c", "conf.gro", "-p", "topol.top",
                            "-o", "md.part.tpr", "-po", "mdout.mdp", "-maxwarn", "0"], d,
                 log_name="gmx_grompp_md.log")
-        (d / "md.run.json").write_text(json.dumps(request, indent=1))
+        write_json(d / "md.run.json", request)
     args = ["mdrun", "-v", "-s", "md.part.tpr", "-x", "md.part.xtc", "-e", "md.part.edr",
             "-g", "md.part.log", "-c", "confout.part.gro", "-cpo", "md.part.cpt",
             "-o", "md.part.trr", "-cpt", f"{checkpoint_min:g}"]
@@ -221,9 +222,7 @@ def run_md(directory: Path, *, ps: float | None = None, steps: int | None = None
               "reprod": reprod,
               "gmx": {"path": gmx_path, "version": gmx_version(gmx_path)}}
     # written after every MD output is in place: its presence means the MD is complete
-    tmp = d / "md.done.part"
-    tmp.write_text(json.dumps(record, indent=1))
-    tmp.replace(d / "md.done")
+    write_json(d / "md.done", record)
     if checks:
         from .checks import write_checks
         write_checks(d, gmx=gmx_path)

@@ -33,7 +33,6 @@ from .stepfile import StepMaterial, read_steps
 DATA = Path(__file__).resolve().parents[3] / "dna_models" / "data"
 OLSON_FILE = DATA / "olson1998_steps.toml"
 PAPER_TEMPERATURE_K = 300.0
-NAMES = ("paper", "olson1998")
 
 
 def olson1998_table(path: Path = OLSON_FILE) -> dict:

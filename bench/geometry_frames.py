@@ -1,6 +1,6 @@
 """Speed of BasePairFrames on a synthetic trajectory (docs/geometry.md, "Speed").
 
-    /usr/bin/python3 -m mdbridge.geometry.benchmark [--n-bp 158] [--frames 10000] [--xtc]
+    /usr/bin/python3 bench/geometry_frames.py [--n-bp 158] [--frames 10000] [--xtc]
 
 Builds a duplex of n_bp base pairs with random step and base-pair parameters
 per frame, and times BasePairFrames(...).run() + step_parameters(). With
@@ -25,6 +25,7 @@ def main(argv=None):
     ap.add_argument("--xtc", action="store_true", help="round-trip through an XTC file")
     args = ap.parse_args(argv)
     warnings.simplefilter("ignore")
+    from dna_models.bdna import STEP_PARAMETERS
     from dna_models.sequence import random_sequence
     from mdbridge.geometry.structure import BasePairFrames
     from mdbridge.geometry.synthetic import duplex_universe
@@ -37,7 +38,9 @@ def main(argv=None):
     coords = []
     for t0 in range(0, T, chunk):
         m = min(chunk, T - t0)
-        p = np.tile([0, 0, 3.38, 0, 0, 34.18], (m, n - 1, 1)) + rng.normal(0, 0.3, (m, n - 1, 6))
+        # the ideal step (rise 3.38 A) at the paper's twist, 34.18 deg, plus noise
+        ideal = np.array(STEP_PARAMETERS[:5] + (34.18,))
+        p = np.tile(ideal, (m, n - 1, 1)) + rng.normal(0, 0.3, (m, n - 1, 6))
         u = duplex_universe(seq, p)
         coords.append(u.trajectory.timeseries(order="fac"))
     X = np.concatenate(coords)
