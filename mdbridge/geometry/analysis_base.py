@@ -16,7 +16,9 @@ the times of the frames run. `run()` returns the analysis, so `A(traj).run().res
 The input (`trajectory`) is a frame source: an object with `n_frames` and `seek(frame)`,
 which makes `frame` the current one and returns its time in ps. A
 `mdbridge.geometry.BasePairTrajectory` is one (its arrays need no reading: rod and MD
-alike); `UniverseFrames` makes an MDAnalysis Universe one (each seek reads the frame).
+alike); `UniverseFrames` makes an MDAnalysis Universe one (each seek reads the frame, and
+its `rewind()`, which run() calls after the loop when a source has one, leaves the
+universe at its first frame, as MDAnalysis's own iteration does).
 
 Whole-trajectory analyses: when the per-frame work is one vector operation over all
 frames, a subclass sets `_whole_trajectory = True` and does the work in `_conclude()` over
@@ -84,7 +86,7 @@ class Results(dict):
 
 def select_frames(n_total: int, start=None, stop=None, step=None, frames=None) -> np.ndarray:
     """Frame numbers (int array) chosen from a trajectory of N_TOTAL frames, either by
-    start:stop:step (Python slice rules) or by FRAMES: integers (negative count from the
+    start:stop:step (Python slice rules; a negative step runs backwards) or by FRAMES: integers (negative count from the
     end) or booleans, one per frame. Refuses an empty selection and a frame outside the
     trajectory, naming what was asked."""
     if frames is not None:
@@ -106,8 +108,8 @@ def select_frames(n_total: int, start=None, stop=None, step=None, frames=None) -
                                  f"(frames 0 to {n_total - 1}, or -{n_total} to -1 from the end)")
             chosen = np.where(f < 0, f + n_total, f).astype(int)
     else:
-        if step is not None and step <= 0:
-            raise InputError(f"step: a positive number of frames, got {step}")
+        if step == 0:
+            raise InputError("step: a number of frames other than 0 (negative runs backwards)")
         chosen = np.arange(n_total)[slice(start, stop, step)]
     if chosen.size == 0:
         raise InputError(f"no trajectory frames selected (of {n_total}; start={start}, stop={stop}, "
@@ -128,6 +130,9 @@ class UniverseFrames:
 
     def seek(self, frame: int) -> float:
         return float(self.universe.trajectory[int(frame)].time)
+
+    def rewind(self):
+        self.universe.trajectory.rewind()
 
 
 def _stderr_progress(name: str) -> Callable[[int, int], None]:
@@ -202,5 +207,7 @@ class AnalysisBase:
             self._single_frame()
             if progress is not None:
                 progress(i + 1, self.n_frames)
+        if hasattr(src, "rewind"):
+            src.rewind()
         self._conclude()
         return self

@@ -73,7 +73,7 @@ def saw_exactly(a: Recorder, traj: BasePairTrajectory, expected) -> bool:
 
 
 SELECTIONS = [dict(), dict(start=2), dict(stop=5), dict(start=1, stop=9, step=3), dict(step=4),
-              dict(start=-4), dict(start=3, stop=-2, step=2), dict(stop=100)]
+              dict(start=-4), dict(start=3, stop=-2, step=2), dict(stop=100), dict(step=-3)]
 
 
 @pytest.mark.parametrize("sel", SELECTIONS, ids=str)
@@ -155,7 +155,7 @@ def test_bad_selections_are_refused():
                     (dict(frames=[N_FRAMES]), f"{N_FRAMES} is outside the trajectory"),
                     (dict(frames=[True, False]), "one value per frame"),
                     (dict(frames=[0.5]), "integers"),
-                    (dict(step=0), "positive"), (dict(step=-1), "positive")]:
+                    (dict(step=0), "other than 0")]:
         with pytest.raises(InputError, match=msg):
             Recorder(traj).run(**kw)
     assert list(select_frames(5, frames=np.array([4, -5]))) == [4, 0]
@@ -200,6 +200,7 @@ def test_universe_frames_read_each_selected_frame():
 
     a = Positions(UniverseFrames(u)).run(frames=[4, 1, 5])
     assert np.array_equal(a.results.xyz, truth[[4, 1, 5]])
+    assert u.trajectory.frame == 0                     # left at the first frame, as MDAnalysis leaves it
     assert np.array_equal(a.times_ps, [u.trajectory[i].time for i in (4, 1, 5)])
     with pytest.raises(TypeError, match="needs its frames in memory"):
         WholeMean(UniverseFrames(u)).run()
