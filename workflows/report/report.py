@@ -304,12 +304,19 @@ def _drift_html(x) -> str:
     return f"{_f(x, 2)} (target {DRIFT_TARGET:g})"
 
 
+def _check_part(x, sep="; ") -> str:
+    """'check X' + SEP for the summary, or nothing when the check gave no number (the
+    table of all runs says why)."""
+    return f"check {_f(x)}{sep}" if math.isfinite(number(x)) else ""
+
+
 def write_html(cfg: dict, res: dict, figs: dict, path: Path):
     rows = [
         (f"rod {html.escape(res.get('rod_quantity') or 'wave speed')} [A/ps] ({html.escape(str(res.get('rod_regime')))})", f"{_f(res['rod_wave_speed_A_per_ps'])} &plusmn; {_f(res['rod_wave_speed_err_A_per_ps'], 2)}"
-         f" (check {_f(res['rod_wave_speed_check_A_per_ps'])}; Eq 39: {_f(res['rod_dispersion_speed_A_per_ps'])})", "1.4"),
+         f" ({_check_part(res['rod_wave_speed_check_A_per_ps'])}Eq 39: {_f(res['rod_dispersion_speed_A_per_ps'])})", "1.4"),
         (f"MD {html.escape(res.get('md_quantity') or 'wave speed')} [A/ps] ({html.escape(str(res.get('md_regime')))})", f"{_f(res['md_wave_speed_A_per_ps'])} &plusmn; {_f(res['md_wave_speed_err_A_per_ps'], 2)}"
-         f" (check {_f(res['md_wave_speed_check_A_per_ps'])})", "2.2 (by eye)"),
+         + (f" ({_check_part(res['md_wave_speed_check_A_per_ps'], '')})"
+            if _check_part(res['md_wave_speed_check_A_per_ps']) else ""), "2.2 (by eye)"),
         ("predicted (CG rod) [A/ps]", f"{_f(res.get('cg_rod_wave_speed_A_per_ps'))} &plusmn; "
          f"{_f(res.get('cg_rod_wave_speed_err_A_per_ps'), 2)} (Eq 39: {_f(res.get('cg_rod_dispersion_speed_A_per_ps'))} "
          f"&plusmn; {_f(res.get('cg_rod_dispersion_speed_err_A_per_ps'), 2)})"
