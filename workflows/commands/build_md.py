@@ -19,7 +19,7 @@ s_i = i L / n_bp. Vacuum, cut-off electrostatics and vdW at 1.0 nm, NVE.
 Steps: the rod runs through rodcore for the MD length (--ps) to predict how
 far the duplex moves across its axis (this sizes the box), or, with --rod, the
 frames of a rod run already made are used (the workflow passes its own rod.h5,
-so the rod of a comparison runs once); the builder places
+so the rod of a comparison runs once; without --ps the MD is as long as that run); the builder places
 the nucleotides on the rod's base-pair frames; pdb2gmx closes both strands
 into rings and dnarod checks, term by term, that each junction carries
 exactly the bonded terms of an interior step; velocities are assigned; grompp
@@ -62,8 +62,9 @@ def add_arguments(p):
                    help="use this rod output of the same scene (rodsim run SCENE.toml -o ROD.h5, "
                         "with internal, centerline and directors, at least --ps long) instead of "
                         "running the rod again")
-    p.add_argument("--ps", type=float, default=600.0,
-                   help="MD length the box is sized for (rod run of the same length), ps (600)")
+    p.add_argument("--ps", type=float, default=None,
+                   help="MD length the box is sized for and run-md runs by default, ps (default: "
+                        "the whole --rod run, in whole time steps; 600 when build-md runs the rod)")
     p.add_argument("--forcefield", choices=FORCEFIELDS, default="charmm27")
     p.add_argument("--electrostatics", choices=ELECTROSTATICS, default="paper",
                    help="paper: full charges (default); neutral-phosphates: +0.5 e on O1P/O2P, "
@@ -127,12 +128,12 @@ def _build(args, stages, md_rate):
     from mdbridge.md.gromacs.gmx import find_gmx
     from mdbridge.md.gromacs.inputs import build_inputs, rod_initial_from_run
     from mdbridge.md.gromacs.mdp import MdSettings
-    from mdbridge.md.gromacs.rod import (lab_rotation_to_axis, md_scene, rod_for_md, rotate_rod,
-                                        scene_sequence, with_absolute_paths)
+    from mdbridge.md.gromacs.rod import (lab_rotation_to_axis, md_length_ps, md_scene, rod_for_md,
+                                        rotate_rod, scene_sequence, with_absolute_paths)
     from mdbridge.rod.run import RodRun, load_scene, resolve_scene, run_scene, scene_bp_turns
 
     gmx = find_gmx(args.gmx)
-    if args.ps < 0:
+    if args.ps is not None and args.ps < 0:
         raise InputError(f"--ps {args.ps}: must be >= 0")
     if args.rod and (args.bp is not None or args.turns is not None):
         raise InputError("--rod: the rod run fixes the base pairs and turns; drop --bp/--turns "
@@ -143,13 +144,15 @@ def _build(args, stages, md_rate):
                          "dt <= 0.001 ps; use --constraints h-bonds for 0.002")
     if not args.tau_t_ps > 0:
         raise InputError(f"--tau-t-ps {args.tau_t_ps}: must be > 0 ps")
+    u = Units.paper()
+    rod_given = RodRun.read(args.rod) if args.rod else None
+    md_ps = args.ps if args.ps is not None else md_length_ps(rod_given, dt_ps=dt, units=u)
     settings = MdSettings(dt_ps=dt, constraints=args.constraints, thermostat=args.thermostat,
                           tau_t_ps=args.tau_t_ps,
                           cutoffs=args.cutoffs, lincs_order=args.lincs_order,
                           lincs_iter=args.lincs_iter,
-                          temperature_K=args.temperature, nsteps=int(round(args.ps / dt)))
+                          temperature_K=args.temperature, nsteps=int(round(md_ps / dt)))
     protocol = args.protocol or ("equilibrated" if args.temperature > 0 else "paper")
-    u = Units.paper()
     scene = load_scene(args.scene)
     seed = args.seed if args.seed is not None else secrets.randbelow(2**31)
     # a sequence-dependent scene (`dnarod dna-rod`) carries its DNA: build THAT sequence
@@ -178,11 +181,11 @@ def _build(args, stages, md_rate):
               file=sys.stderr)
     if args.rod:
         print(f"build-md: the rod run {args.rod} (box sizing) ...", file=sys.stderr)
-        run = rod_for_md(RodRun.read(args.rod), md_ps=args.ps,
+        run = rod_for_md(rod_given, md_ps=md_ps,
                          scene=resolve_scene(Path(args.scene), args.scene), units=u)
     else:
         print("build-md: running the rod for the MD length (box sizing) ...", file=sys.stderr)
-        run = run_scene(md_scene(scene, md_ps=args.ps, bp=args.bp, turns=args.turns, units=u,
+        run = run_scene(md_scene(scene, md_ps=md_ps, bp=args.bp, turns=args.turns, units=u,
                                  source=args.scene, n_bp=n_bp_scene), source=args.scene,
                         progress=lambda t, t_end: stages("rod run", round(float(u.time_to_ps(t)), 3),
                                                          round(float(u.time_to_ps(t_end)), 3), "ps"))
@@ -190,7 +193,7 @@ def _build(args, stages, md_rate):
     rod, centerline = rod_initial_from_run(run, bp, u)
     if scene_seq is not None:     # the closed shape's helix axis onto lab Y (orthorhombic box)
         rod, centerline = rotate_rod(rod, centerline, lab_rotation_to_axis(run, axis=1))
-    box = plan_box(centerline, rod.origins_A, rod.closure_length_A, rod_run_ps=args.ps,
+    box = plan_box(centerline, rod.origins_A, rod.closure_length_A, rod_run_ps=md_ps,
                    cutoff_A=settings.cutoff_nm * ANGSTROM_PER_NM, margin_A=args.margin)
     periodic = np.zeros(3)
     periodic[box.axis] = rod.closure_length_A
@@ -208,7 +211,7 @@ def _build(args, stages, md_rate):
                         meta={"scene": str(Path(args.scene).resolve()), "turns": turns,
                               "rod_run": str(Path(args.rod).resolve()) if args.rod else "run by build-md",
                               "twist_deg": None if turns is None else 360.0 * turns / bp,
-                              "md_length_ps": args.ps,
+                              "md_length_ps": md_ps,
                               "sequence_source": ("the scene's material file" if scene_seq is not None
                                                   else "given" if args.sequence else f"random, seed {seed}")})
     stages.close()
