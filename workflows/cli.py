@@ -5,13 +5,9 @@ import argparse
 import importlib
 import pkgutil
 import sys
-import warnings
 
-# MDAnalysis 2.4 (Debian) imports the deprecated xdrlib; the warning is noise for users.
-warnings.filterwarnings("ignore", message=".*xdrlib.*", category=DeprecationWarning)
-
-from dna_models.errors import DnarodError  # noqa: E402  (after the warning filter)
-from dnarod import commands  # noqa: E402
+from dna_models.errors import DnarodError
+from dnarod import commands
 
 
 def _subcommand_modules():

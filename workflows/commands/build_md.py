@@ -103,9 +103,6 @@ def add_arguments(p):
 
 
 def run(args):
-    import warnings
-    # MDAnalysis 2.4 (Debian) imports the deprecated xdrlib: noise for a user
-    warnings.filterwarnings("ignore", message="'xdrlib' is deprecated")
     from dnarod.progress import Stages, md_rate
 
     with Stages("build-md") as stages:

@@ -95,9 +95,7 @@ def _unwrap_against(x_nm, ref_nm, box_nm):
 
 def _frames_of_gro(gro_path: Path, n_bp: int):
     """Base-pair frames of a built structure, re-analysed with mdbridge.geometry (3DNA)."""
-    with warnings.catch_warnings():   # MDAnalysis 2.4 imports the deprecated xdrlib
-        warnings.simplefilter("ignore", DeprecationWarning)
-        import MDAnalysis as mda
+    import MDAnalysis as mda
     from mdbridge.md.builder.duplex import base_pairs
     from mdbridge.geometry.structure import BasePairFrames
     u = mda.Universe(str(gro_path))
