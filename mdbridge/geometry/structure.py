@@ -36,6 +36,7 @@ _COMPLEMENT = {"A": "T", "T": "A", "G": "C", "C": "G"}
 _PAIR_CUTOFF_A = 4.5     # N1(purine)-N3(pyrimidine): ~2.9 A in a Watson-Crick pair, 4.2 A in
                          # the most stretched pair of the 1KX5 nucleosome; stacked neighbours > 5 A
 _MIN_BOX_A = 10.0        # smaller "boxes" are PDB placeholders (CRYST1 1 1 1), not cells
+_MAX_STEP_A = 10.0       # no base-pair step spans more (rise 3.4 A; a broken chain is refused at 4 A O3'-P)
 
 
 def base_of_resname(resname: str):
@@ -420,7 +421,25 @@ class BasePairFrames:
         Step translations are minimum images when the trajectory has a box."""
         r = self.results
         box = r.box if self.pbc else None
+        if periodic and box is None:
+            self._check_closing_step_without_box()
         return step_parameters_along(r.R, r.origins, box=box, periodic=periodic)
+
+    def _check_closing_step_without_box(self):
+        """Without a box the closing step is taken as it lies in space: right for a
+        ring closed in space (a minicircle), silently off by the period for a
+        periodic duplex whose box the file does not carry."""
+        o = np.asarray(self.results.origins)
+        span = float(np.linalg.norm(o[:, 0] - o[:, -1], axis=-1).max())
+        if span > _MAX_STEP_A:
+            why = ("the box is ignored (pbc off, --no-pbc)" if not self.pbc else
+                   "the structure carries no periodic box (no CRYST1 record in a PDB, or one "
+                   f"under {_MIN_BOX_A:g} A)")
+            raise InputError(
+                f"the closing step (base pair {self.n_bp} -> 1) spans {span:.2f} A, more than any "
+                f"base-pair step ({_MAX_STEP_A:g} A): the duplex is periodic and {why}. Give the box: "
+                "a CRYST1 record (dnarod build-dna --periodic writes one), a GRO or TPR that has it, "
+                "or `dnarod helical-params ... --box LX LY LZ`; a ring closed in space needs none")
 
 
 class _Results(dict):

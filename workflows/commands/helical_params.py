@@ -39,6 +39,9 @@ def add_arguments(p):
                    help="ligated periodic duplex: add the closing step from the last pair to the first")
     p.add_argument("--no-pbc", action="store_true",
                    help="ignore the periodic box (by default pair and step vectors are minimum images)")
+    p.add_argument("--box", type=float, nargs=3, metavar=("LX", "LY", "LZ"),
+                   help="the orthorhombic periodic box in A, for a file that does not carry it "
+                        "(a PDB without CRYST1); replaces the file's box in every frame")
     p.add_argument("--start", type=int, default=None, help="first trajectory frame (0-based)")
     p.add_argument("--stop", type=int, default=None, help="stop before this frame")
     p.add_argument("--step", type=int, default=None, help="take every STEP-th frame")
@@ -50,6 +53,13 @@ def run(args):
 
     from mdbridge.geometry.structure import load_universe
     u = load_universe(args.structure, *([args.trajectory] if args.trajectory else []))
+    if args.box is not None:
+        from dna_models.errors import InputError
+        from MDAnalysis.transformations.boxdimensions import set_dimensions
+        if args.no_pbc or min(args.box) <= 0:
+            raise InputError(f"--box {' '.join(f'{x:g}' for x in args.box)}: three edges > 0 A, "
+                             "and not with --no-pbc")
+        u.trajectory.add_transformations(set_dimensions([*args.box, 90.0, 90.0, 90.0]))
     pairs, numbering = (None, "resid")
     if args.pairs:
         pairs, numbering = read_pairs_file(args.pairs)
