@@ -120,6 +120,8 @@ def _build(args, stages, md_rate):
     from dna_models.sequence import random_sequence, validate
     from dna_models.units import ANGSTROM_PER_NM, Units
     from mdbridge.md.builder import build_duplex
+    from mdbridge.md.builder.backbone import check_structure_links
+    from mdbridge.md.gromacs.build_summary import summary_lines
     from mdbridge.md.gromacs.box import plan_box
     from mdbridge.md.gromacs.gmx import find_gmx
     from mdbridge.md.gromacs.inputs import build_inputs, rod_initial_from_run
@@ -191,7 +193,8 @@ def _build(args, stages, md_rate):
                    cutoff_A=settings.cutoff_nm * ANGSTROM_PER_NM, margin_A=args.margin)
     periodic = np.zeros(3)
     periodic[box.axis] = rod.closure_length_A
-    structure = build_duplex(seq, rod.origins_A, rod.R, periodic_box=periodic)
+    structure = build_duplex(seq, rod.origins_A, rod.R, periodic_box=periodic, close_backbone=True)
+    built_links = check_structure_links(structure, where=f"{args.scene}: the duplex on the rod's t = 0 frames")
     print(f"build-md: box {np.round(box.box_A, 2).tolist()} A; pdb2gmx, junction check, "
           "velocities, grompp ...", file=sys.stderr)
     info = build_inputs(Path(args.output), structure, rod, box, sequence=seq,
@@ -209,24 +212,7 @@ def _build(args, stages, md_rate):
                               "sequence_source": ("the scene's material file" if scene_seq is not None
                                                   else "given" if args.sequence else f"random, seed {seed}")})
     stages.close()
-    links = ", ".join(f"{s}: {v['junction']:.3f} A" for s, v in info["junction_O3P_t0_A"].items())
-    n_terms = sum(r["junction_total"] for r in info["junctions"])
-    fr = info["frames_t0_vs_rod"]
-    print(f"build-md: {info['n_atoms']} atoms, charge {info['total_charge_e']:+g} e; junction "
-          f"O3'-P {links}; {n_terms} junction terms verified; frames vs rod "
-          f"{fr['max_origin_A']:.3f} A / {fr['max_angle_deg']:.2f} deg", file=sys.stderr)
-    if info.get("minimization"):
-        m = info["minimization"]
-        print(f"build-md: minimisation {'converged' if m.get('converged') else 'NOT converged'}; "
-              f"base-pair frames moved {m['frames_moved']['max_origin_A']:.3f} A / "
-              f"{m['frames_moved']['max_angle_deg']:.2f} deg", file=sys.stderr)
-    if info.get("equilibration"):
-        q = info["equilibration"]
-        zt = q.get("axial_pressure")
-        print(f"build-md: equilibrated {q['ps']:g} ps at {args.temperature:g} K: T "
-              f"{q['temperature_K']['mean_second_half']:.1f} K, stationary: {q['stationary']}"
-              + (f"; zero-tension length {zt['zero_tension_length_nm']:.3f} +- "
-                 f"{zt['zero_tension_length_se_nm']:.3f} nm (built {zt['box_length_start_nm']:.3f})"
-                 if zt else ""), file=sys.stderr)
+    for line in summary_lines(info, built_links, args.temperature):
+        print(f"build-md: {line}", file=sys.stderr)
     print(f"build-md: wrote {args.output}/ (conf.gro, topol.top, md.mdp, em.mdp, build.json)")
     return 0
