@@ -88,6 +88,13 @@ def _box(dimensions):
     return d
 
 
+def _is_empty(path) -> bool:
+    """Nothing but white space (MDAnalysis would say "Compressed file ended ..." or worse)."""
+    with open(path, "rb") as f:
+        head = f.read(4096)
+    return not head.strip() and len(head) < 4096
+
+
 def load_universe(structure, *trajectories):
     """MDAnalysis Universe of STRUCTURE (+ TRAJECTORIES, concatenated) for the commands:
     an InputError naming the file for a missing or unreadable one, with the first line
@@ -99,6 +106,8 @@ def load_universe(structure, *trajectories):
     for f in files:
         if not Path(f).is_file():
             raise InputError(f"{f}: file not found")
+        if _is_empty(Path(f)):
+            raise InputError(f"{f}: the file is empty (no atoms, no frames)")
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
