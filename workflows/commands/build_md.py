@@ -5,6 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from dna_models.errors import InputError
+from dnarod.commands._options import add_output
 
 NAME = "build-md"
 HELP = "GROMACS inputs (conf.gro with velocities, topol.top, md.mdp) of the periodic duplex of a rod scene"
@@ -48,7 +49,7 @@ def add_arguments(p):
     from mdbridge.md.gromacs.topology import FORCEFIELDS
     p.add_argument("scene", metavar="SCENE.toml", help="rod scene: [initial] kind = \"dna_planar\" (uniform "
                    "paper DNA), or a sequence-dependent scene of `dnarod dna-rod` (its DNA is built)")
-    p.add_argument("-o", "--output", required=True, metavar="DIR", help="directory to write")
+    add_output(p, metavar="DIR", help="directory to write")
     p.add_argument("--temperature", type=float, default=300.0, metavar="K",
                    help="thermal part of the initial velocities, K (300; 0 = rod motion only)")
     p.add_argument("--seed", type=int, default=None,
@@ -123,6 +124,7 @@ def _build(args, stages, md_rate):
     from mdbridge.md.builder.backbone import check_structure_links
     from mdbridge.md.gromacs.build_summary import summary_lines
     from mdbridge.md.gromacs.box import plan_box
+    from mdbridge.md.gromacs.equilibrate import check_protocol
     from mdbridge.md.gromacs.gmx import find_gmx
     from mdbridge.md.gromacs.inputs import build_inputs, rod_initial_from_run
     from mdbridge.md.gromacs.mdp import MdSettings
@@ -142,12 +144,14 @@ def _build(args, stages, md_rate):
                          "dt <= 0.001 ps; use --constraints h-bonds for 0.002")
     if not args.tau_t_ps > 0:
         raise InputError(f"--tau-t-ps {args.tau_t_ps}: must be > 0 ps")
+    protocol = args.protocol or ("equilibrated" if args.temperature > 0 else "paper")
+    check_protocol(protocol, temperature_K=args.temperature, equilibrate_ps=args.equilibrate_ps,
+                   axial_pressure=args.axial_pressure)
     settings = MdSettings(dt_ps=dt, constraints=args.constraints, thermostat=args.thermostat,
                           tau_t_ps=args.tau_t_ps,
                           cutoffs=args.cutoffs, lincs_order=args.lincs_order,
                           lincs_iter=args.lincs_iter,
                           temperature_K=args.temperature, nsteps=int(round(args.ps / dt)))
-    protocol = args.protocol or ("equilibrated" if args.temperature > 0 else "paper")
     u = Units.paper()
     scene = load_scene(args.scene)
     seed = args.seed if args.seed is not None else secrets.randbelow(2**31)
@@ -204,7 +208,8 @@ def _build(args, stages, md_rate):
                         protocol=protocol, equilibrate_ps=args.equilibrate_ps,
                         axial_pressure=args.axial_pressure,
                         progress=lambda stage, done, total, unit: stages(
-                            stage, round(done, 6), total, unit, rate=md_rate if unit == "ps" else None),
+                            stage, round(done, 6), total, unit, rate=md_rate if unit == "ps" else None,
+                            time_left=stage != "minimisation"),   # it stops when converged
                         meta={"scene": str(Path(args.scene).resolve()), "turns": turns,
                               "rod_run": str(Path(args.rod).resolve()) if args.rod else "run by build-md",
                               "twist_deg": None if turns is None else 360.0 * turns / bp,

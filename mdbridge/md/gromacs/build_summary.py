@@ -77,8 +77,9 @@ def summary_lines(info: dict, built_links_A, temperature_K: float) -> list[str]:
     if info.get("equilibration"):
         q = info["equilibration"]
         zt = q.get("axial_pressure")
-        lines.append(f"equilibrated {q['ps']:g} ps at {temperature_K:g} K: T {q['temperature_K']['mean_second_half']:.1f} K "
-                     "over the second half; stationary (T and E_pot: the 3rd- and 4th-quarter means within 2 "
+        T_mean = q["temperature_K"]["mean_second_half"]
+        lines.append(f"equilibrated {q['ps']:g} ps at {temperature_K:g} K: T {T_mean:.1f} K over the second half;"
+                     " stationary (T and E_pot: the 3rd- and 4th-quarter means within 2 "
                      "standard errors): " + ("yes" if q["stationary"] else "NO, use a longer --equilibrate-ps")
                      + (f"; zero-tension length {zt['zero_tension_length_nm']:.3f} +- "
                         f"{zt['zero_tension_length_se_nm']:.3f} nm (built {zt['box_length_start_nm']:.3f})"
