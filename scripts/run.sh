@@ -10,7 +10,7 @@ bash "$DNAROD_ROOT/scripts/setup.sh"
 bash "$DNAROD_ROOT/scripts/build.sh"
 cd "$DNAROD_ROOT"
 args=("$@")
-case " ${args[*]-} " in *" --out "*) ;; *) args+=(--out out/compare) ;; esac
+case " ${args[*]-} " in *" --out "*|*" --output "*|*" -o "*) ;; *) args+=(--out out/compare) ;; esac
 case " ${args[*]-} " in *" --cores "*) ;; *) args+=(--cores "$(nproc)") ;; esac
 DNAROD_BIN_DIR="$DNAROD_BUILD/bin" dnarod compare "${args[@]}"  # dnarod: installed by build.sh
 echo "Report: $DNAROD_ROOT/out/compare/report/index.html (or the --out you gave)"

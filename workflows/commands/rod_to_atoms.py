@@ -7,6 +7,7 @@ from pathlib import Path
 import numpy as np
 
 from dna_models.errors import InputError
+from dnarod.commands._options import add_output
 from mdbridge.jsonio import write_json
 
 NAME = "rod-to-atoms"
@@ -40,8 +41,7 @@ def add_arguments(p):
     p.add_argument("--like", metavar="MDDIR", help="MD build directory (dnarod build-md) whose atoms and "
                                                   "coordinates to use (with --coarse: only its coordinates)")
     p.add_argument("--coarse", action="store_true", help="coarse bead model instead of atoms")
-    p.add_argument("-o", "--out", required=True,
-                   help="output trajectory (.xtc/.trr/.dcd with --like, .pdb with --coarse)")
+    add_output(p, help="output trajectory (.xtc/.trr/.dcd with --like, .pdb with --coarse)")
     p.add_argument("--bp", type=int, help="base pairs the rod carries (default: from MDDIR/build.json or the "
                                           "rod file's scene)")
     p.add_argument("--every", type=int, default=1, help="write every n-th rod frame (default 1)")
@@ -72,7 +72,7 @@ def run(args) -> int:
         raise InputError(f"{rod}: no such rod run (rodsim HDF5)")
     if args.every < 1:
         raise InputError(f"--every {args.every}: must be at least 1")
-    out = Path(args.out)
+    out = Path(args.output)
     if not (args.like or args.coarse):
         raise InputError("give --like MDDIR (all-atom, like that MD build) or --coarse (beads)")
     build = None
