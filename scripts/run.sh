@@ -11,7 +11,7 @@ bash "$DNAROD_ROOT/scripts/setup.sh"
 bash "$DNAROD_ROOT/scripts/build.sh"
 cd "$DNAROD_ROOT"
 args=("$@")
-case " ${args[*]-} " in *" --out "*) ;; *) args+=(--out out/compare) ;; esac
+case " ${args[*]-} " in *" --out "*|*" --output "*|*" -o "*) ;; *) args+=(--out out/compare) ;; esac
 case " ${args[*]-} " in *" --cores "*) ;; *) args+=(--cores "$(nproc)") ;; esac
 DNAROD_BIN_DIR="$DNAROD_BUILD/bin" dnarod compare "${args[@]}"  # dnarod: installed by build.sh
 # The default run is the main job: its time, MD speed and drift go to results/main_job.json,

@@ -22,6 +22,7 @@ from mdbridge.analysis.axis import helical_axis, mean_twist, one_turn_weights, w
 from mdbridge.analysis.planarity import planarity
 from mdbridge.geometry.analysis_base import AnalysisBase
 from mdbridge.geometry.trajectory import BasePairTrajectory
+from mdbridge.analysis.mode_error import refusal
 from mdbridge.analysis.wavespeed import fit_wave_speed, mode_amplitude, phase_velocity
 
 
@@ -106,15 +107,17 @@ class WaveAnalysis(AnalysisBase):
         res.planarity = planarity(u_in, u_out)
 
     def _fit(self, times, c, k, length):
-        """Both estimators, or NaN with the reason when there is no wave to measure."""
-        nan = float("nan")
+        """Both estimators, or speed None with the reason when there is no wave to measure
+        or the record is too short for one (mode_error.refusal: the workflow's rule)."""
         reason = None
         if np.max(np.abs(c)) < 1e-9 * length:
             reason = "no displacement in the k = 2 pi / L mode (rod at rest?)"
         elif len(times) < 8:
             reason = f"only {len(times)} frames; the wave-speed fit needs at least 8"
+        else:
+            reason = refusal(times, c, k)
         if reason:
-            none = {"speed_A_per_ps": nan, "speed_err_A_per_ps": nan, "reason": reason}
+            none = {"speed_A_per_ps": None, "speed_err_A_per_ps": None, "reason": reason}
             return dict(none), dict(none)
         return (fit_wave_speed(times, c, k, offset=self.offset, n_boot=self.n_boot),
                 phase_velocity(times, c, k))

@@ -37,6 +37,7 @@ _COMPLEMENT = {"A": "T", "T": "A", "G": "C", "C": "G"}
 _PAIR_CUTOFF_A = 4.5     # N1(purine)-N3(pyrimidine): ~2.9 A in a Watson-Crick pair, 4.2 A in
                          # the most stretched pair of the 1KX5 nucleosome; stacked neighbours > 5 A
 _MIN_BOX_A = 10.0        # smaller "boxes" are PDB placeholders (CRYST1 1 1 1), not cells
+_MAX_STEP_A = 10.0       # no base-pair step spans more (rise 3.4 A; a broken chain is refused at 4 A O3'-P)
 
 
 def base_of_resname(resname: str):
@@ -88,6 +89,13 @@ def _box(dimensions):
     return d
 
 
+def _is_empty(path) -> bool:
+    """Nothing but white space (MDAnalysis would say "Compressed file ended ..." or worse)."""
+    with open(path, "rb") as f:
+        head = f.read(4096)
+    return not head.strip() and len(head) < 4096
+
+
 def load_universe(structure, *trajectories):
     """MDAnalysis Universe of STRUCTURE (+ TRAJECTORIES, concatenated) for the commands:
     an InputError naming the file for a missing or unreadable one, with the first line
@@ -99,6 +107,8 @@ def load_universe(structure, *trajectories):
     for f in files:
         if not Path(f).is_file():
             raise InputError(f"{f}: file not found")
+        if _is_empty(Path(f)):
+            raise InputError(f"{f}: the file is empty (no atoms, no frames)")
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
@@ -419,4 +429,22 @@ class BasePairFrames(AnalysisBase):
         Step translations are minimum images when the trajectory has a box."""
         r = self.results
         box = r.box if self.pbc else None
+        if periodic and box is None:
+            self._check_closing_step_without_box()
         return step_parameters_along(r.R, r.origins, box=box, periodic=periodic)
+
+    def _check_closing_step_without_box(self):
+        """Without a box the closing step is taken as it lies in space: right for a
+        ring closed in space (a minicircle), silently off by the period for a
+        periodic duplex whose box the file does not carry."""
+        o = np.asarray(self.results.origins)
+        span = float(np.linalg.norm(o[:, 0] - o[:, -1], axis=-1).max())
+        if span > _MAX_STEP_A:
+            why = ("the box is ignored (pbc off, --no-pbc)" if not self.pbc else
+                   "the structure carries no periodic box (no CRYST1 record in a PDB, or one "
+                   f"under {_MIN_BOX_A:g} A)")
+            raise InputError(
+                f"the closing step (base pair {self.n_bp} -> 1) spans {span:.2f} A, more than any "
+                f"base-pair step ({_MAX_STEP_A:g} A): the duplex is periodic and {why}. Give the box: "
+                "a CRYST1 record (dnarod build-dna --periodic writes one), a GRO or TPR that has it, "
+                "or `dnarod helical-params ... --box LX LY LZ`; a ring closed in space needs none")

@@ -5,6 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from dna_models.errors import InputError
+from dnarod.commands._options import add_output
 
 NAME = "build-md"
 HELP = "GROMACS inputs (conf.gro with velocities, topol.top, md.mdp) of the periodic duplex of a rod scene"
@@ -48,7 +49,7 @@ def add_arguments(p):
     from mdbridge.md.gromacs.topology import FORCEFIELDS
     p.add_argument("scene", metavar="SCENE.toml", help="rod scene: [initial] kind = \"dna_planar\" (uniform "
                    "paper DNA), or a sequence-dependent scene of `dnarod dna-rod` (its DNA is built)")
-    p.add_argument("-o", "--output", required=True, metavar="DIR", help="directory to write")
+    add_output(p, metavar="DIR", help="directory to write")
     p.add_argument("--temperature", type=float, default=300.0, metavar="K",
                    help="thermal part of the initial velocities, K (300; 0 = rod motion only)")
     p.add_argument("--seed", type=int, default=None,
@@ -104,9 +105,6 @@ def add_arguments(p):
 
 
 def run(args):
-    import warnings
-    # MDAnalysis 2.4 (Debian) imports the deprecated xdrlib: noise for a user
-    warnings.filterwarnings("ignore", message="'xdrlib' is deprecated")
     from dnarod.progress import Stages, md_rate
 
     with Stages("build-md") as stages:
@@ -124,7 +122,10 @@ def _build(args, stages, md_rate):
     from dna_models.sequence import random_sequence, validate
     from dna_models.units import ANGSTROM_PER_NM, Units
     from mdbridge.md.builder import build_duplex
+    from mdbridge.md.builder.backbone import check_structure_links
+    from mdbridge.md.gromacs.build_summary import summary_lines
     from mdbridge.md.gromacs.box import plan_box
+    from mdbridge.md.gromacs.equilibrate import check_protocol
     from mdbridge.md.gromacs.gmx import find_gmx
     from mdbridge.md.gromacs.inputs import build_inputs, rod_initial_from_run
     from mdbridge.md.gromacs.mdp import MdSettings
@@ -144,6 +145,9 @@ def _build(args, stages, md_rate):
                          "dt <= 0.001 ps; use --constraints h-bonds for 0.002")
     if not args.tau_t_ps > 0:
         raise InputError(f"--tau-t-ps {args.tau_t_ps}: must be > 0 ps")
+    protocol = args.protocol or ("equilibrated" if args.temperature > 0 else "paper")
+    check_protocol(protocol, temperature_K=args.temperature, equilibrate_ps=args.equilibrate_ps,
+                   axial_pressure=args.axial_pressure)
     u = Units.paper()
     rod_given = RodRun.read(args.rod) if args.rod else None
     md_ps = args.ps if args.ps is not None else md_length_ps(rod_given, dt_ps=dt, units=u)
@@ -152,7 +156,6 @@ def _build(args, stages, md_rate):
                           cutoffs=args.cutoffs, lincs_order=args.lincs_order,
                           lincs_iter=args.lincs_iter,
                           temperature_K=args.temperature, nsteps=int(round(md_ps / dt)))
-    protocol = args.protocol or ("equilibrated" if args.temperature > 0 else "paper")
     scene = load_scene(args.scene)
     seed = args.seed if args.seed is not None else secrets.randbelow(2**31)
     # a sequence-dependent scene (`dnarod dna-rod`) carries its DNA: build THAT sequence
@@ -197,7 +200,8 @@ def _build(args, stages, md_rate):
                    cutoff_A=settings.cutoff_nm * ANGSTROM_PER_NM, margin_A=args.margin)
     periodic = np.zeros(3)
     periodic[box.axis] = rod.closure_length_A
-    structure = build_duplex(seq, rod.origins_A, rod.R, periodic_box=periodic)
+    structure = build_duplex(seq, rod.origins_A, rod.R, periodic_box=periodic, close_backbone=True)
+    built_links = check_structure_links(structure, where=f"{args.scene}: the duplex on the rod's t = 0 frames")
     print(f"build-md: box {np.round(box.box_A, 2).tolist()} A; pdb2gmx, junction check, "
           "velocities, grompp ...", file=sys.stderr)
     info = build_inputs(Path(args.output), structure, rod, box, sequence=seq,
@@ -207,7 +211,8 @@ def _build(args, stages, md_rate):
                         protocol=protocol, equilibrate_ps=args.equilibrate_ps,
                         axial_pressure=args.axial_pressure,
                         progress=lambda stage, done, total, unit: stages(
-                            stage, round(done, 6), total, unit, rate=md_rate if unit == "ps" else None),
+                            stage, round(done, 6), total, unit, rate=md_rate if unit == "ps" else None,
+                            time_left=stage != "minimisation"),   # it stops when converged
                         meta={"scene": str(Path(args.scene).resolve()), "turns": turns,
                               "rod_run": str(Path(args.rod).resolve()) if args.rod else "run by build-md",
                               "twist_deg": None if turns is None else 360.0 * turns / bp,
@@ -215,24 +220,7 @@ def _build(args, stages, md_rate):
                               "sequence_source": ("the scene's material file" if scene_seq is not None
                                                   else "given" if args.sequence else f"random, seed {seed}")})
     stages.close()
-    links = ", ".join(f"{s}: {v['junction']:.3f} A" for s, v in info["junction_O3P_t0_A"].items())
-    n_terms = sum(r["junction_total"] for r in info["junctions"])
-    fr = info["frames_t0_vs_rod"]
-    print(f"build-md: {info['n_atoms']} atoms, charge {info['total_charge_e']:+g} e; junction "
-          f"O3'-P {links}; {n_terms} junction terms verified; frames vs rod "
-          f"{fr['max_origin_A']:.3f} A / {fr['max_angle_deg']:.2f} deg", file=sys.stderr)
-    if info.get("minimization"):
-        m = info["minimization"]
-        print(f"build-md: minimisation {'converged' if m.get('converged') else 'NOT converged'}; "
-              f"base-pair frames moved {m['frames_moved']['max_origin_A']:.3f} A / "
-              f"{m['frames_moved']['max_angle_deg']:.2f} deg", file=sys.stderr)
-    if info.get("equilibration"):
-        q = info["equilibration"]
-        zt = q.get("axial_pressure")
-        print(f"build-md: equilibrated {q['ps']:g} ps at {args.temperature:g} K: T "
-              f"{q['temperature_K']['mean_second_half']:.1f} K, stationary: {q['stationary']}"
-              + (f"; zero-tension length {zt['zero_tension_length_nm']:.3f} +- "
-                 f"{zt['zero_tension_length_se_nm']:.3f} nm (built {zt['box_length_start_nm']:.3f})"
-                 if zt else ""), file=sys.stderr)
+    for line in summary_lines(info, built_links, args.temperature):
+        print(f"build-md: {line}", file=sys.stderr)
     print(f"build-md: wrote {args.output}/ (conf.gro, topol.top, md.mdp, em.mdp, build.json)")
     return 0

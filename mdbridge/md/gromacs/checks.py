@@ -14,7 +14,6 @@
 from __future__ import annotations
 
 import json
-import warnings
 from pathlib import Path
 
 import numpy as np
@@ -162,9 +161,7 @@ class DuplexFrameChecks(AnalysisBase):
 
 
 def write_checks(directory: Path, *, gmx: str) -> dict:
-    with warnings.catch_warnings():   # MDAnalysis 2.4 imports the deprecated xdrlib
-        warnings.simplefilter("ignore", DeprecationWarning)
-        import MDAnalysis as mda
+    import MDAnalysis as mda
     d = Path(directory)
     build = json.loads((d / "build.json").read_text())
     n = int(build["n_bp"])
