@@ -36,6 +36,11 @@ _BLOCK = 32
 # wobble about the axis (the grooves are unequal), which biases the first twist; three
 # rounds move the window by < 1e-3 bp on the test rings (tests/python/test_topology.py).
 _AXIS_ITERATIONS = 3
+# A ribbon turning by more than this between neighbouring points is not resolved: a turn
+# of 270 deg reads as -90 deg in the twist and in the ribbon polygon's linking alike, so
+# Lk = Tw + Wr would still hold and could not flag it. DNA at one point per base pair
+# turns by about 34 deg.
+MAX_TWIST_PER_POINT = np.pi / 2
 
 
 def _unit(v):
@@ -329,7 +334,9 @@ def ribbon_topology(x, v, period=None, writhe_stride: int = 1) -> dict:
     Lk is the linking number of x with x + eps u (u the unit perpendicular part of v,
     eps a quarter of the median spacing), Tw the transported twist of u, Wr the writhe of
     x through every writhe_stride-th point (closed) or per period (box-periodic, period
-    b). Also Wr_coarsening (see `_writhe_and_coarsening`)."""
+    b). Also Wr_coarsening (see `_writhe_and_coarsening`; for a smooth curve the writhe's
+    coarsening error is about -Wr_coarsening / 3, second order). A NumericalError when the
+    ribbon turns by more than MAX_TWIST_PER_POINT between two points."""
     x = _check_points(x, "ribbon: centreline", 4)
     period = _period_or_none(period)
     t = centred_tangents(x, period)
@@ -338,9 +345,15 @@ def ribbon_topology(x, v, period=None, writhe_stride: int = 1) -> dict:
     if period is not None:
         edges[-1] += period
     eps = 0.25 * float(np.median(np.linalg.norm(edges, axis=1)))
+    angles = twist_angles(t, u)
+    if np.max(np.abs(angles)) > MAX_TWIST_PER_POINT:
+        i = int(np.argmax(np.abs(angles)))
+        raise NumericalError(f"ribbon: it turns {np.degrees(angles[i]):.0f} deg between points {i} and "
+                             f"{(i + 1) % len(x)}; at most {np.degrees(MAX_TWIST_PER_POINT):.0f} deg per point "
+                             "is resolved (a faster twist aliases to a slower one in Lk and Tw alike)")
     Lk = linking_number(x, x + eps * u, period)
     Wr, dWr = _writhe_and_coarsening(x, period, writhe_stride)
-    return {"Lk": Lk, "Tw": twist(t, u), "Wr": Wr, "Wr_coarsening": dWr}
+    return {"Lk": Lk, "Tw": float(angles.sum() / (2.0 * np.pi)), "Wr": Wr, "Wr_coarsening": dWr}
 
 
 def duplex_topology(strand_I, strand_II, period=None) -> dict:
