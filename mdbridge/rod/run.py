@@ -241,7 +241,7 @@ class RodRun:
         R, origins = bp_frames_from_rod(self.centerline, self.directors, n_bp, u.ell_A)
         return BasePairTrajectory(u.time_to_ps(np.asarray(self.time, float)), origins, R,
                                   u.length_to_A(self.period()), self.source,
-                                  {"kind": "rod", "L": self.L, "N": len(self.s), "n_bp": n_bp})
+                                  {"kind": "rod", "L": self.L, "N": len(np.asarray(self.s)), "n_bp": n_bp})
 
     def period(self) -> np.ndarray:
         """The period vector r(L) - r(0) of every frame (T, 3) [l]: P = int_0^L T(s) Gamma(s) ds

@@ -20,9 +20,8 @@ import h5py
 import numpy as np
 import pytest
 
-from mdbridge.geometry.topology import (centred_tangents, duplex_topology, gauss_linking_integral,
-                                        linking_number, periodic_writhe, perpendicular_unit,
-                                        ribbon_topology, twist, writhe)
+from mdbridge.geometry.topology import (duplex_topology, gauss_linking_integral, linking_number,
+                                        periodic_writhe, ribbon_topology, twist, writhe)
 
 RISE_A = 3.38
 
@@ -355,9 +354,9 @@ def test_under_resolved_rod_is_refused(tmp_path, dnarod):
 
 
 def test_coarse_writhe_fails_the_check(tmp_path, dnarod):
-    """A (2, 5) torus-knot rod (Wr -6.11) with its writhe taken on 16 points (Wr -5.46):
-    Lk = Tw + Wr fails; the file is written and the command exits 2, naming the frame.
-    Control: 200 points pass."""
+    """A (2, 5) torus-knot rod (Wr -6.11) with its writhe coarsened to 10 blocks of 40
+    segments (Lk - Tw - Wr = -6.2): Lk = Tw + Wr fails; the file is written and the
+    command exits 2, naming the frame. Control: 200 points pass."""
     x, D = framed_torus_curve(2, 5, 0, 400)
     with h5py.File(tmp_path / "knot.h5", "w") as f:
         f["time"], f["s"] = np.zeros(1), np.arange(400.0)
@@ -365,7 +364,7 @@ def test_coarse_writhe_fails_the_check(tmp_path, dnarod):
     run = (lambda points: subprocess.run([str(dnarod), "topology", str(tmp_path / "knot.h5"), "-o",
                                           str(tmp_path / "topo"), "--writhe-points", points],
                                          capture_output=True, text=True))
-    out = run("16")
+    out = run("10")
     assert out.returncode == 2 and "Lk = Tw + Wr fails" in out.stderr and "frame 0" in out.stderr
     assert (tmp_path / "topo" / "topology.json").is_file()
     assert run("200").returncode == 0
