@@ -12,8 +12,8 @@ DIR/topology.json (per PATH: time_ps, Lk, Tw, Wr, and Lk_minus_Tw_minus_Wr_max).
 
   a rod HDF5 file (rodsim run; needs output.fields "centerline" and "directors",
       and "internal" for a periodic rod): the centreline and the ribbon along d1
-      perpendicular to the tangent; the writhe of a ring on a polygon of at most
-      --writhe-points of its points (Klenin-Langowski, O(points^2))
+      perpendicular to the tangent; the writhe of a ring coarsened to at most
+      --writhe-points blocks (Klenin-Langowski: near pairs exact, far ones by chords)
   an MD folder (dnarod build-md: md.tpr + md.xtc, else conf.gro): Lk of the two
       C1' strands, Tw and Wr about the axis averaged over one helical turn
 
@@ -36,8 +36,8 @@ def add_arguments(p):
     p.add_argument("paths", nargs="+", metavar="PATH", help="rod HDF5 files and MD folders")
     p.add_argument("-o", "--out", required=True, metavar="DIR", help="output folder (DIR/topology.json)")
     p.add_argument("--writhe-points", type=int, default=None, metavar="M",
-                   help="the writhe of a closed rod on every k-th point, at most M points "
-                        "(default 1000: about 0.4 s per frame)")
+                   help="the writhe of a closed rod coarsened to at most M blocks (default 1000: "
+                        "0.25 CPU s and within 0.04 of the exact writhe at 10.5 kbp)")
 
 
 def _inputs(paths, writhe_points):
