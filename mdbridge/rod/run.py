@@ -234,19 +234,23 @@ class RodRun:
         """The run's base pairs at s_i = i L / n_bp as a BasePairTrajectory, in A and ps
         (what `BasePairTrajectory.from_rod` returns).
 
-        The period vector is P = int_0^L T(s) Gamma(s) ds (Eq 1: dr/ds = T Gamma), by the
-        periodic trapezoid rule, which is spectrally accurate for a smooth periodic rod.
+        The period vector is `period()`.
         """
         u = units or Units.paper()
         self.require("time", "s", "centerline", "directors", "fields/Gamma")
         R, origins = bp_frames_from_rod(self.centerline, self.directors, n_bp, u.ell_A)
-        s = np.asarray(self.s, float)
-        ds = s[1] - s[0]
-        P = np.einsum("tixk,tik->tx", np.asarray(self.directors, float),
-                      np.asarray(self.fields["Gamma"], float)) * ds
         return BasePairTrajectory(u.time_to_ps(np.asarray(self.time, float)), origins, R,
-                                  u.length_to_A(P), self.source,
-                                  {"kind": "rod", "L": ds * len(s), "N": len(s), "n_bp": n_bp})
+                                  u.length_to_A(self.period()), self.source,
+                                  {"kind": "rod", "L": self.L, "N": len(np.asarray(self.s)), "n_bp": n_bp})
+
+    def period(self) -> np.ndarray:
+        """The period vector r(L) - r(0) of every frame (T, 3) [l]: P = int_0^L T(s) Gamma(s) ds
+        (Eq 1: dr/ds = T Gamma) by the periodic trapezoid rule, spectrally accurate for a
+        smooth periodic rod; about 0 for a rod closed into a ring."""
+        self.require("s", "directors", "fields/Gamma")
+        s = np.asarray(self.s, float)
+        return np.einsum("tixk,tik->tx", np.asarray(self.directors, float),
+                         np.asarray(self.fields["Gamma"], float)) * (s[1] - s[0])
 
     def until(self, t_end: float) -> "RodRun":
         """The frames with time <= t_end (solver units), the same run otherwise."""
