@@ -43,7 +43,7 @@ MIN_PERIODS = 3.0
 MIN_PEAK_TO_FLOOR = 3.0
 STATIONARY_Z = 3.0
 ROUND_OFF = 1e-8           # rms amplitude / the field's own scale below which a mode holds no signal
-BAND_OVER_PEAK = 3.0       # the fit's band: 0 .. BAND_OVER_PEAK x the periodogram's peak
+BAND_OVER_PEAK = 3.0       # the fit's band: peak / 3 .. 3 x peak (_band)
 NPZ_FORMAT = 1
 
 
@@ -155,21 +155,29 @@ def pooled_series(series, kind, i_mode, n_frames, part=slice(None)):
 
 
 def _band(x, dt):
-    """The fit's band (0, BAND_OVER_PEAK x peak) from the pooled periodogram, smoothed over
-    three bins, and the peak [rad/ps]."""
+    """The fit's band (peak / BAND_OVER_PEAK, BAND_OVER_PEAK x peak) and the peak [rad/ps].
+    The peak is the maximum of lambda I(lambda), the pooled periodogram smoothed over three
+    bins, per unit log-frequency, at frequencies of at least MIN_PERIODS periods in the
+    record: an oscillator's lambda S(lambda) peaks near omega0 at any Q >~ 1, while the
+    slow, red part of an MD's spectrum (pairs opening, the duplex's drift), which
+    dominates I itself at the lowest frequencies, is flattened; the band then leaves it out
+    (the floor is white, and cannot describe it)."""
     p = periodogram(x).mean(axis=0)
     lam = frequencies_per_ps(x.shape[1], dt)
-    sm = np.convolve(p, np.ones(3) / 3, mode="same")
-    j = 1 + int(np.argmax(sm[1:-1]))
+    sm = np.convolve(p, np.ones(3) / 3, mode="same") * lam
+    lo = int(np.ceil(MIN_PERIODS))                # Fourier bin j holds j periods of the record
+    if len(lam) < lo + 4:
+        raise ValueError(f"a record of {x.shape[1]} frames is too short for a spectrum")
+    j = lo + int(np.argmax(sm[lo:-1]))
     peak = float(lam[j])
-    return (0.0, min(BAND_OVER_PEAK * peak, lam[-1])), peak
+    return (peak / BAND_OVER_PEAK, min(BAND_OVER_PEAK * peak, lam[-1])), peak
 
 
 def fit_mode(x, dt, errors="hessian", line="auto"):
     """(OscillatorFit, None) or (None, the reason there is none) for the pooled real series
     x (M, T) of one mode: the band from the periodogram's peak, the fit on it."""
-    band, peak = _band(x, dt)
     try:
+        band, peak = _band(x, dt)
         return fit_oscillator(x, dt, band, omega_guess=peak, errors=errors, line=line), None
     except ValueError as e:
         return None, f"no peak ({e})"

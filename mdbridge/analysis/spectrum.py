@@ -27,7 +27,7 @@ all of its motion in one quadrature), which are profiled out.
 Errors. The observed information: the inverse Hessian of the negative log-likelihood at
 the fit, every parameter free. A line (a mode that keeps its phase over the record, which
 the damping fit cannot resolve) is refined by least squares instead (`line_fit`, with the
-Cramer-Rao error at the local noise level). Both are calibrated
+finite-record Cramer-Rao error at the local noise level). Both are calibrated
 (bench/mode_spectrum_calibration.py): stated / RMS error 0.7-1.4 for periods 12-1100 ps
 and Q from 1 to infinity in 4-ns records of 0.5-ps frames.
 """
@@ -206,7 +206,7 @@ def _fit_periodogram(I, j, n, dt, lam, omega_guess) -> OscillatorFit:
     p0 = min(starts, key=lambda p: W(p)[0])
     lw = (math.log(max(lo_w, lam[1]) * 0.5), math.log(min(hi_w * 1.5, lam[-1])))
     bounds = [lw, (lw[0] + math.log(GAMMA_OVER_OMEGA_MIN), lw[1] + math.log(GAMMA_OVER_OMEGA_MAX))] \
-        + [(-700.0, 700.0)] * (2 * W.M)
+        + [(-300.0, 300.0)] * (2 * W.M)    # E^2 stays finite
     res = minimize(W, p0, jac=True, method="L-BFGS-B", bounds=bounds,
                    options={"maxiter": 1000, "ftol": 1e-12, "gtol": 1e-7})
     p, M = res.x, W.M
@@ -291,11 +291,12 @@ def line_fit(x: np.ndarray, dt_ps: float, omega_guess: float) -> dict:
     bins of it over the power there. A damped mode wanders in amplitude and phase, and one
     sinusoid leaves about gamma T / 3 of its power; a line leaves the floor's.
 
-    Error: the Cramer-Rao bound 24 S / (A^2 N (N^2 - 1)) [rad^2 per sample^2] per row (Kay,
-    Fundamentals of Statistical Signal Processing I, Ex. 3.14: 12 / (eta N (N^2 - 1)) at
-    SNR eta = A^2 / 2 S), summed as information,
-    with A each row's amplitude and S the residual's periodogram level beside the line
-    (2 to 8 bins away, both sides): white-noise theory with the local noise level."""
+    Error: the Cramer-Rao bound of the model (each row a cos + b sin + c, omega shared) in
+    white noise of the residual's periodogram level S beside the line (2 to 8 bins away,
+    both sides): the exact finite-record Fisher information, omega's part after the
+    nuisance (a, b, c) of each row are profiled (Schur complement), summed over rows. Far
+    from omega = 0 it is Kay's 24 S / (A^2 N (N^2 - 1)) [rad^2 per sample^2] (Fundamentals
+    of Statistical Signal Processing I, Ex. 3.14); at a few periods it is not."""
     from scipy.optimize import minimize_scalar
     x = np.atleast_2d(np.asarray(x, float))
     M, n = x.shape
@@ -326,7 +327,12 @@ def line_fit(x: np.ndarray, dt_ps: float, omega_guess: float) -> dict:
     near = np.abs(np.arange(P.shape[1]) - jw)
     side = (near >= 2) & (near <= 8) & (np.arange(P.shape[1]) > 0)
     S = P[:, side].mean(axis=1) if side.any() else P[:, 1:].mean(axis=1)
-    info = np.sum(A2 * n * (n * n - 1) / (24 * np.maximum(S, 1e-300)))
+    info = 0.0
+    for (a, b), s_level in zip(c[:2].T, S):
+        d_w = t * (-a * B[:, 1] + b * B[:, 0])          # d(model)/d(omega) [per rad/sample]
+        J = np.column_stack([B, d_w])
+        F = J.T @ J / max(s_level, 1e-300)
+        info += F[3, 3] - F[3, :3] @ np.linalg.solve(F[:3, :3], F[:3, 3])
     close = (near <= 3) & (np.arange(P.shape[1]) > 0)
     data_near = float(periodogram(x)[:, close].sum())
     return {"omega_per_ps": w / dt_ps, "omega_err_per_ps": float(1 / np.sqrt(info)) / dt_ps,
