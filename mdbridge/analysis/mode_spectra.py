@@ -344,12 +344,17 @@ def _seeds(series, kind, i, n_frames, dt, errors, pooled) -> dict:
 
 
 def open_fraction_check(s: ModeSeries) -> dict:
-    """The fraction of open base pairs: its mean in each half of the record, and the
-    difference in units of its blocking error (a drifting duplex is not stationary)."""
+    """The fraction of open base pairs against time (thinned), its mean in each half of the
+    record, and their difference in units of its blocking error (a duplex that keeps
+    opening is not stationary; `stationary` is false beyond STATIONARY_Z)."""
     f = s.open_fraction
+    if f is None:
+        raise ValueError(f"{s.source}: no open base-pair fraction (an MD realisation has one)")
     h = len(f) // 2
     a, b = block_sem(f[:h]), block_sem(f[h:2 * h])
     se = math.hypot(a["sem"], b["sem"]) if np.isfinite(a["sem"]) and np.isfinite(b["sem"]) else float("nan")
     z = abs(a["mean"] - b["mean"]) / se if se > 0 else (0.0 if a["mean"] == b["mean"] else float("inf"))
+    step = max(1, len(f) // 200)       # the curve, at most ~200 points (the npz has every frame)
     return {"mean": float(np.mean(f)), "halves": [float(a["mean"]), float(b["mean"])],
+            "times_ps": [float(v) for v in s.times_ps[::step]], "fraction": [float(v) for v in f[::step]],
             "z": _num(z), "stationary": bool(np.isfinite(z) and z <= STATIONARY_Z) if np.isfinite(se) else None}

@@ -144,6 +144,13 @@ def run(args):
     from mdbridge.analysis.mode_figures import dispersion_figure, spectra_figure
     spectra_figure(used, table, out / "spectra.png")
     dispersion_figure(table, out / "dispersion.png")
+    import sys
+    for r in table["realisations"]:
+        of = r.get("open_fraction")
+        if of and of["stationary"] is False:
+            print(f"modes: warning: {r['source']}: the open base-pair fraction drifts ({of['halves'][0]:.3f} "
+                  f"then {of['halves'][1]:.3f} in the two halves, z = {of['z']:.1f}): the record may not be "
+                  "stationary (modes.json realisations[].open_fraction)", file=sys.stderr)
     ok = [e for e in table["modes"] if e["reason"] is None]
     counts = ", ".join(f"{kind} {sum(1 for e in ok if e['kind'] == kind)}" for kind in ("bend", "twist", "stretch"))
     print(f"modes: {len(ok)} of {len(table['modes'])} modes measured ({counts}); "
