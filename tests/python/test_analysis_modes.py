@@ -180,3 +180,33 @@ def test_bad_input_exits_2_naming_the_path(tmp_path, capsys):
     err = capsys.readouterr().err
     assert f"{h5}: --discard-ps 50 is not shorter than its record" in err
     assert not (tmp_path / "o").exists()                      # refused before any work
+
+
+def _realisation(rng, period_ps, Q, source):
+    """A ModeSeries of one bend mode (n = 1) whose four quadratures are damped oscillators
+    of the given period and Q (4 ns of 0.5-ps frames); twist and stretch empty."""
+    from mdbridge.analysis.mode_spectra import ModeSeries
+    w, g = CAL.gamma_of(period_ps, Q)
+    from mdbridge.analysis.spectrum import simulate
+    x = simulate(rng, 4, 8000, 0.5, w, g, 1.0, 0.01)
+    bend = (x[0] + 1j * x[2])[:, None, None] * np.array([1, 0])[None, None, :] \
+        + (x[1] + 1j * x[3])[:, None, None] * np.array([0, 1])[None, None, :]
+    zeros = np.zeros((8000, 1), complex)
+    return ModeSeries(np.arange(8000) * 0.5, np.array([1]), bend, zeros, zeros, 534.04, 158, 15, source, "md")
+
+
+def test_between_seed_scatter_enters_with_two_realisations():
+    """Two seeds of one mode: pooled, each fitted alone, and the error multiplied by the
+    Birge ratio of their scatter when it exceeds 1. Two seeds whose frequencies differ by
+    5 % (far beyond the ~0.8 % errors) get an error that covers the difference; two seeds
+    of one frequency keep the pooled fit's error (the control)."""
+    from mdbridge.analysis.mode_spectra import mode_table
+    rng = np.random.default_rng(21)
+    same = mode_table([_realisation(rng, 111.0, 10.0, "a"), _realisation(rng, 111.0, 10.0, "b")])["modes"][0]
+    apart = mode_table([_realisation(rng, 111.0, 10.0, "a"), _realisation(rng, 111.0 * 1.05, 10.0, "b")])["modes"][0]
+    assert same["reason"] is None and apart["reason"] is None
+    assert same["seeds"]["birge_ratio_applied"] < 2.0
+    assert apart["seeds"]["birge_ratio"] > 2.0
+    w = apart["seeds"]["omega_per_ps"]
+    assert apart["omega_err_per_ps"] > 0.5 * abs(w[0] - w[1])
+    assert apart["omega_err_per_ps"] > 2 * same["omega_err_per_ps"]
