@@ -200,9 +200,11 @@ def _fit_periodogram(I, j, n, dt, lam, omega_guess) -> OscillatorFit:
         omega_guess = lam[j[np.argmax(I.sum(axis=0))]]
     omega_guess = float(np.clip(omega_guess, lo_w, hi_w))
     W = _Whittle(I, j, n, dt)
-    # start from the best of a few damping ratios: the likelihood is flat in gamma once
-    # the peak is narrower than the record resolves
-    starts = [W.start(omega_guess, omega_guess * r) for r in (0.5, 0.15, 0.04, 0.01, 1e-3, 1e-5)]
+    # start from the best of a grid of frequencies around the guess (the periodogram's peak
+    # is a noisy guess) and damping ratios (the likelihood is flat in gamma once the peak
+    # is narrower than the record resolves)
+    omegas = [w for w in omega_guess * np.exp(np.linspace(-0.25, 0.25, 11)) if lo_w <= w <= hi_w] or [omega_guess]
+    starts = [W.start(w, w * r) for w in omegas for r in (0.5, 0.15, 0.04, 0.01, 1e-3, 1e-5)]
     p0 = min(starts, key=lambda p: W(p)[0])
     lw = (math.log(max(lo_w, lam[1]) * 0.5), math.log(min(hi_w * 1.5, lam[-1])))
     bounds = [lw, (lw[0] + math.log(GAMMA_OVER_OMEGA_MIN), lw[1] + math.log(GAMMA_OVER_OMEGA_MAX))] \
