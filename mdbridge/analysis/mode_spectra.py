@@ -226,6 +226,11 @@ def _num(v):
 def mode_table(series: list[ModeSeries], errors: str = "hessian") -> dict:
     """The entries of modes.json["modes"] (module doc) for realisations of one duplex."""
     s0 = series[0]
+    for s in series:
+        d = np.diff(s.times_ps)
+        if d.size and (d.min() <= 0 or d.max() - d.min() > 1e-3 * np.median(d)):
+            raise InputError(f"{s.source}: frames at uneven times ({d.min():g} to {d.max():g} ps apart); the "
+                             "spectra need one frame interval")
     for s in series[1:]:
         if (s.n_bp, s.helical_repeat, len(s.n)) != (s0.n_bp, s0.helical_repeat, len(s0.n)):
             raise InputError(f"{s.source}: {s.n_bp} bp, {s.helical_repeat} turns, {len(s.n)} modes; "
@@ -272,9 +277,9 @@ def mode_table(series: list[ModeSeries], errors: str = "hessian") -> dict:
                                                 "variance_err")})
                 elif len(series) >= 2:
                     e["seeds"] = _seeds(series, kind, i, n_frames, dt, errors, fit)
-                    e["omega_err_per_ps"] *= e["seeds"]["birge_ratio_applied"]
-                    if e["damping_err_per_ps"] is not None:
-                        e["damping_err_per_ps"] *= e["seeds"]["birge_ratio_applied"]
+                    for k in ("omega_err_per_ps", "damping_err_per_ps"):
+                        if e[k] is not None:
+                            e[k] *= e["seeds"]["birge_ratio_applied"]
             entries.append(e)
     return {"modes": entries, "record_ps": record_ps, "dt_ps": dt, "n_frames": n_frames,
             "length_A": length_A, "n_bp": s0.n_bp, "helical_repeat": s0.helical_repeat,
