@@ -45,6 +45,7 @@ GAMMA_OVER_OMEGA_MIN = 1e-7
 GAMMA_OVER_OMEGA_MAX = 1.0     # Q >= 1/2: an oscillation; below it there is no peak
 LINE_GAMMA_T = 3.0             # a line is tried when the fitted gamma T is below this, and
 LINE_RESIDUAL = 0.01           # taken when one sinusoid leaves less than this of the power near it
+NOT_LINE_MIN_GAMMA_T = 0.5     # a mode that is not a line has gamma T above this (it leaves ~gamma T / 3)
 
 
 def oscillator_acvf(lag_ps, omega: float, gamma: float, var: float = 1.0) -> np.ndarray:
@@ -136,7 +137,13 @@ def fit_oscillator(x: np.ndarray, dt_ps: float, band_per_ps=None, omega_guess=No
     fit.band_per_ps = (float(band_per_ps[0]), float(band_per_ps[1]))
     if line == "always" or fit.damping_per_ps * fit.record_ps < LINE_GAMMA_T:
         sinusoid = line_fit(x, dt_ps, fit.omega_per_ps)
-        if line == "always" or sinusoid["residual_near"] < LINE_RESIDUAL:
+        if line != "always" and sinusoid["residual_near"] >= LINE_RESIDUAL \
+                and fit.damping_per_ps * fit.record_ps < NOT_LINE_MIN_GAMMA_T:
+            # not a line, yet narrower than a damped mode that fails the line test can be:
+            # a local minimum on a spike of the periodogram; fit again with gamma above it
+            fit = _fit_periodogram(I, j, n, dt_ps, lam, omega_guess, NOT_LINE_MIN_GAMMA_T / (n * dt_ps))
+            fit.band_per_ps = (float(band_per_ps[0]), float(band_per_ps[1]))
+        elif line == "always" or sinusoid["residual_near"] < LINE_RESIDUAL:
             fit.line = sinusoid
             fit.omega_per_ps = sinusoid["omega_per_ps"]
             if errors != "none":
@@ -194,7 +201,7 @@ class _Whittle:
                                np.log(0.9 * Ibar / max(f.mean(), 1e-300)), np.log(0.1 * Ibar)])
 
 
-def _fit_periodogram(I, j, n, dt, lam, omega_guess) -> OscillatorFit:
+def _fit_periodogram(I, j, n, dt, lam, omega_guess, gamma_min_per_ps=0.0) -> OscillatorFit:
     lo_w, hi_w = lam[j[0]], lam[j[-1]]
     if omega_guess is None:
         omega_guess = lam[j[np.argmax(I.sum(axis=0))]]
@@ -205,9 +212,13 @@ def _fit_periodogram(I, j, n, dt, lam, omega_guess) -> OscillatorFit:
     # is narrower than the record resolves)
     omegas = [w for w in omega_guess * np.exp(np.linspace(-0.25, 0.25, 11)) if lo_w <= w <= hi_w] or [omega_guess]
     starts = [W.start(w, w * r) for w in omegas for r in (0.5, 0.15, 0.04, 0.01, 1e-3, 1e-5)]
+    if gamma_min_per_ps > 0:
+        starts = [p for p in starts if p[1] >= math.log(gamma_min_per_ps)] or \
+            [W.start(omega_guess, 2 * gamma_min_per_ps)]
     p0 = min(starts, key=lambda p: W(p)[0])
     lw = (math.log(max(lo_w, lam[1]) * 0.5), math.log(min(hi_w * 1.5, lam[-1])))
-    bounds = [lw, (lw[0] + math.log(GAMMA_OVER_OMEGA_MIN), lw[1] + math.log(GAMMA_OVER_OMEGA_MAX))] \
+    lg_min = max(lw[0] + math.log(GAMMA_OVER_OMEGA_MIN), math.log(gamma_min_per_ps) if gamma_min_per_ps > 0 else -1e300)
+    bounds = [lw, (lg_min, lw[1] + math.log(GAMMA_OVER_OMEGA_MAX))] \
         + [(-300.0, 300.0)] * (2 * W.M)    # E^2 stays finite
     res = minimize(W, p0, jac=True, method="L-BFGS-B", bounds=bounds,
                    options={"maxiter": 1000, "ftol": 1e-12, "gtol": 1e-7})
