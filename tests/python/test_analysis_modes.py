@@ -97,7 +97,7 @@ def _kicked_rod(rodsim, tmp, A_v):
     out = tmp / f"kick_{A_v:g}.h5"
     subprocess.run([str(rodsim), "run", str(ROOT / "workflows" / "scenes" / "dna158.toml"), "-o", str(out), "-q",
                     "--set", f"initial.A_v_A_per_ps={A_v}", "--set", "output.t_end=5310",
-                    "--set", "output.frames=1063", "--set", "solver.rtol=1e-9", "--set", "solver.atol=1e-11"],
+                    "--set", "output.frames=532", "--set", "solver.rtol=1e-9", "--set", "solver.atol=1e-11"],
                    check=True, timeout=300)
     return out
 
