@@ -63,6 +63,12 @@ class BasePairTrajectory:
     def n_bp(self) -> int:
         return self.origins.shape[1]
 
+    def seek(self, frame: int) -> float:
+        """The time [ps] of FRAME. With `n_frames` this makes the trajectory a frame source
+        of the analyses' one loop (mdbridge/geometry/analysis_base.py); the frames are
+        arrays in memory, so there is nothing to read."""
+        return float(self.times_ps[frame])
+
     # -- constructors ------------------------------------------------------
     @classmethod
     def from_periodic_box(cls, times_ps, origins, R, box, source="arrays", meta=None):
