@@ -111,10 +111,11 @@ class BasePairTrajectory:
         return cls.from_rod(cls.rod_reader(path), n_bp, units)
 
     @classmethod
-    def from_universe(cls, universe, pairs=None, start=None, stop=None, step=None):
+    def from_universe(cls, universe, pairs=None, start=None, stop=None, step=None, progress=None):
         """An MD trajectory: base-pair frames from mdbridge.geometry.BasePairFrames (which
-        takes minimum images inside bases and across pairs), box from each frame."""
-        bpf = BasePairFrames(universe, pairs=pairs).run(start=start, stop=stop, step=step)
+        takes minimum images inside bases and across pairs), box from each frame.
+        progress, if given: progress(frames_read, frames_total)."""
+        bpf = BasePairFrames(universe, pairs=pairs).run(start=start, stop=stop, step=step, progress=progress)
         r = bpf.results
         if r.box is None:
             raise InputError(f"{universe.filename}: no periodic box; the comparison needs the "

@@ -141,6 +141,16 @@ class RodRun:
         """The length scale the run was made with (recorded in the file), else dna_models'."""
         return float(self.attrs.get("ell_A", Units.paper().ell_A))
 
+    def units(self) -> Units:
+        """dna_models' Units with this file's recorded time and length scales (tau_ps, ell_A;
+        the paper's when it records none): what turns this run into ps and A."""
+        import dataclasses
+        u = Units.paper()
+        tau_s = float(self.attrs.get("tau_ps", u.tau_ps)) * 1e-12
+        ell_m = float(self.attrs.get("ell_A", u.ell_A)) * 1e-10
+        # tau = sqrt(I / C), ell = sqrt(I / rho): keep I, set C and rho
+        return dataclasses.replace(u, C=u.I / tau_s ** 2, rho=u.I / ell_m ** 2)
+
     # -- constructors ------------------------------------------------------
     @classmethod
     def from_result(cls, d, source: str = "rod") -> "RodRun":
