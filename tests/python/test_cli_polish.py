@@ -68,7 +68,8 @@ def _subparsers():
 def test_one_spelling_of_the_output_option():
     """Every subcommand that writes files takes -o/--output and lists no other spelling;
     --out, used before by some, still works."""
-    writers = {"build-dna", "build-md", "coarse-grain", "compare", "dna-rod", "paper-figures", "rod-to-atoms"}
+    writers = {"build-dna", "build-md", "coarse-grain", "compare", "dna-rod", "modes", "paper-figures",
+               "rod-to-atoms", "topology"}
     for name, p in _subparsers().items():
         helptext = p.format_help()
         shown = set(re.findall(r"(?<![\w-])(--out\w*|-o)(?![\w-])", helptext))
@@ -101,4 +102,4 @@ def test_compare_help_lists_every_shipped_configuration():
     assert sorted(listed) == shipped
     default = p.get_default("output")
     assert default == "out/compare"
-    assert f"--out {default}" in (ROOT / "README.md").read_text()
+    assert f"{default}/report/index.html" in (ROOT / "README.md").read_text()   # the Quickstart says where

@@ -48,9 +48,10 @@ examples:
 
 
 def add_arguments(p):
+    from dnarod.commands._options import add_output
     p.add_argument("paths", metavar="PATH", nargs="+",
                    help="rod output file, MD folder or mode_series.npz (one realisation each)")
-    p.add_argument("-o", "--output", metavar="DIR", required=True, help="output directory")
+    add_output(p, metavar="DIR", help="output directory")
     p.add_argument("--discard-ps", type=float, default=0.0, metavar="T",
                    help="discard the first T ps of each realisation (equilibration; default 0)")
 

@@ -33,8 +33,9 @@ examples:
 
 
 def add_arguments(p):
+    from dnarod.commands._options import add_output
     p.add_argument("paths", nargs="+", metavar="PATH", help="rod HDF5 files and MD folders")
-    p.add_argument("-o", "--out", required=True, metavar="DIR", help="output folder (DIR/topology.json)")
+    add_output(p, metavar="DIR", help="output folder (DIR/topology.json)")
     p.add_argument("--writhe-points", type=int, default=None, metavar="M",
                    help="the writhe of a closed rod coarsened to at most M blocks (default 1000: "
                         "0.25 CPU s and within 0.04 of the exact writhe at 10.5 kbp)")
@@ -88,7 +89,7 @@ def run(args):
         print(f"{path}: {kind}, {'closed' if r['closed'] else 'box-periodic'}, {len(Lk)} frames, "
               f"Lk {Lk[0]:.0f} -> {Lk[-1]:.0f}, Tw {Tw[0]:.4f}, Wr {Wr[0]:.4f}, "
               f"max |Lk - Tw - Wr| {residual.max():.2e}")
-    out = Path(args.out)
+    out = Path(args.output)
     out.mkdir(parents=True, exist_ok=True)
     write_json(out / "topology.json", {"format": "dnarod-topology/1", "paths": results})
     print(f"wrote {out / 'topology.json'}")
