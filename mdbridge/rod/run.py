@@ -24,7 +24,7 @@ from dna_models.errors import DnarodError, InputError, NumericalError
 from dna_models.units import Units
 from mdbridge.geometry.trajectory import BasePairTrajectory
 
-from .frames import bp_frames_from_rod
+from .frames import bp_frames_from_rod, bp_lab_velocities, period_vector
 
 FIELDS = ("gamma", "omega", "Gamma", "Omega")
 
@@ -230,20 +230,31 @@ class RodRun:
         self.require("centerline", "directors", "time")
         return bp_frames_from_rod(self.centerline, self.directors, n_bp, self.ell_A)
 
+    def bp_lab_velocities(self, n_bp: int, frame: int = 0):
+        """(v, w) (n_bp, 3) at output frame FRAME: the base pairs' cross-section velocity
+        and angular velocity in the laboratory frame, solver units
+        (mdbridge.rod.frames.bp_lab_velocities)."""
+        self.require("directors", "fields/gamma", "fields/omega")
+        assert self.directors is not None
+        return bp_lab_velocities(self.directors[frame], self.fields["gamma"][frame],
+                                 self.fields["omega"][frame], n_bp)
+
+    def period_vectors(self) -> np.ndarray:
+        """(T, 3) P = int_0^L d_k Gamma_k ds of every frame, solver units
+        (mdbridge.rod.frames.period_vector)."""
+        self.require("s", "directors", "fields/Gamma")
+        s = np.asarray(self.s, float)
+        return period_vector(self.directors, self.fields["Gamma"], s[1] - s[0])
+
     def trajectory(self, n_bp: int, units: Units | None = None) -> BasePairTrajectory:
         """The run's base pairs at s_i = i L / n_bp as a BasePairTrajectory, in A and ps
-        (what `BasePairTrajectory.from_rod` returns).
-
-        The period vector is P = int_0^L T(s) Gamma(s) ds (Eq 1: dr/ds = T Gamma), by the
-        periodic trapezoid rule, which is spectrally accurate for a smooth periodic rod.
-        """
+        (what `BasePairTrajectory.from_rod` returns), with the period vectors."""
         u = units or Units.paper()
         self.require("time", "s", "centerline", "directors", "fields/Gamma")
         R, origins = bp_frames_from_rod(self.centerline, self.directors, n_bp, u.ell_A)
         s = np.asarray(self.s, float)
         ds = s[1] - s[0]
-        P = np.einsum("tixk,tik->tx", np.asarray(self.directors, float),
-                      np.asarray(self.fields["Gamma"], float)) * ds
+        P = self.period_vectors()
         return BasePairTrajectory(u.time_to_ps(np.asarray(self.time, float)), origins, R,
                                   u.length_to_A(P), self.source,
                                   {"kind": "rod", "L": ds * len(s), "N": len(s), "n_bp": n_bp})

@@ -125,10 +125,10 @@ def _build(args, stages, md_rate):
     from mdbridge.md.builder import build_duplex
     from mdbridge.md.gromacs.box import plan_box
     from mdbridge.md.gromacs.gmx import find_gmx
-    from mdbridge.md.gromacs.inputs import build_inputs, rod_initial_from_run
+    from mdbridge.md.gromacs.inputs import build_inputs
     from mdbridge.md.gromacs.mdp import MdSettings
-    from mdbridge.md.gromacs.rod import (lab_rotation_to_axis, md_scene, rod_for_md, rotate_rod,
-                                        scene_sequence, with_absolute_paths)
+    from mdbridge.md.gromacs.rod import (lab_rotation_to_axis, md_scene, rod_for_md, rod_initial_from_run,
+                                        rotate_rod, scene_sequence, with_absolute_paths)
     from mdbridge.rod.run import RodRun, load_scene, resolve_scene, run_scene, scene_bp_turns
 
     gmx = find_gmx(args.gmx)

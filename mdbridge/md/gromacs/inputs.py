@@ -14,7 +14,6 @@ from __future__ import annotations
 import json
 import warnings
 import platform
-from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -31,45 +30,12 @@ from .gro import Gro, read_gro, write_gro
 from .junction import junction_report, o3p_links
 from .equilibrate import PROTOCOLS, equilibrate
 from .mdp import MdSettings, render_em, render_md, read_mdp_value
+from .rod import RodInitial
 from .topology import parse_itp, run_pdb2gmx, write_pdb2gmx_input
 from .velocities import (base_pair_of_residue, kinetic_temperature, rigid_body_velocities,
                          thermal_velocities)
 
 NM = ANGSTROM_PER_NM  # Angstrom per nm (dna_models.units)
-
-
-@dataclass
-class RodInitial:
-    """The rod at t = 0 sampled at the base pairs s_i = i L / n_bp, in A, ps, rad."""
-    origins_A: np.ndarray        # (n, 3) r(s_i)
-    R: np.ndarray                # (n, 3, 3) columns d1, d2, d3 (= bp x, y, z axes)
-    gamma_lab_A_ps: np.ndarray   # (n, 3)
-    omega_lab_rad_ps: np.ndarray  # (n, 3)
-    closure_length_A: float      # |r(s + L) - r(s)|
-
-    @property
-    def n_bp(self) -> int:
-        return len(self.origins_A)
-
-
-def rod_initial_from_run(run, n_bp: int, units: Units | None = None):
-    """RodInitial (t = 0) and the centerline over the whole run in A (T, N, 3), from a
-    rod run (mdbridge.rod.run.RodRun, solver units, fields in the internal frame,
-    directors[t, i, :, k] = d_k). Base pair i sits on grid point i N / n_bp (as
-    mdbridge.analysis does), so no interpolation is involved."""
-    from mdbridge.geometry.trajectory import BasePairTrajectory
-    u = units or Units.paper()
-    run.require("fields/gamma", "fields/omega")
-    traj = BasePairTrajectory.from_rod(run, n_bp, u)
-    every = len(run.s) // n_bp
-    D0 = np.asarray(run.directors, float)[0, ::every]            # (n, 3, 3), columns d_k
-    g = np.einsum("nik,nk->ni", D0, np.asarray(run.fields["gamma"], float)[0, ::every])
-    w = np.einsum("nik,nk->ni", D0, np.asarray(run.fields["omega"], float)[0, ::every])
-    rod = RodInitial(origins_A=traj.origins[0], R=traj.R[0],
-                     gamma_lab_A_ps=u.velocity_to_A_per_ps(g),
-                     omega_lab_rad_ps=u.angular_velocity_to_rad_per_ps(w),
-                     closure_length_A=float(np.linalg.norm(traj.period[0])))
-    return rod, u.length_to_A(np.asarray(run.centerline, float))
 
 
 def structure_chains(structure, shift_A) -> list[dict]:

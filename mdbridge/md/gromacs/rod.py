@@ -1,7 +1,7 @@
 """The rod side of an MD build: the rod run that sizes the box and gives t = 0.
 
-The same run gives (a) the rod's state at t = 0 (base-pair frames and the
-rigid-body velocities of the cross-sections) and (b) the rod's own prediction
+The same run gives (a) the rod's state at t = 0 (`RodInitial`: base-pair frames and
+the rigid-body velocities of the cross-sections, sampled by mdbridge.rod.frames) and (b) the rod's own prediction
 of how far the centerline will wander across the helix axis during the MD,
 which sizes the box (box.py). `dnarod build-md` takes that run either from a
 rod output file the workflow already made (`--rod ROD.h5`: `rod_for_md`) or runs
@@ -9,16 +9,48 @@ the scene for the MD's length (`md_scene`, through mdbridge.rod.run.run_scene)."
 from __future__ import annotations
 
 import copy
+import dataclasses
 import math
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from dna_models.errors import InputError
 from dna_models.units import Units
+from mdbridge.rod.frames import period_vector
 from mdbridge.rod.run import RodRun, scene_bp_turns
 
 ROD_FRAMES = 101   # output frames of the sizing run: enough to catch the largest excursion
+
+
+@dataclass
+class RodInitial:
+    """The rod at t = 0 sampled at the base pairs s_i = i L / n_bp, in A, ps, rad."""
+    origins_A: np.ndarray        # (n, 3) r(s_i)
+    R: np.ndarray                # (n, 3, 3) columns d1, d2, d3 (= bp x, y, z axes)
+    gamma_lab_A_ps: np.ndarray   # (n, 3)
+    omega_lab_rad_ps: np.ndarray  # (n, 3)
+    closure_length_A: float      # |r(s + L) - r(s)|
+
+    @property
+    def n_bp(self) -> int:
+        return len(self.origins_A)
+
+
+def rod_initial_from_run(run, n_bp: int, units: Units | None = None):
+    """RodInitial (t = 0) and the centerline over the whole run in A (T, N, 3), from a
+    rod run. Base pair i sits on grid point i N / n_bp, so no interpolation is involved;
+    the sampling is mdbridge.rod.frames' (RodRun.trajectory, RodRun.bp_lab_velocities)."""
+    u = units or Units.paper()
+    run.require("fields/gamma", "fields/omega")
+    traj = run.trajectory(n_bp, u)
+    g, w = run.bp_lab_velocities(n_bp, frame=0)
+    rod = RodInitial(origins_A=traj.origins[0], R=traj.R[0],
+                     gamma_lab_A_ps=u.velocity_to_A_per_ps(g),
+                     omega_lab_rad_ps=u.angular_velocity_to_rad_per_ps(w),
+                     closure_length_A=float(np.linalg.norm(traj.period[0])))
+    return rod, u.length_to_A(np.asarray(run.centerline, float))
 
 
 def md_scene(scene: dict, *, md_ps: float, bp: int | None = None, turns: int | None = None,
@@ -124,8 +156,8 @@ def lab_rotation_to_axis(run: RodRun, axis: int = 1) -> np.ndarray:
     helix axis is wherever the sequence's closed shape puts it. The smallest rotation."""
     run.require("s", "directors", "fields/Gamma")
     s = np.asarray(run.s, float)   # present: require() raised otherwise
-    ds = float(s[1] - s[0])
-    P = np.einsum("ixk,ik->x", np.asarray(run.directors, float)[0], np.asarray(run.fields["Gamma"], float)[0]) * ds
+    assert run.directors is not None
+    P = period_vector(run.directors[0], run.fields["Gamma"][0], float(s[1] - s[0]))
     a = P / np.linalg.norm(P)
     e = np.zeros(3)
     e[axis] = 1.0
@@ -143,7 +175,6 @@ def lab_rotation_to_axis(run: RodRun, axis: int = 1) -> np.ndarray:
 def rotate_rod(rod, centerline_A, Q):
     """RodInitial and centerline (T, N, 3) seen in the lab rotated by Q (a rigid rotation
     of the whole rod run: positions, frames and velocities)."""
-    import dataclasses
     return (dataclasses.replace(rod, origins_A=rod.origins_A @ Q.T, R=np.einsum("ij,njk->nik", Q, rod.R),
                                 gamma_lab_A_ps=rod.gamma_lab_A_ps @ Q.T, omega_lab_rad_ps=rod.omega_lab_rad_ps @ Q.T),
             centerline_A @ Q.T)
