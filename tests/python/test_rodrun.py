@@ -14,8 +14,8 @@ import pytest
 from dna_models.errors import InputError, NumericalError
 from dna_models.units import Units
 from mdbridge.jsonio import dumps, jsonable, write_json
-from mdbridge.rod.run import (RodRun, load_scene, resolve_scene, run_scene, scene_bp_turns,
-                             scene_n_bp)
+from mdbridge.rod.run import RodRun, run_scene
+from mdbridge.rod.scene import load_scene, resolve_scene, scene_bp_turns, scene_n_bp
 
 DNA21 = '[initial]\nkind = "dna_planar"\nbp = 21\nturns = 2\nA_v_A_per_ps = 1.0\n'
 

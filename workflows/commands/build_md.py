@@ -128,8 +128,9 @@ def _build(args, stages, md_rate):
     from mdbridge.md.gromacs.inputs import build_inputs
     from mdbridge.md.gromacs.mdp import MdSettings
     from mdbridge.md.gromacs.rod import (lab_rotation_to_axis, md_scene, rod_for_md, rod_initial_from_run,
-                                        rotate_rod, scene_sequence, with_absolute_paths)
-    from mdbridge.rod.run import RodRun, load_scene, resolve_scene, run_scene, scene_bp_turns
+                                        rotate_rod, scene_sequence)
+    from mdbridge.rod.run import RodRun, run_scene
+    from mdbridge.rod.scene import load_scene, resolve_scene, scene_bp_turns, with_absolute_paths
 
     gmx = find_gmx(args.gmx)
     if args.ps < 0:

@@ -19,7 +19,8 @@ import numpy as np
 from dna_models.errors import InputError
 from dna_models.units import Units
 from mdbridge.rod.frames import period_vector
-from mdbridge.rod.run import RodRun, scene_bp_turns
+from mdbridge.rod.run import RodRun
+from mdbridge.rod.scene import _beside, scene_bp_turns, set_output
 
 ROD_FRAMES = 101   # output frames of the sizing run: enough to catch the largest excursion
 
@@ -71,16 +72,13 @@ def md_scene(scene: dict, *, md_ps: float, bp: int | None = None, turns: int | N
     # base pair i must be grid point i N / n_bp (dna_planar's default N is n_bp)
     if "points" in rod and int(rod["points"]) % n_bp:
         rod["points"] = n_bp * math.ceil(int(rod["points"]) / n_bp)
-    out = s.setdefault("output", {})
-    out.update({"t_end": u.time_to_rod(md_ps) if md_ps > 0 else 0.0,
-                "frames": ROD_FRAMES if md_ps > 0 else 1,
-                "fields": ["internal", "centerline", "directors"]})
-    return s
+    return set_output(s, t_end=u.time_to_rod(md_ps) if md_ps > 0 else 0.0,
+                      frames=ROD_FRAMES if md_ps > 0 else 1, fields=["internal", "centerline", "directors"])
 
 
 def rod_for_md(run: RodRun, *, md_ps: float, scene: dict, units: Units | None = None) -> RodRun:
     """The frames of an existing rod run that cover the MD (0 <= t <= md_ps), checked to
-    be a run of SCENE (resolved, mdbridge.rod.run.resolve_scene: every [rod], [material]
+    be a run of SCENE (resolved, mdbridge.rod.scene.resolve_scene: every [rod], [material]
     and [initial] value the file records must be the scene's) that starts at t = 0 and
     lasts at least as long as the MD."""
     u = units or Units.paper()
@@ -131,21 +129,6 @@ def scene_sequence(scene: dict, scene_path) -> str | None:
         raise InputError(f"{path}: no 'sequence' attribute: build-md builds the DNA a material file records "
                          "(`dnarod dna-rod` writes it); a material file without one has no DNA to build")
     return validate(seq.decode() if isinstance(seq, bytes) else str(seq), f"{path}: attribute 'sequence'")
-
-
-def _beside(scene_path, p) -> Path:
-    q = Path(p)
-    return q if q.is_absolute() else Path(scene_path).resolve().parent / q
-
-
-def with_absolute_paths(scene: dict, scene_path) -> dict:
-    """A copy of SCENE whose file paths (material_file, initial.path, rod.intrinsic_file)
-    are absolute, so the dict runs from any folder as the file does from its own."""
-    s = copy.deepcopy(scene)
-    for section, key in (("material", "material_file"), ("initial", "path"), ("rod", "intrinsic_file")):
-        if key in s.get(section, {}):
-            s[section][key] = str(_beside(scene_path, s[section][key]))
-    return s
 
 
 def lab_rotation_to_axis(run: RodRun, axis: int = 1) -> np.ndarray:
