@@ -12,7 +12,7 @@ from .constants import paper_rho_I
 from .continuum import UNITS
 from .mass import rod_densities
 from .prestress import rest_shape
-from .rod import segment_rod_material
+from .segment import segment_rod_material
 
 FORMAT = "dnarod-cg-params/1"
 UNITS_TEXT = "A, deg; stiffness kT/A^2, kT/(A deg), kT/deg^2"
