@@ -54,7 +54,8 @@ def run(args):
     # MDAnalysis 2.4 (Debian) imports the deprecated xdrlib: noise for a user
     warnings.filterwarnings("ignore", message="'xdrlib' is deprecated")
 
-    from mdbridge.md.gromacs.run import CHECKPOINT_MIN, run_md
+    from mdbridge.md.gromacs.defaults import CHECKPOINT_MIN
+    from mdbridge.md.gromacs.run import run_md
     from dnarod.progress import Progress, md_rate
     bar: list[Progress] = []
 
