@@ -37,6 +37,10 @@ from .velocities import (base_pair_of_residue, kinetic_temperature, rigid_body_v
                          thermal_velocities)
 
 NM = ANGSTROM_PER_NM  # Angstrom per nm (dna_models.units)
+PROTOCOL_DOC = ("equilibrated: v-rescale stage at T, then rod velocities added to the "
+                "equilibrated ones, then NVE; paper: no equilibration (paper Sec 6.2)")
+RESIDUE_TO_BASE_PAIR = ("strand I residue k -> pair k; strand II residue r -> pair 2n+1-r "
+                        "(1-based, 3DNA numbering)")
 
 
 def structure_chains(structure, shift_A) -> list[dict]:
@@ -123,9 +127,9 @@ def build_inputs(outdir: Path, structure, rod: RodInitial, box: BoxPlan, *, sequ
     if minimize:                                                                            # 4
         x_nm, em = _minimise(outdir, gmx, g, box_nm, n, threads, progress)
     x_nm, box_nm, v_th, eq = _thermal_velocities(                                           # 5
-        outdir, gmx, settings, top, x_nm, box_nm, protocol=protocol, temperature_K=temperature_K,
-        seed=seed, equilibrate_ps=equilibrate_ps, axis=box.axis, axial_pressure=axial_pressure,
-        threads=threads, progress=progress)
+        outdir, gmx, settings, top, x_nm, box_nm, protocol=protocol, temperature_K=temperature_K, seed=seed,
+        equilibrate_ps=equilibrate_ps, axis=box.axis, axial_pressure=axial_pressure, threads=threads,
+        progress=progress)
     v_rod = _write_conf(outdir, g, x_nm, v_th, box_nm, rod, shift,
                         f"dnarod periodic duplex {n} bp, {forcefield}, T={temperature_K} K, seed={seed}")
     contact, frames_t0, links = _t0_checks(outdir, top, x_nm, box_nm, rod, shift, box.box_A)
@@ -140,20 +144,16 @@ def build_inputs(outdir: Path, structure, rod: RodInitial, box: BoxPlan, *, sequ
         "box": box.as_dict(), "box_nm": box_nm.tolist(),
         "md_settings": settings.as_dict(),
         "junctions": top.junctions,
-        "junction_O3P_t0_A": {s: {"junction": float(d["junction_A"]),
-                                  "interior_min": float(d["interior_A"].min()),
-                                  "interior_max": float(d["interior_A"].max())}
-                              for s, d in links.items()},
+        "junction_O3P_t0_A": {s: {"junction": float(d["junction_A"]), "interior_min": float(d["interior_A"].min()),
+                                  "interior_max": float(d["interior_A"].max())} for s, d in links.items()},
         "frames_t0_vs_rod": frames_t0,
         "closest_nonbonded_contact": contact,
         "velocities": _velocity_record(top.masses, v_th, v_rod, temperature_K, equilibrated=eq is not None),
         "minimization": em,
         "protocol": protocol,
-        "protocol_doc": "equilibrated: v-rescale stage at T, then rod velocities added to the "
-                        "equilibrated ones, then NVE; paper: no equilibration (paper Sec 6.2)",
+        "protocol_doc": PROTOCOL_DOC,
         "equilibration": eq,
-        "residue_to_base_pair": "strand I residue k -> pair k; strand II residue r -> pair 2n+1-r "
-                                "(1-based, 3DNA numbering)",
+        "residue_to_base_pair": RESIDUE_TO_BASE_PAIR,
         "gmx": {"path": gmx, "version": gmx_version(gmx)},
         "host": platform.node(),
         "files": ["conf.gro", "topol.top"] + [p.name for p in top.itps] + ["md.mdp", "em.mdp", "build.json"],
