@@ -6,8 +6,8 @@
 2. output cost: the DNA scene with 2 vs 101 output frames (internal fields,
    then every field incl. energy, centerline and directors);
 3. whole-system speed: the 158-bp DNA rod for 600 ps (the paper's MD length)
-   vs all-atom MD of the same physical time at the measured GROMACS speed
-   (57-62 ns/day for 10,037 atoms on these 2 cores, docs/md.md "Speed measured here").
+   vs all-atom MD of the same physical time at the GROMACS speed the main job measured
+   (results/main_job.json, md_ns_per_day: the 158-bp duplex, 2 fs, h-bond constraints, 2 threads).
 
     costs.py --build BUILD --rhs-json bench/results/rhs_bench.json --out bench/results
 """
@@ -22,7 +22,7 @@ from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
 DNA = HERE.parent / "workflows" / "scenes" / "dna158.toml"
-MD_NS_PER_DAY = (57.0, 62.0)  # docs/md.md, GROMACS 2022.5, 2 fs + h-bond constraints, -nt 2
+MAIN_JOB = HERE.parent / "results" / "main_job.json"   # the main job's measured MD speed
 
 
 def children_cpu():
@@ -62,7 +62,8 @@ def rod_vs_md(rodsim, tmp, repeat):
     # field (N = 158: one point per base pair), and on an FFT-friendly N = 160.
     wall, cpu = rodsim_wall(rodsim, DNA, [], tmp / "dna600.h5", repeat)
     wall_n160, cpu_n160 = rodsim_wall(rodsim, DNA, ["rod.points=160"], tmp / "dna600.h5", repeat)
-    md = [0.6 / r * 86400.0 for r in MD_NS_PER_DAY]  # wall seconds for 0.6 ns on 2 cores
+    md_ns_per_day = json.loads(MAIN_JOB.read_text())["md_ns_per_day"]
+    md = [0.6 / r * 86400.0 for r in md_ns_per_day]  # wall seconds for 0.6 ns on 2 cores
     return dict(rod_wall_s_N158=wall, rod_cpu_s_N158=cpu, rod_wall_s_N160=wall_n160, rod_cpu_s_N160=cpu_n160,
                 md_wall_s_range=md, speedup_wall_N158=[md[1] / wall, md[0] / wall],
                 speedup_wall_N160=[md[1] / wall_n160, md[0] / wall_n160])

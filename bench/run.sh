@@ -30,4 +30,6 @@ echo "== coarse-graining a 600-frame 158-bp trajectory (budget: 30 s)"
 "$PYTHON" "$DNAROD_ROOT/bench/coarsegrain.py" --out "$OUT"
 echo "== coarse-graining bootstrap: stated errors against the block length (calibration, ~10 s CPU)"
 "$PYTHON" "$DNAROD_ROOT/bench/cg_block_length.py" --out "$OUT"
+echo "== writhe of a 10.5-kbp ring: exact against coarsened, with the coarsening's error (~15 s CPU per seed)"
+"$PYTHON" "$DNAROD_ROOT/bench/topology.py" --out "$OUT" $([[ -n "$QUICK" ]] && echo "--seeds 1")
 echo "== done: $OUT"

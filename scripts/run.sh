@@ -6,11 +6,17 @@
 # Extra arguments go to `dnarod compare`.
 set -euo pipefail
 source "$(dirname "$0")/env.sh"
+start=$SECONDS
 bash "$DNAROD_ROOT/scripts/setup.sh"
 bash "$DNAROD_ROOT/scripts/build.sh"
 cd "$DNAROD_ROOT"
 args=("$@")
-case " ${args[*]-} " in *" --out "*) ;; *) args+=(--out out/compare) ;; esac
+case " ${args[*]-} " in *" --out "*|*" --output "*|*" -o "*) ;; *) args+=(--out out/compare) ;; esac
 case " ${args[*]-} " in *" --cores "*) ;; *) args+=(--cores "$(nproc)") ;; esac
 DNAROD_BIN_DIR="$DNAROD_BUILD/bin" dnarod compare "${args[@]}"  # dnarod: installed by build.sh
+# The default run is the main job: its time, MD speed and drift go to results/main_job.json,
+# the one source the README and docs quote.
+if [ $# -eq 0 ]; then
+  "$PYTHON" "$DNAROD_ROOT/scripts/record_run.py" main-job --wall-s $((SECONDS - start)) --out out/compare
+fi
 echo "Report: $DNAROD_ROOT/out/compare/report/index.html (or the --out you gave)"

@@ -12,7 +12,8 @@ command's log, e.g. `dnarod compare` watching its MD jobs, can show it too.
 Rates: `rate` turns units per second into text; `md_rate` gives ns/day for ps.
 
 `Stages(command)` is the progress of a command made of stages (build-md: the rod run,
-the minimisation, the equilibration): called as stages(stage, done, total, unit), it
+the minimisation, the equilibration): called as stages(stage, done, total, unit) (and
+time_left=False for a stage whose total is a limit, not a length: a minimisation), it
 keeps one `Progress` labelled `COMMAND: STAGE` and closes it when the next stage
 starts. `Progress.above(text)` prints other output (e.g. Snakemake's, in `dnarod
 compare`) above a live line without breaking it.
@@ -67,8 +68,11 @@ STDERR = object()   # the default stream: sys.stderr at the time a Progress is m
 class Progress:
     def __init__(self, label: str, total: float, unit: str = "", *, stream=STDERR,
                  rate=None, every_s: float = 60.0, redraw: bool | None = None,
-                 clock=time.monotonic):
+                 clock=time.monotonic, time_left: bool = True):
         self.label, self.total, self.unit = label, float(total), unit
+        # False for a stage whose total is only a limit (a minimisation stops when it
+        # converges, usually far below its step limit): no time left is shown then
+        self.time_left = time_left
         # sys.stderr as it is now (a caller may have replaced it), None for silence
         self.stream = sys.stderr if stream is STDERR else stream
         self.rate = rate or (lambda per_s: f"{per_s:.3g} {unit}/s")
@@ -94,7 +98,9 @@ class Progress:
             dd = self.done - self._first[1]
             if dt > 0 and dd > 0:
                 per_s = dd / dt
-                out += f", {self.rate(per_s)}, {duration((self.total - self.done) / per_s)} left"
+                out += f", {self.rate(per_s)}"
+                if self.time_left:
+                    out += f", {duration((self.total - self.done) / per_s)} left"
         return out
 
     def update(self, done: float, *, force: bool = False) -> None:
@@ -171,11 +177,13 @@ class Stages:
         self.stage: str | None = None
         self.bar: Progress | None = None
 
-    def __call__(self, stage: str, done: float, total: float, unit: str = "", rate=None) -> None:
+    def __call__(self, stage: str, done: float, total: float, unit: str = "", rate=None,
+                 time_left: bool = True) -> None:
         if self.bar is None or stage != self.stage:
             self.close()
             self.stage = stage
-            self.bar = Progress(f"{self.command}: {stage}", total, unit, rate=rate, **self.kwargs)
+            self.bar = Progress(f"{self.command}: {stage}", total, unit, rate=rate, time_left=time_left,
+                                **self.kwargs)
         self.bar.update(done)
 
     def close(self) -> None:

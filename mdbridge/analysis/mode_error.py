@@ -231,6 +231,13 @@ def standing_mode_fit(times_ps, c, k_per_A: float, record_term: bool = True,
     return out
 
 
+def refusal(times_ps, c, k_per_A: float) -> str | None:
+    """Why no speed may be reported for the mode amplitude c(t), by the rule the workflow
+    reports with (standing_mode_fit: fewer than MIN_PERIODS, or a standing mode with fewer
+    than REPORT_MIN_PERIODS fitted periods), or None. WaveAnalysis refuses with it."""
+    return standing_mode_fit(times_ps, c, k_per_A, record_term=False).get("reason")
+
+
 def _finite(x) -> bool:
     return isinstance(x, (int, float)) and math.isfinite(x)
 

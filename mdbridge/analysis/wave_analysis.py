@@ -1,9 +1,10 @@
 """`WaveAnalysis`: the one comparison analysis, run identically on rod and MD.
 
-MDAnalysis-style: `_prepare`, `_single_frame` (the helical axis of one frame),
-`_conclude` (displacement field, wave speed by two estimators, planarity); all
-results in one `results` namespace. Input is a `BasePairTrajectory`, built from a
-rod output file (`BasePairTrajectory.from_rod_h5`) or from an MD universe
+An analysis of the one loop (mdbridge/geometry/analysis_base.py): `_prepare` (the
+one-turn axis window), `_single_frame` (the helical axis of one frame), `_conclude`
+(displacement field, wave speed by two estimators, planarity); all results in
+`results`. Input is a `BasePairTrajectory`, built from a rod output file
+(`BasePairTrajectory.from_rod_h5`) or from an MD universe
 (`BasePairTrajectory.from_universe`) -- nothing below knows which.
 
 Conventions: x_i = i |P| / n is the fiducial axial position of base pair i [A] (P the
@@ -16,11 +17,12 @@ e_out = e_axis x e_in.
 from __future__ import annotations
 
 import numpy as np
-from MDAnalysis.analysis.base import Results
 
 from mdbridge.analysis.axis import helical_axis, mean_twist, one_turn_weights, window_response
 from mdbridge.analysis.planarity import planarity
+from mdbridge.geometry.analysis_base import AnalysisBase
 from mdbridge.geometry.trajectory import BasePairTrajectory
+from mdbridge.analysis.mode_error import refusal
 from mdbridge.analysis.wavespeed import fit_wave_speed, mode_amplitude, phase_velocity
 
 
@@ -47,42 +49,34 @@ def initial_plane_direction(u_perp: np.ndarray, times: np.ndarray, n_early: int 
     return e_in if e_in[np.argmax(np.abs(e_in))] > 0 else -e_in
 
 
-class WaveAnalysis:
+class WaveAnalysis(AnalysisBase):
+    """The wave of a rod or MD trajectory: WaveAnalysis(traj).run(start, stop, step).results
+    (docs/analysis.md lists the results)."""
+
     def __init__(self, traj: BasePairTrajectory, in_plane=None, offset: bool = True,
-                 n_boot: int = 200):
+                 n_boot: int = 200, verbose: bool = False):
         """traj: the base-pair trajectory; in_plane: a lab vector in the plane of the initial
         disturbance (from the scene), or None to take it from the first frames; offset: fit the
         static k-mode deformation in the wave fit; n_boot: bootstrap replicates."""
-        self.traj = traj
+        super().__init__(traj, verbose)
         self.in_plane = None if in_plane is None else np.asarray(in_plane, float)
         self.offset = offset
         self.n_boot = n_boot
-        self.results = Results()
-
-    # -- MDAnalysis-style protocol ----------------------------------------
-    def run(self, start=None, stop=None, step=None):
-        self._frames = list(range(self.traj.n_frames))[slice(start, stop, step)]
-        self._prepare()
-        for self._frame_index, self._t in enumerate(self._frames):
-            self._single_frame()
-        self._conclude()
-        return self
 
     def _prepare(self):
-        tr = self.traj
-        t0 = self._frames[0]
+        tr = self._trajectory
+        t0 = self.frames[0]
         self._weights = one_turn_weights(mean_twist(tr.R[t0]), tr.n_bp)  # one window for all frames
-        self._axis = np.empty((len(self._frames), tr.n_bp, 3))
+        self._axis = np.empty((self.n_frames, tr.n_bp, 3))
 
     def _single_frame(self):
-        tr, t = self.traj, self._t
+        tr, t = self._trajectory, self._frame
         self._axis[self._frame_index] = helical_axis(tr.origins[t], tr.R[t], tr.period[t], self._weights)[0]
 
     def _conclude(self):
-        tr, res = self.traj, self.results
-        frames = np.array(self._frames)
-        times = tr.times_ps[frames]
-        P0 = tr.period[frames[0]]
+        tr, res = self._trajectory, self.results
+        times = self.times_ps
+        P0 = tr.period[self.frames[0]]
         length = float(np.linalg.norm(P0))
         e_axis = P0 / length
         n = tr.n_bp
@@ -113,15 +107,17 @@ class WaveAnalysis:
         res.planarity = planarity(u_in, u_out)
 
     def _fit(self, times, c, k, length):
-        """Both estimators, or NaN with the reason when there is no wave to measure."""
-        nan = float("nan")
+        """Both estimators, or speed None with the reason when there is no wave to measure
+        or the record is too short for one (mode_error.refusal: the workflow's rule)."""
         reason = None
         if np.max(np.abs(c)) < 1e-9 * length:
             reason = "no displacement in the k = 2 pi / L mode (rod at rest?)"
         elif len(times) < 8:
             reason = f"only {len(times)} frames; the wave-speed fit needs at least 8"
+        else:
+            reason = refusal(times, c, k)
         if reason:
-            none = {"speed_A_per_ps": nan, "speed_err_A_per_ps": nan, "reason": reason}
+            none = {"speed_A_per_ps": None, "speed_err_A_per_ps": None, "reason": reason}
             return dict(none), dict(none)
         return (fit_wave_speed(times, c, k, offset=self.offset, n_boot=self.n_boot),
                 phase_velocity(times, c, k))

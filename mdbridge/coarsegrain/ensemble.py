@@ -36,8 +36,10 @@ class StepEnsemble:
                              f"duplex of {len(self.sequence)} bp (expected {want})")
         if not np.all(np.isfinite(self.q)):
             raise InputError(f"{self.source}: step parameters contain NaN/Inf")
-        if self.times_ps is None:
-            self.times_ps = np.arange(T, dtype=float)
+        self.times_ps = np.arange(T, dtype=float) if self.times_ps is None else np.asarray(self.times_ps, float)
+        if self.times_ps.shape != (T,):
+            raise InputError(f"{self.source}: times_ps of shape {self.times_ps.shape} for {T} frames "
+                             "of step parameters")
         if self.excluded is None:
             self.excluded = np.zeros(n, dtype=bool)
 

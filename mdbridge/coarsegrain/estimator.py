@@ -24,6 +24,7 @@ import numpy as np
 
 from dna_models.errors import InputError
 
+from mdbridge.geometry.analysis_base import AnalysisBase
 from mdbridge.stats import integrated_time
 from mdbridge.stats import block_length, block_starts, block_sums, replicate_moments, spread, weighted_moments
 from .composition import compose
@@ -121,11 +122,17 @@ def window_sums(q: np.ndarray, starts: np.ndarray, m: int) -> np.ndarray:
     return C[:, starts + m] - C[:, starts]
 
 
-class CoarseGrain:
+class CoarseGrain(AnalysisBase):
     """Estimate shape, stiffness and continuum constants of a StepEnsemble.
 
-        cg = CoarseGrain(ensemble, temperature_K=300.0).run()
-        cg.results["steps"]["K"]        # (n_steps, 6, 6) kT/A^2, kT/(A deg), kT/deg^2
+        cg = CoarseGrain(ensemble, temperature_K=300.0).run()    # or .run(start, stop, step)
+        cg.results["by_m"][1]["K"]      # (n_steps, 6, 6) kT/A^2, kT/(A deg), kT/deg^2
+
+    An analysis of the one loop (mdbridge/geometry/analysis_base.py) that works on the
+    whole trajectory at once (`_whole_trajectory`): its per-frame work is the step
+    parameters, already in the ensemble, and everything it estimates (equilibration
+    start, autocorrelation times, covariances, the block bootstrap) needs all the
+    selected frames together.
 
     block: bootstrap block length in frames (None: from the autocorrelation; 1 treats
     frames as independent). discard: frames to drop at the start (None: the rule in
@@ -137,6 +144,7 @@ class CoarseGrain:
                  m_rod: int | None = None, n_boot: int = 200, seed: int = 0, block: int | None = None,
                  discard: int | None = None, min_effective: float = MIN_EFFECTIVE,
                  convergence_points: int = 8, progress=None):
+        super().__init__(ensemble)
         self.ens = ensemble
         self.progress = progress
         self.T_K = float(temperature_K)
@@ -154,13 +162,14 @@ class CoarseGrain:
         self.min_effective = float(min_effective)
         self.convergence_points = convergence_points
 
-    # ------------------------------------------------------------------
-    def run(self):
+    _whole_trajectory = True
+
+    def _conclude(self):
         ens = self.ens
         use = ~ens.excluded
         if not use.any():
             raise InputError(f"{ens.source}: every step is excluded (base pairs opened)")
-        q_all = ens.q
+        q_all = ens.q[self.frames]
         # 1. equilibration: sequence-averaged parameters of the usable steps
         if self.discard is None:
             t0, _ = equilibration_start(q_all[:, use].mean(axis=1))
@@ -206,16 +215,15 @@ class CoarseGrain:
             by_m[m] = self._estimate(m, qm, starts, (starts_boot, b), W_half, W_conv, n_conv,
                                       q[:, :, 2].mean(axis=0), window_sums(q, starts, m))
         res = {"discarded_frames": t0, "equilibration_rule": rule, "frames_used": T,
-               "frames_total": ens.n_frames, "tau_int_max_frames": tau_max,
+               "frames_total": self.n_frames, "tau_int_max_frames": tau_max,
                "tau_int_steps": tau_steps, "effective_samples": n_eff, "block_length": b,
                "n_boot": self.n_boot, "by_m": by_m, "m_rod": self.m_rod,
                "temperature_K": self.T_K, "used_steps": np.flatnonzero(use),
                "excluded_steps": np.flatnonzero(ens.excluded), "convergence_frames": n_conv,
-               "dt_ps": float(np.median(np.diff(ens.times_ps))) if ens.n_frames > 1 else 0.0}
+               "dt_ps": float(np.median(np.diff(self.times_ps))) if self.n_frames > 1 else 0.0}
         if self.progress is not None:
             self.progress("lengths analysed", len(self.m_values), len(self.m_values), "lengths")
-        self.results = res
-        return self
+        self.results.update(res)
 
     def _estimate(self, m, qm, starts, boot, W_half, W_conv, n_conv, rise, sums):
         T = qm.shape[0]

@@ -12,6 +12,7 @@ import warnings
 import numpy as np
 
 from dna_models.errors import InputError
+from mdbridge.geometry.analysis_base import AnalysisBase, UniverseFrames
 from mdbridge.geometry.pbc import minimum_image
 from mdbridge.geometry.structure import BasePairFrames, _canonical_atom_name
 
@@ -53,29 +54,52 @@ def steps_of_pairs(opened: np.ndarray, closed: bool) -> np.ndarray:
     return opened[k] | opened[(k + 1) % n]
 
 
+class PairMassInertia(AnalysisBase):
+    """Per base pair and frame: full inertia about the base-pair origin and slice inertia
+    (amu A^2), in the base-pair frames of `bpf` (a BasePairFrames that has run); an
+    analysis of the one loop (mdbridge/geometry/analysis_base.py), run over some of the
+    frames bpf analysed: run(frames=bpf.results.frame[positions])."""
+
+    def __init__(self, bpf: BasePairFrames):
+        super().__init__(UniverseFrames(bpf.universe))
+        self.bpf = bpf
+        self.groups = pair_atom_indices(bpf.pairs)
+        # where each trajectory frame sits in bpf.results
+        self._position = {int(f): k for k, f in enumerate(bpf.results.frame)}
+
+    def _prepare(self):
+        n = len(self.groups)
+        self._full = np.zeros((self.n_frames, n, 3, 3))
+        self._slice = np.zeros_like(self._full)
+
+    def _single_frame(self):
+        u, r = self.bpf.universe, self.bpf.results
+        i_res, k = self._position[self._frame], self._frame_index
+        box = None if (u.dimensions is None or r.box is None) else np.asarray(u.dimensions, float)
+        pos = u.atoms.positions.astype(float)
+        masses = u.atoms.masses
+        for i, g in enumerate(self.groups):
+            _, self._full[k, i], self._slice[k, i] = frame_inertia(pos[g], masses[g], r.origins[i_res, i],
+                                                                   r.R[i_res, i], box)
+
+    def _conclude(self):
+        self.results.inertia = self._full
+        self.results.slice_inertia = self._slice
+
+
 def mass_inertia(bpf: BasePairFrames, frame_index: np.ndarray):
     """Per base pair: mass (amu), full inertia about the bp origin (amu A^2), slice
     inertia (amu A^2), each averaged over the frames (positions into bpf.results)
     and the standard error of the inertia over those frames; hydrogens present?"""
     u = bpf.universe
-    groups = pair_atom_indices(bpf.pairs)
-    masses = u.atoms.masses
-    n = len(groups)
-    full = np.zeros((len(frame_index), n, 3, 3))
-    sl = np.zeros_like(full)
+    per_frame = PairMassInertia(bpf).run(frames=np.asarray(bpf.results.frame)[frame_index])
+    groups, masses = per_frame.groups, u.atoms.masses
     mass = np.array([masses[g].sum() for g in groups])
-    r = bpf.results
-    for k, (i_res, fr) in enumerate(zip(frame_index, r["frame"][frame_index])):
-        ts = u.trajectory[int(fr)]
-        box = None if (ts.dimensions is None or r.box is None) else np.asarray(ts.dimensions, float)
-        pos = u.atoms.positions.astype(float)
-        for i, g in enumerate(groups):
-            _, full[k, i], sl[k, i] = frame_inertia(pos[g], masses[g],
-                                                    r.origins[i_res, i], r.R[i_res, i], box)
+    full, sl = per_frame.results.inertia, per_frame.results.slice_inertia
     try:
         el = np.array([str(e).strip().upper() for e in u.atoms.elements])
     except Exception:  # noqa: BLE001 - no element column
-        el = np.array([str(a).strip()[:1].upper() for a in u.atoms.names])
+        el = np.array([str(name).strip()[:1].upper() for name in u.atoms.names])
     has_h = bool(np.any(el[np.concatenate(groups)] == "H"))
     k = max(1, len(frame_index))
     return {"mass": mass, "inertia": full.mean(axis=0), "slice_inertia": sl.mean(axis=0),

@@ -18,6 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from dna_models.errors import ExternalToolError, InputError
+from mdbridge.geometry.analysis_base import AnalysisBase, UniverseFrames
 from mdbridge.md.gromacs.energy import energy_series
 from mdbridge.md.gromacs.velocities import kinetic_temperature as _kinetic
 
@@ -25,6 +26,28 @@ _WATER = {"SOL", "WAT", "HOH", "TIP3", "TIP3P", "SPC", "TIP4", "TIP4P", "T3P", "
 
 
 MAX_FRAMES = 100   # evenly spaced frames: N atoms x 100 frames pin T to ~0.1 % for a solvated duplex
+
+
+class KineticTemperature(AnalysisBase):
+    """Kinetic temperature of the atoms ATOMS in each selected frame (3 k_B T per atom), an
+    analysis of the one loop (mdbridge/geometry/analysis_base.py): results.temperature_K
+    (T,), NaN where a frame has no velocities, and results.has_velocities (T,)."""
+
+    def __init__(self, universe, atoms):
+        super().__init__(UniverseFrames(universe))
+        self.universe, self.atoms = universe, atoms
+
+    def _prepare(self):
+        self.results.temperature_K = np.full(self.n_frames, np.nan)
+        self.results.has_velocities = np.zeros(self.n_frames, dtype=bool)
+
+    def _single_frame(self):
+        if not self.universe.trajectory.ts.has_velocities:
+            return
+        sel, k = self.atoms, self._frame_index
+        self.results.has_velocities[k] = True
+        self.results.temperature_K[k] = _kinetic(sel.masses, sel.velocities / 10.0,   # A/ps -> nm/ps
+                                                 n_dof=3 * len(sel))
 
 
 def kinetic_temperature(universe, start=None, stop=None, step=None, max_frames=MAX_FRAMES):
@@ -44,14 +67,12 @@ def kinetic_temperature(universe, start=None, stop=None, step=None, max_frames=M
     sel = atoms[keep]
     if len(sel) == 0:
         return None
-    vals = []
     frames = np.arange(universe.trajectory.n_frames)[start:stop:step]
     frames = frames[np.unique(np.linspace(0, len(frames) - 1, min(len(frames), max_frames)).astype(int))]
-    for ts in universe.trajectory[frames]:
-        if not ts.has_velocities:
-            return None
-        vals.append(_kinetic(sel.masses, sel.velocities / 10.0, n_dof=3 * len(sel)))   # A/ps -> nm/ps
-    vals = np.array(vals)
+    per_frame = KineticTemperature(universe, sel).run(frames=frames).results
+    if not per_frame.has_velocities.all():
+        return None
+    vals = per_frame.temperature_K
     return float(vals.mean()), float(vals.std()), int(len(sel)), (
         f"velocities of non-water, non-hydrogen atoms in {len(vals)} frames, 3 k_B T per atom "
         "(<= 2.6 % low for atoms bound to constrained hydrogens)")

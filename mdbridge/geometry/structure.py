@@ -25,6 +25,7 @@ import numpy as np
 from dna_models.errors import InputError
 from dna_models.nucleotides import PURINES, ring_atom_names, standard_ring_coordinates
 
+from .analysis_base import AnalysisBase, UniverseFrames
 from .basefit import fit_frames
 from .pbc import minimum_image
 from .steps import base_pair_parameters, step_parameters_along
@@ -36,6 +37,7 @@ _COMPLEMENT = {"A": "T", "T": "A", "G": "C", "C": "G"}
 _PAIR_CUTOFF_A = 4.5     # N1(purine)-N3(pyrimidine): ~2.9 A in a Watson-Crick pair, 4.2 A in
                          # the most stretched pair of the 1KX5 nucleosome; stacked neighbours > 5 A
 _MIN_BOX_A = 10.0        # smaller "boxes" are PDB placeholders (CRYST1 1 1 1), not cells
+_MAX_STEP_A = 10.0       # no base-pair step spans more (rise 3.4 A; a broken chain is refused at 4 A O3'-P)
 
 
 def base_of_resname(resname: str):
@@ -87,6 +89,13 @@ def _box(dimensions):
     return d
 
 
+def _is_empty(path) -> bool:
+    """Nothing but white space (MDAnalysis would say "Compressed file ended ..." or worse)."""
+    with open(path, "rb") as f:
+        head = f.read(4096)
+    return not head.strip() and len(head) < 4096
+
+
 def load_universe(structure, *trajectories):
     """MDAnalysis Universe of STRUCTURE (+ TRAJECTORIES, concatenated) for the commands:
     an InputError naming the file for a missing or unreadable one, with the first line
@@ -98,6 +107,8 @@ def load_universe(structure, *trajectories):
     for f in files:
         if not Path(f).is_file():
             raise InputError(f"{f}: file not found")
+        if _is_empty(Path(f)):
+            raise InputError(f"{f}: the file is empty (no atoms, no frames)")
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
@@ -140,8 +151,9 @@ def read_pairs_file(path):
     return pairs, ("serial" if is_bpfile else "resid")
 
 
-class BasePairFrames:
-    """Base and base-pair frames of a DNA duplex along a trajectory.
+class BasePairFrames(AnalysisBase):
+    """Base and base-pair frames of a DNA duplex along a trajectory: an analysis of the one
+    loop (mdbridge/geometry/analysis_base.py), run(start, stop, step, frames, progress).
 
     universe: an MDAnalysis Universe. pairs: None (found automatically: two
     strands (segments/chains, or backbone breaks), antiparallel, complementary,
@@ -152,7 +164,8 @@ class BasePairFrames:
     pbc: use the box for minimum images (ignored when the file has no box).
     """
 
-    def __init__(self, universe, pairs=None, pair_numbering="resid", pbc=True):
+    def __init__(self, universe, pairs=None, pair_numbering="resid", pbc=True, verbose=False):
+        super().__init__(UniverseFrames(universe), verbose)
         self.universe = universe
         self.pbc = pbc
         nts = [(r, base_of_resname(r.resname)) for r in universe.residues]
@@ -372,47 +385,43 @@ class BasePairFrames:
         return {"R": R, "origins": o, "bp_parameters": bp, "R_base": R_base,
                 "o_base": np.stack([o_I, o_II], axis=1), "rmsd": rmsd}
 
-    def run(self, start=None, stop=None, step=None, chunk=2000, progress=None):
-        """Analyse trajectory frames start:stop:step; results in self.results
-        (origins, R, bp_parameters, R_base (T, 2, n_bp, 3, 3) with strand II's
-        base frames as fitted, o_base, rmsd, box (T, 6) or None, time, frame).
-        Positions are read frame by frame (MDAnalysis) and analysed in chunks
-        of `chunk` frames with vectorised numpy. progress, if given, is called as
-        progress(frames_read, frames_total) after each frame."""
-        parts, pos, boxes, all_boxes, times, frames = [], [], [], [], [], []
+    # -- the loop's steps (mdbridge/geometry/analysis_base.py) ----------------
+    # Positions are read one frame at a time and fitted CHUNK_FRAMES frames at once:
+    # vectorised numpy, with the memory of one chunk (a 158-bp duplex: ~60 MB).
+    CHUNK_FRAMES = 2000
 
-        def flush():
-            if pos:
-                b = np.array(boxes) if all(x is not None for x in boxes) else None
-                parts.append(self.frames_from_positions(np.array(pos), b))
-                pos.clear()
-                boxes.clear()
+    def _prepare(self):
+        self._parts, self._pos, self._boxes, self._all_boxes = [], [], [], []
 
-        frames_in = self.universe.trajectory[start:stop:step]
-        n_total = len(frames_in)
-        for ts in frames_in:
-            pos.append(self._atoms.positions.astype(float))
-            box = None if ts.dimensions is None else np.array(ts.dimensions, dtype=float)
-            boxes.append(box)
-            all_boxes.append(box)
-            times.append(ts.time)
-            frames.append(ts.frame)
-            if len(pos) >= chunk:
-                flush()
-            if progress is not None:
-                progress(len(frames), n_total)
-        flush()
-        if not parts:
-            raise InputError("no trajectory frames selected")
-        res = {k: np.concatenate([p[k] for p in parts]) for k in parts[0]}
-        res["time"] = np.array(times)
-        res["frame"] = np.array(frames)
-        res["box"] = None
-        if self.pbc and all(b is not None for b in all_boxes):
-            b = np.array(all_boxes)
-            res["box"] = b if _box(b) is not None else None
-        self.results = _Results(res)
-        return self
+    def _single_frame(self):
+        self._pos.append(self._atoms.positions.astype(float))
+        box = self.universe.dimensions
+        box = None if box is None else np.array(box, dtype=float)
+        self._boxes.append(box)
+        self._all_boxes.append(box)
+        if len(self._pos) >= self.CHUNK_FRAMES:
+            self._fit_chunk()
+
+    def _fit_chunk(self):
+        if self._pos:
+            b = np.array(self._boxes) if all(x is not None for x in self._boxes) else None
+            self._parts.append(self.frames_from_positions(np.array(self._pos), b))
+            self._pos.clear()
+            self._boxes.clear()
+
+    def _conclude(self):
+        """results: origins, R, bp_parameters, R_base (T, 2, n_bp, 3, 3) with strand II's
+        base frames as fitted, o_base, rmsd, box (T, 6) or None, time [ps], frame."""
+        self._fit_chunk()
+        res = self.results
+        res.update({k: np.concatenate([p[k] for p in self._parts]) for k in self._parts[0]})
+        res.time = np.array(self.times_ps)
+        res.frame = np.array(self.frames)
+        res.box = None
+        if self.pbc and all(b is not None for b in self._all_boxes):
+            b = np.array(self._all_boxes)
+            res.box = b if _box(b) is not None else None
+        del self._parts, self._pos, self._boxes, self._all_boxes
 
     def step_parameters(self, periodic=False):
         """(T, n_bp - 1, 6) step parameters (shift, slide, rise [A], tilt, roll,
@@ -420,14 +429,22 @@ class BasePairFrames:
         Step translations are minimum images when the trajectory has a box."""
         r = self.results
         box = r.box if self.pbc else None
+        if periodic and box is None:
+            self._check_closing_step_without_box()
         return step_parameters_along(r.R, r.origins, box=box, periodic=periodic)
 
-
-class _Results(dict):
-    """Dict with attribute access (as MDAnalysis' Results)."""
-
-    def __getattr__(self, k):
-        try:
-            return self[k]
-        except KeyError:
-            raise AttributeError(k) from None
+    def _check_closing_step_without_box(self):
+        """Without a box the closing step is taken as it lies in space: right for a
+        ring closed in space (a minicircle), silently off by the period for a
+        periodic duplex whose box the file does not carry."""
+        o = np.asarray(self.results.origins)
+        span = float(np.linalg.norm(o[:, 0] - o[:, -1], axis=-1).max())
+        if span > _MAX_STEP_A:
+            why = ("the box is ignored (pbc off, --no-pbc)" if not self.pbc else
+                   "the structure carries no periodic box (no CRYST1 record in a PDB, or one "
+                   f"under {_MIN_BOX_A:g} A)")
+            raise InputError(
+                f"the closing step (base pair {self.n_bp} -> 1) spans {span:.2f} A, more than any "
+                f"base-pair step ({_MAX_STEP_A:g} A): the duplex is periodic and {why}. Give the box: "
+                "a CRYST1 record (dnarod build-dna --periodic writes one), a GRO or TPR that has it, "
+                "or `dnarod helical-params ... --box LX LY LZ`; a ring closed in space needs none")

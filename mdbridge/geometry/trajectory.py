@@ -63,6 +63,12 @@ class BasePairTrajectory:
     def n_bp(self) -> int:
         return self.origins.shape[1]
 
+    def seek(self, frame: int) -> float:
+        """The time [ps] of FRAME. With `n_frames` this makes the trajectory a frame source
+        of the analyses' one loop (mdbridge/geometry/analysis_base.py); the frames are
+        arrays in memory, so there is nothing to read."""
+        return float(self.times_ps[frame])
+
     # -- constructors ------------------------------------------------------
     @classmethod
     def from_periodic_box(cls, times_ps, origins, R, box, source="arrays", meta=None):
@@ -105,10 +111,11 @@ class BasePairTrajectory:
         return cls.from_rod(cls.rod_reader(path), n_bp, units)
 
     @classmethod
-    def from_universe(cls, universe, pairs=None, start=None, stop=None, step=None):
+    def from_universe(cls, universe, pairs=None, start=None, stop=None, step=None, progress=None):
         """An MD trajectory: base-pair frames from mdbridge.geometry.BasePairFrames (which
-        takes minimum images inside bases and across pairs), box from each frame."""
-        bpf = BasePairFrames(universe, pairs=pairs).run(start=start, stop=stop, step=step)
+        takes minimum images inside bases and across pairs), box from each frame.
+        progress, if given: progress(frames_read, frames_total)."""
+        bpf = BasePairFrames(universe, pairs=pairs).run(start=start, stop=stop, step=step, progress=progress)
         r = bpf.results
         if r.box is None:
             raise InputError(f"{universe.filename}: no periodic box; the comparison needs the "

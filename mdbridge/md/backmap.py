@@ -6,7 +6,10 @@ its rigid template placed on its base frame, x = o_b + R_b x_std, strand I on th
 base-pair frame R_i and strand II on R_i diag(1, -1, -1). The template of every atom
 of the MD structure is found once (by residue and atom name, hydrogens included: the
 templates carry the very hydrogens pdb2gmx adds, dna_models/data/h_charmm27_bdna.json),
-so one frame is one gather and one batched matrix product.
+so one frame is one gather and one batched matrix product. Then, as the builder does,
+every O3'-P link outside 1.5-1.8 A is closed by turning the next nucleotide's 5' end
+(mdbridge/md/builder/backbone.py), so that a rod frame's atoms are the atoms build-md
+would make of it.
 
 Coarse: one pseudo-atom per base pair at the frame origin (the rod's centreline)
 and one at the tip of its d1 director (toward the major groove), bonded by CONECT
@@ -21,6 +24,7 @@ import numpy as np
 
 from dna_models import sequence as dna_sequence
 from dna_models.errors import InputError
+from mdbridge.md.builder.backbone import BackboneLinks, close_links, duplex_links
 from mdbridge.md.builder.duplex import FLIP
 from dna_models.templates import nucleotide_template
 
@@ -28,10 +32,12 @@ from dna_models.templates import nucleotide_template
 @dataclass(frozen=True)
 class AtomMap:
     """For each atom of an MD structure: the base frame that carries it and its
-    coordinates in that frame."""
+    coordinates in that frame; and the structure's O3'-P links and periodic box."""
     frame_of_atom: np.ndarray   # (n_atoms,) index into the 2 n_bp base frames
     x_std: np.ndarray           # (n_atoms, 3) A, standard base frame
     n_bp: int
+    links: BackboneLinks
+    box_A: np.ndarray | None    # (3,) the MD box, for the links that close through it
 
     def place(self, R, origins) -> np.ndarray:
         """All-atom coordinates (T, n_atoms, 3) [A] from base-pair frames R (T, n_bp, 3, 3)
@@ -45,7 +51,7 @@ class AtomMap:
         Rb = np.concatenate([R, R @ FLIP], axis=1)       # strand I frames, then strand II
         ob = np.concatenate([o, o], axis=1)
         Ra, oa = Rb[:, self.frame_of_atom], ob[:, self.frame_of_atom]
-        return oa + np.einsum("tajk,ak->taj", Ra, self.x_std)
+        return close_links(oa + np.einsum("tajk,ak->taj", Ra, self.x_std), self.links, self.box_A)
 
 
 def atom_map(universe, sequence: str) -> AtomMap:
@@ -74,28 +80,67 @@ def atom_map(universe, sequence: str) -> AtomMap:
                                  f"such atom in the {base} template (allowed: {', '.join(t.names)})")
             frame_of_atom[atom.index] = frame
             x_std[atom.index] = t.coords[row]
-    return AtomMap(frame_of_atom=frame_of_atom, x_std=x_std, n_bp=n)
+    # residues in file order are the builder's numbering (strand I 1..n, strand II n+1..2n)
+    links = duplex_links(universe.atoms.names, universe.atoms.resindices + 1, n, periodic=True)
+    box = None if universe.dimensions is None else np.asarray(universe.dimensions[:3], dtype=float)
+    return AtomMap(frame_of_atom=frame_of_atom, x_std=x_std, n_bp=n, links=links, box_A=box)
 
 
-def link_lengths(universe, xyz) -> np.ndarray:
-    """O3'(i)-P(i+1) lengths [A] per frame (T, n_links) along both strands, minimum image
-    along the box for the links that close through it."""
-    o3 = universe.select_atoms("name O3'").indices
-    p = universe.select_atoms("name P").indices
-    res_o3 = universe.atoms[o3].resindices
-    res_p = universe.atoms[p].resindices
-    n_res = len(universe.residues)
-    n = n_res // 2
-    pair_list = []
-    for a, r in zip(o3, res_o3):
-        nxt = r + 1 if (r + 1) % n != 0 else r + 1 - n  # the ring closes within each strand
-        pair_list.append((a, p[np.flatnonzero(res_p == nxt)[0]]))
-    pairs = np.array(pair_list)
-    box = universe.dimensions[:3] if universe.dimensions is not None else None
-    d = xyz[:, pairs[:, 1]] - xyz[:, pairs[:, 0]]
-    if box is not None and np.all(box > 0):
-        d -= box * np.round(d / box)
-    return np.linalg.norm(d, axis=-1)
+# What rod-to-atoms --like checks in what it wrote (exit 2 beyond): the builder's link
+# range (backbone.LINK_RANGE_A), no two non-bonded heavy atoms closer than CONTACT_MIN_A
+# (overlapping atoms: van der Waals contact of C, N, O is ~3 A), and frame 0 (t = 0) within
+# RMS_T0_MAX_A of the build's own structure before any minimisation (the same frames through
+# the same builder rule give the same atoms, to round-off).
+CONTACT_MIN_A = 1.5
+RMS_T0_MAX_A = 1.0
+
+
+def rms_to_build_A(universe, x0, build_pdb) -> float:
+    """RMS distance [A] between frame x0 (n_atoms, 3) and the build's heavy atoms before
+    pdb2gmx and any minimisation (build-md's duplex_in.pdb), atoms matched by residue
+    (file order) and name."""
+    from mdbridge.md.pdbio import read_pdb
+    ref = read_pdb(build_pdb)
+    where = {(int(r), str(a)): k for k, (r, a) in enumerate(zip(ref["resids"], ref["names"]))}
+    mine, theirs = [], []
+    for k, (r, a) in enumerate(zip(universe.atoms.resindices + 1, universe.atoms.names)):
+        j = where.get((int(r), str(a)))
+        if j is not None:
+            mine.append(k)
+            theirs.append(j)
+    if len(mine) < len(ref["names"]) // 2:
+        raise InputError(f"{build_pdb}: its atoms are not the MD structure's (matched {len(mine)} of "
+                         f"{len(ref['names'])} by residue and name)")
+    d = np.asarray(x0, dtype=float)[mine] - ref["coords"][theirs]
+    return float(np.sqrt((d * d).sum(axis=1).mean()))
+
+
+def overlay_problems(rms_t0_A: float, links_A, contact_A, times_ps) -> list[str]:
+    """The limits a rod-to-atoms overlay breaks, each as a sentence naming the number and
+    its likely cause (empty: all hold). links_A (T, L), contact_A (T,) or None when not
+    computed."""
+    from mdbridge.md.builder.backbone import LINK_RANGE_A
+    out = []
+    if rms_t0_A > RMS_T0_MAX_A:
+        out.append(f"frame 0 (t = {times_ps[0]:g} ps) is {rms_t0_A:.2f} A rms from the build's own atoms "
+                   f"(limit {RMS_T0_MAX_A} A): the rod run and the MD build are not of the same scene, or the "
+                   "rod file does not start at the build's t = 0 state")
+    if links_A is not None:
+        lo, hi = LINK_RANGE_A
+        d = np.asarray(links_A)
+        if d.min() < lo or d.max() > hi:
+            t = int(np.argmax(np.maximum(lo - d, d - hi).max(axis=1)))
+            out.append(f"O3'-P links {d.min():.2f}-{d.max():.2f} A (limits {lo}-{hi} A), worst at t = "
+                       f"{times_ps[t]:g} ps: the rod's base-pair steps there are further from B-DNA than "
+                       "the backbone can follow, or the rod and the build are of different DNA")
+    if contact_A is not None:
+        c = np.asarray(contact_A, dtype=float)
+        if np.nanmin(c) < CONTACT_MIN_A:
+            t = int(np.nanargmin(c))
+            out.append(f"closest non-bonded heavy-atom contact {c[t]:.2f} A at t = {times_ps[t]:g} ps "
+                       f"(limit {CONTACT_MIN_A} A): atoms overlap, the rod there bends or twists beyond what "
+                       "rigid nucleotides on its frames can hold apart")
+    return out
 
 
 def _excluded_keys(universe) -> np.ndarray:
@@ -149,11 +194,14 @@ def write_coarse_pdb(path, R, origins, *, tip_A: float = 5.0, box=None) -> None:
     T, n = o.shape[:2]
     tips = o + tip_A * R[..., :, 0]
     lines = ["REMARK   1 dnarod coarse rod: C = base-pair origin on the centreline, D1 = tip of d1"]
+    cryst1 = None
     if box is not None:
         a, b, c = (float(x) for x in box)
-        lines.append(f"CRYST1{a:9.3f}{b:9.3f}{c:9.3f}  90.00  90.00  90.00 P 1           1")
+        cryst1 = f"CRYST1{a:9.3f}{b:9.3f}{c:9.3f}  90.00  90.00  90.00 P 1           1"
     for t in range(T):
         lines.append(f"MODEL     {t + 1:4d}")
+        if cryst1:   # in every model: MDAnalysis reads a model's box only from inside it
+            lines.append(cryst1)
         serial = 0
         for i in range(n):
             for name, x in (("C", o[t, i]), ("D1", tips[t, i])):

@@ -14,6 +14,7 @@ from MDAnalysis.lib.distances import calc_bonds
 
 from dna_models.errors import InputError
 from dna_models.nucleotides import PURINES
+from mdbridge.geometry.analysis_base import AnalysisBase, UniverseFrames
 
 INTACT_CUTOFF_A = 3.5
 
@@ -48,20 +49,36 @@ def pair_distances(a_A, b_A, dimensions=None) -> np.ndarray:
     return calc_bonds(a_A, b_A, box=box)
 
 
-def bp_intact_fraction(universe, pairs, start=None, stop=None, step=None,
-                       cutoff_A: float = INTACT_CUTOFF_A, progress=None):
-    """(times_ps (T,), fraction intact (T,), N1-N3 distances (T, n_bp)).
-    progress, if given: progress(frames_done, frames_total) after each frame.
+class PairIntegrity(AnalysisBase):
+    """N1-N3 distance of every base pair in every selected frame, an analysis of the one loop
+    (mdbridge/geometry/analysis_base.py): PairIntegrity(universe, pairs).run(start, stop,
+    step, progress=...).results has distance_A (T, n_bp) and fraction_intact (T,), the
+    fraction of pairs below cutoff_A; the frames' times are `times_ps`.
 
     pairs: [(residue of strand I, residue of strand II)], e.g. `BasePairFrames(u).pairs`.
     """
-    a, b = central_atoms(pairs)
-    times, per_frame = [], []
-    frames = universe.trajectory[start:stop:step]
-    for ts in frames:
-        per_frame.append(pair_distances(a.positions, b.positions, ts.dimensions))
-        times.append(ts.time)
-        if progress is not None:
-            progress(len(times), len(frames))
-    dist = np.array(per_frame)
-    return np.array(times), np.mean(dist < cutoff_A, axis=1), dist
+
+    def __init__(self, universe, pairs, cutoff_A: float = INTACT_CUTOFF_A, verbose: bool = False):
+        super().__init__(UniverseFrames(universe), verbose)
+        self.universe = universe
+        self._a, self._b = central_atoms(pairs)
+        self.cutoff_A = cutoff_A
+
+    def _prepare(self):
+        self._dist = np.empty((self.n_frames, len(self._a)))
+
+    def _single_frame(self):
+        self._dist[self._frame_index] = pair_distances(self._a.positions, self._b.positions,
+                                                       self.universe.dimensions)
+
+    def _conclude(self):
+        self.results.distance_A = self._dist
+        self.results.fraction_intact = np.mean(self._dist < self.cutoff_A, axis=1)
+
+
+def bp_intact_fraction(universe, pairs, start=None, stop=None, step=None,
+                       cutoff_A: float = INTACT_CUTOFF_A, progress=None):
+    """(times_ps (T,), fraction intact (T,), N1-N3 distances (T, n_bp)) of PairIntegrity.
+    progress, if given: progress(frames_done, frames_total) after each frame."""
+    a = PairIntegrity(universe, pairs, cutoff_A).run(start, stop, step, progress=progress)
+    return a.times_ps, a.results.fraction_intact, a.results.distance_A

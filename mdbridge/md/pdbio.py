@@ -65,15 +65,35 @@ def _atom_name_field(name: str) -> str:
     return f"{name:<4s}" if len(name) >= 4 else f" {name:<3s}"
 
 
+def cryst1_edges(box, coords) -> np.ndarray | None:
+    """The three edges (A) a CRYST1 record gives for BOX (the builder's: 0 for a
+    non-periodic direction), None without a box. A PDB cell cannot leave a direction
+    out, so a non-periodic edge becomes twice the atoms' extent along it plus
+    VACUUM_A: then no minimum image changes a vector between two atoms of the
+    structure, and readers (MDAnalysis, dnarod helical-params --periodic) still find
+    the period along the periodic edges."""
+    if box is None:
+        return None
+    b = np.asarray(box, dtype=float)
+    if not np.any(b > 0):
+        return None
+    x = np.asarray(coords, dtype=float)
+    extent = x.max(axis=0) - x.min(axis=0)
+    return np.where(b > 0, b, 2.0 * extent + VACUUM_A)
+
+
+VACUUM_A = 10.0   # added to twice the extent of a non-periodic CRYST1 edge
+
+
 def write_pdb(path, structure, *, remarks=()) -> None:
     """Write a `Structure` (mdbridge.md.builder) as PDB: one chain per strand
     (A = strand I, B = strand II, segid I / II), TER after each strand,
-    CRYST1 when the structure has a full periodic box, coordinates in A."""
+    CRYST1 when the structure is periodic (cryst1_edges), coordinates in A."""
     s = structure
     out = [f"REMARK   {r}" for r in remarks]
-    box = getattr(s, "box", None)
-    if box is not None and np.all(np.asarray(box) > 0):
-        a, b, c = box
+    edges = cryst1_edges(getattr(s, "box", None), s.coords)
+    if edges is not None:
+        a, b, c = edges
         out.append(f"CRYST1{a:9.3f}{b:9.3f}{c:9.3f}{90:7.2f}{90:7.2f}{90:7.2f} P 1           1")
     chain_of = {"I": "A", "II": "B"}
     serial = 0

@@ -80,6 +80,16 @@ class RodRun:
         """The length scale the run was made with (recorded in the file), else dna_models'."""
         return float(self.attrs.get("ell_A", Units.paper().ell_A))
 
+    def units(self) -> Units:
+        """dna_models' Units with this file's recorded time and length scales (tau_ps, ell_A;
+        the paper's when it records none): what turns this run into ps and A."""
+        import dataclasses
+        u = Units.paper()
+        tau_s = float(self.attrs.get("tau_ps", u.tau_ps)) * 1e-12
+        ell_m = float(self.attrs.get("ell_A", u.ell_A)) * 1e-10
+        # tau = sqrt(I / C), ell = sqrt(I / rho): keep I, set C and rho
+        return dataclasses.replace(u, C=u.I / tau_s ** 2, rho=u.I / ell_m ** 2)
+
     # -- constructors ------------------------------------------------------
     @classmethod
     def from_result(cls, d, source: str = "rod") -> "RodRun":
@@ -178,25 +188,26 @@ class RodRun:
         return bp_lab_velocities(self.directors[frame], self.fields["gamma"][frame],
                                  self.fields["omega"][frame], n_bp)
 
-    def period_vectors(self) -> np.ndarray:
-        """(T, 3) P = int_0^L d_k Gamma_k ds of every frame, solver units
-        (mdbridge.rod.frames.period_vector)."""
-        self.require("s", "directors", "fields/Gamma")
-        s = np.asarray(self.s, float)
-        return period_vector(self.directors, self.fields["Gamma"], s[1] - s[0])
-
     def trajectory(self, n_bp: int, units: Units | None = None) -> BasePairTrajectory:
         """The run's base pairs at s_i = i L / n_bp as a BasePairTrajectory, in A and ps
-        (what `BasePairTrajectory.from_rod` returns), with the period vectors."""
+        (what `BasePairTrajectory.from_rod` returns).
+
+        The period vector is `period()`.
+        """
         u = units or Units.paper()
         self.require("time", "s", "centerline", "directors", "fields/Gamma")
         R, origins = bp_frames_from_rod(self.centerline, self.directors, n_bp, u.ell_A)
-        s = np.asarray(self.s, float)
-        ds = s[1] - s[0]
-        P = self.period_vectors()
         return BasePairTrajectory(u.time_to_ps(np.asarray(self.time, float)), origins, R,
-                                  u.length_to_A(P), self.source,
-                                  {"kind": "rod", "L": ds * len(s), "N": len(s), "n_bp": n_bp})
+                                  u.length_to_A(self.period()), self.source,
+                                  {"kind": "rod", "L": self.L, "N": len(np.asarray(self.s)), "n_bp": n_bp})
+
+    def period(self) -> np.ndarray:
+        """The period vector r(L) - r(0) of every frame (T, 3) [l]: P = int_0^L T(s) Gamma(s) ds
+        (Eq 1: dr/ds = T Gamma) by the periodic trapezoid rule, spectrally accurate for a
+        smooth periodic rod; about 0 for a rod closed into a ring (mdbridge.rod.frames.period_vector)."""
+        self.require("s", "directors", "fields/Gamma")
+        s = np.asarray(self.s, float)
+        return period_vector(self.directors, self.fields["Gamma"], s[1] - s[0])
 
     def until(self, t_end: float) -> "RodRun":
         """The frames with time <= t_end (solver units), the same run otherwise."""

@@ -105,3 +105,21 @@ def test_record_too_short_gives_no_speed():
     c = 3.0 * np.exp(-1j * w * t) + 3.0 * np.exp(1j * w * t)
     f = fit_wave_speed(t, c, 0.01, n_boot=10)
     assert np.isnan(f["speed_A_per_ps"]) and "quarter period" in f["reason"]
+
+
+@pytest.mark.parametrize("periods", [0.34, 2.0])
+def test_api_refuses_a_short_standing_record(periods):
+    """WaveAnalysis refuses where the workflow refuses (mdbridge/analysis/mode_error.py:
+    a standing mode with fewer than 0.75 fitted periods): speed None with the reason.
+    Control: the same standing mode over 2 periods gives its speed."""
+    c = 1.7
+    w = c * K
+    times = np.arange(0.0, periods * 2 * np.pi / w, 2.0)
+    r = analyse(lambda x, t: 8.0 * np.cos(K * x) * np.sin(w * t + 0.3) + 0.5 * np.sin(K * x), times,
+                noise_A=0.2, seed=5)
+    if periods < 0.75:
+        assert r.wave["speed_A_per_ps"] is None and r.wave["speed_err_A_per_ps"] is None
+        assert "refused" in r.wave["reason"] and "periods" in r.wave["reason"]
+    else:
+        assert r.wave["speed_A_per_ps"] == pytest.approx(c, rel=0.02)
+        assert "reason" not in r.wave

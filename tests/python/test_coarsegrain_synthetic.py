@@ -189,3 +189,23 @@ def test_equilibration_drift_is_discarded():
     bc = CoarseGrain(StepEnsemble(q, seq), 300.0, m_values=[1], n_boot=100, discard=0).run().results["by_m"][1]
     zc = (bc["mean"][:, 5] - mean[:, 5]) / b["mean_err"][:, 5]   # bias / precision of the right analysis
     assert np.all(zc > 3), zc
+
+
+def test_run_on_a_selection_of_frames_is_the_estimate_of_those_frames():
+    """CoarseGrain goes through the analyses' one loop (mdbridge/geometry/analysis_base.py,
+    the whole-trajectory kind): run(start, stop, step) estimates from exactly the ensemble
+    of those frames (the truth: the ensemble cut to them); a control selection shifted by
+    one frame gives another estimate."""
+    rng = np.random.default_rng(5)
+    seq = "ACGTA"
+    mean, K = per_step(seq)
+    q = ar1_steps(mean, K, 1200, 0.3, rng)
+    t = 0.5 * np.arange(1200)
+    kw = dict(temperature_K=300.0, m_values=[1], n_boot=20, discard=0)
+    got = CoarseGrain(StepEnsemble(q, seq, times_ps=t), **kw).run(100, 1100, 2).results
+    want = CoarseGrain(StepEnsemble(q[100:1100:2], seq, times_ps=t[100:1100:2]), **kw).run().results
+    assert got.frames_used == want.frames_used == got.frames_total == 500 and got.dt_ps == want.dt_ps == 1.0
+    for key in ("mean", "K", "K_err"):
+        np.testing.assert_array_equal(got.by_m[1][key], want.by_m[1][key])
+    shifted = CoarseGrain(StepEnsemble(q[101:1101:2], seq), **kw).run().results
+    assert not np.array_equal(shifted.by_m[1]["K"], got.by_m[1]["K"])

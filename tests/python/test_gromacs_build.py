@@ -272,3 +272,31 @@ def test_cli_build_md_from_the_dna21_scene_then_run_md(gmx, tmp_path, capsys):
     # bad input is a clear error, exit 2
     assert main(["build-md", str(tmp_path / "missing.toml"), "-o", str(tmp_path / "x")]) == 2
     assert "missing.toml: scene file not found" in capsys.readouterr().err
+
+
+def test_build_md_without_ps_runs_as_long_as_the_rod_run_it_is_given(gmx, rodsim, tmp_path, capsys):
+    """A scene's t_end is in rod time (dna21.toml: 21.24 tau = 19.9996 ps), so a fixed
+    default MD length (20 ps, 600 ps) can overrun the rod run that sizes the box. Without
+    --ps the MD is the whole rod run in whole MD steps: floor(19.9996 ps / 1 fs) = 19.999 ps.
+    The control: asking for the round number is refused, naming both lengths."""
+    from dnarod.cli import main
+    from dna_models.units import Units
+    from mdbridge.md.gromacs.mdp import read_mdp_value
+    from mdbridge.md.gromacs.rod import DEFAULT_MD_PS, md_length_ps
+    scene = Path(__file__).resolve().parents[2] / "workflows" / "scenes" / "dna21.toml"
+    rod = tmp_path / "rod21.h5"
+    subprocess.run([str(rodsim), "run", str(scene), "-o", str(rod)], check=True, capture_output=True)
+    covered_ps = Units.paper().time_to_ps(21.24)
+    assert 19.999 < covered_ps < 20.0
+    assert md_length_ps(None, dt_ps=0.002) == DEFAULT_MD_PS == 600.0
+    out = tmp_path / "md21"
+    assert main(["build-md", str(scene), "--rod", str(rod), "-o", str(out), "--temperature", "0",
+                 "--seed", "3"]) == 0
+    b = json.loads((out / "build.json").read_text())
+    assert b["md_length_ps"] == pytest.approx(19.999, abs=1e-9)
+    assert b["box"]["rod_run_ps"] == pytest.approx(19.999, abs=1e-9)
+    assert read_mdp_value((out / "md.mdp").read_text(), "nsteps") == "19999"
+    capsys.readouterr()
+    assert main(["build-md", str(scene), "--rod", str(rod), "-o", str(tmp_path / "x"),
+                 "--temperature", "0", "--ps", "20"]) == 2
+    assert f"covers {covered_ps:g} ps, the MD 20 ps" in capsys.readouterr().err

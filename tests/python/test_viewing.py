@@ -30,13 +30,23 @@ def tiny_paths(tiny_run):
     return rod, md
 
 
+def rod_to_atoms(dnarod, *args):
+    """Run rod-to-atoms --like; the tiny headline rod (21 bp kicked at 5 A/ps) bends its
+    frames beyond what rigid nucleotides hold together, so the command writes the files
+    and refuses on its link and contact limits (exit 2, mdbridge/md/backmap.py) -- but
+    never on its t = 0 check: the rod is the build's own."""
+    p = subprocess.run([str(dnarod), "rod-to-atoms", *map(str, args)], capture_output=True, text=True)
+    assert p.returncode in (0, 2), p.stderr[-3000:]
+    if p.returncode == 2:
+        assert "fails its checks" in p.stderr and "from the build's own atoms" not in p.stderr, p.stderr
+    return p
+
+
 @pytest.fixture(scope="module")
 def atoms(tiny_paths, dnarod, tmp_path_factory):
     rod, md = tiny_paths
     xtc = tmp_path_factory.mktemp("r2a") / "rod_atoms.xtc"
-    p = subprocess.run([str(dnarod), "rod-to-atoms", str(rod), "--like", str(md), "-o", str(xtc)],
-                       capture_output=True, text=True)
-    assert p.returncode == 0, p.stderr[-3000:]
+    rod_to_atoms(dnarod, rod, "--like", md, "-o", xtc)
     return xtc
 
 
@@ -105,9 +115,7 @@ def test_relaxation_restores_links(tiny_paths, dnarod, tmp_path):
     rod, md = tiny_paths
     rigid, relaxed = tmp_path / "rigid.xtc", tmp_path / "relaxed.xtc"
     for out, extra in ((rigid, []), (relaxed, ["--relax-steps", "200"])):
-        p = subprocess.run([str(dnarod), "rod-to-atoms", str(rod), "--like", str(md), "-o", str(out),
-                            "--every", "25", *extra], capture_output=True, text=True)
-        assert p.returncode == 0, p.stderr[-3000:]
+        rod_to_atoms(dnarod, rod, "--like", md, "-o", out, "--every", "25", *extra)
     a = json.loads(rigid.with_suffix(".chemistry.json").read_text())
     b = json.loads(relaxed.with_suffix(".chemistry.json").read_text())
 

@@ -121,3 +121,20 @@ def test_stages_close_the_previous_stage_and_end_the_line_before_a_warning():
     # the minimisation line ends before the warning; the equilibration line is ended at exit
     assert "build-md: minimisation: progress 10/5000 steps (0.2 %)\nwarning: em did not converge\n" in text
     assert text.endswith("build-md: equilibration: progress 0.1/0.2 ps (50.0 %)\n")
+
+
+def test_no_time_left_for_a_stage_with_a_step_limit():
+    """A minimisation's total is a limit it rarely reaches (it stops when converged):
+    its line gives the rate but no time left, and still parses."""
+    import io
+    now = [0.0]
+    s = io.StringIO()
+    p = Progress("build-md: minimisation", 5000, "steps", stream=s, every_s=5.0, clock=lambda: now[0],
+                 time_left=False)
+    p.update(1)
+    now[0] = 10.0
+    p.update(51)
+    text = s.getvalue().splitlines()[-1]
+    assert text == "build-md: minimisation: progress 51/5000 steps (1.0 %), 5 steps/s"
+    f = parse_line(text)
+    assert f is not None and f["left"] is None and float(f["done"]) == 51

@@ -78,3 +78,16 @@ def test_report_from_synthetic_runs(tmp_path):
     png = page.split("data:image/png;base64,")[1].split('"')[0]
     assert base64.b64decode(png)[:8] == b"\x89PNG\r\n\x1a\n"
     assert "1.4" in page and "2.2" in page  # the table vs the paper
+    # the page leads with what was found: the verdict, then a figure, then the tables;
+    # rows without a number sit below, each with its reason
+    v, img, table, below = (page.index('id="verdict"'), page.index("<img"), page.index("<table"),
+                            page.index('id="not-measured"'))
+    assert v < img < table < below
+    verdict = page[v:page.index("</section>", v)]
+    assert f"{res['md_wave_speed_A_per_ps']:.3g}" in verdict and f"{res['rod_wave_speed_A_per_ps']:.3g}" in verdict
+    assert "differ by" in verdict          # 2.2 against 0.35 A/ps, errors of about 1 %
+    headline = page[page.index('id="headline"'):page.index("</table>", page.index('id="headline"'))]
+    assert "n/a" not in headline
+    listed = page[below:page.index("</ul>", below)]
+    import html
+    assert "predicted (CG rod)" in listed and html.escape(res["cg_rod_reason"]) in listed

@@ -5,8 +5,10 @@ needed the network would show failed requests and console errors.
 
 Checks: the page loads with no console errors; no request leaves file:/data: URLs;
 every figure is decoded and not blank (pixel statistics read back in the page); the
-headline table is there; every figure has a caption; a screenshot is taken. Also:
-every axis of every report figure has labels with units.
+headline table is there; every figure has a caption; a screenshot is taken; the page
+leads with what was found (the verdict, then a figure, then the tables, and the rows
+without a number below them, each with its reason). Also: every axis of every report
+figure has labels with units.
 """
 import base64
 import io
@@ -104,6 +106,42 @@ def test_headline_table_and_figures(browser, tiny_run):
         # matplotlib figures: a white background with lines, text and maps on it
         assert s["std"] > 5 and s["nonWhite"] > 0.005, f"figure {s['alt']} is blank: {s}"
         assert len(s["caption"]) > 40, f"figure {s['alt']} has no caption saying what to look for"
+
+
+ORDER_JS = """
+const v = document.getElementById('verdict'), img = document.images[0];
+const table = document.querySelector('table'), below = document.getElementById('not-measured');
+const after = (a, b) => !!(a && b && (a.compareDocumentPosition(b) & Node.DOCUMENT_POSITION_FOLLOWING));
+return {verdict: v ? v.innerText : null,
+        verdict_then_figure: after(v, img), figure_then_table: after(img, table),
+        table_then_missing: after(table, below),
+        figure_top: img ? img.getBoundingClientRect().top : null,
+        table_top: table ? table.getBoundingClientRect().top : null,
+        headline: document.getElementById('headline').innerText,
+        missing: Array.from(document.querySelectorAll('#not-measured-list li')).map(li => li.innerText)};
+"""
+
+
+def test_page_leads_with_what_was_found(browser, tiny_run):
+    """A newcomer sees the verdict in words and a figure before any table; the summary holds
+    numbers only, and what has none (tiny.yaml's 4-ps MD is refused) is listed below with
+    its one-line reason."""
+    page = tiny_run[0] / "report" / "index.html"
+    o = _open(browser, page).execute_script(ORDER_JS)
+    assert o["verdict"] and len(o["verdict"]) > 80, o["verdict"]
+    assert "A/ps" in o["verdict"] and ("MD" in o["verdict"])
+    assert o["verdict_then_figure"] and o["figure_then_table"] and o["table_then_missing"], o
+    assert o["figure_top"] < o["table_top"]
+    assert "n/a" not in o["headline"]
+    res = json.loads((tiny_run[0] / "results.json").read_text())
+    assert o["missing"], "tiny.yaml's MD record is too short for a speed: it must be listed with its reason"
+    for item in o["missing"]:
+        label, _, why = item.partition(": ")
+        assert label and len(why) > 10, item
+    md = res["md_wave_speed_A_per_ps"]
+    md_refused = md is None or not np.isfinite(md)
+    assert md_refused == any(item.startswith("MD") and ("speed" in item or "frequency" in item)
+                             for item in o["missing"])
 
 
 def test_control_blank_figure_is_caught(browser, tmp_path):

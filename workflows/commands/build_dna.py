@@ -8,6 +8,7 @@ import numpy as np
 
 from dna_models import bdna
 from dna_models.errors import InputError
+from dnarod.commands._options import add_output
 
 NAME = "build-dna"
 HELP = "build an all-atom DNA duplex (PDB) from step parameters, an ideal helix or a rod scene"
@@ -60,7 +61,7 @@ def add_arguments(p):
                    help="ignore the base-pair parameters of a .par file (bases coplanar)")
     p.add_argument("--hydrogens", action="store_true",
                    help="add CHARMM27 hydrogens from templates (default: heavy atoms only)")
-    p.add_argument("-o", "--output", required=True, metavar="OUT.pdb", help="PDB file to write")
+    add_output(p, metavar="OUT.pdb", help="PDB file to write")
 
 
 def _sequence(args, n_needed=None, default=None):

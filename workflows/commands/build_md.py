@@ -2,6 +2,8 @@
 starts in the rod scene's shape with the rod's velocities (paper Sec 6.2)."""
 from __future__ import annotations
 
+from dnarod.commands._options import add_output
+
 NAME = "build-md"
 HELP = "GROMACS inputs (conf.gro with velocities, topol.top, md.mdp) of the periodic duplex of a rod scene"
 DESCRIPTION = """\
@@ -15,7 +17,7 @@ s_i = i L / n_bp. Vacuum, cut-off electrostatics and vdW at 1.0 nm, NVE.
 Steps: the rod runs through rodcore for the MD length (--ps) to predict how
 far the duplex moves across its axis (this sizes the box), or, with --rod, the
 frames of a rod run already made are used (the workflow passes its own rod.h5,
-so the rod of a comparison runs once); the builder places
+so the rod of a comparison runs once; without --ps the MD is as long as that run); the builder places
 the nucleotides on the rod's base-pair frames; pdb2gmx closes both strands
 into rings and dnarod checks, term by term, that each junction carries
 exactly the bonded terms of an interior step; velocities are assigned; grompp
@@ -45,7 +47,7 @@ def add_arguments(p):
     from mdbridge.md.gromacs.topology import FORCEFIELDS
     p.add_argument("scene", metavar="SCENE.toml", help="rod scene: [initial] kind = \"dna_planar\" (uniform "
                    "paper DNA), or a sequence-dependent scene of `dnarod dna-rod` (its DNA is built)")
-    p.add_argument("-o", "--output", required=True, metavar="DIR", help="directory to write")
+    add_output(p, metavar="DIR", help="directory to write")
     p.add_argument("--temperature", type=float, default=d.TEMPERATURE_K, metavar="K",
                    help=f"thermal part of the initial velocities, K ({d.TEMPERATURE_K:g}; 0 = rod motion only)")
     p.add_argument("--seed", type=int, default=None,
@@ -59,8 +61,9 @@ def add_arguments(p):
                    help="use this rod output of the same scene (rodsim run SCENE.toml -o ROD.h5, "
                         "with internal, centerline and directors, at least --ps long) instead of "
                         "running the rod again")
-    p.add_argument("--ps", type=float, default=d.MD_PS,
-                   help=f"MD length the box is sized for (rod run of the same length), ps ({d.MD_PS:g})")
+    p.add_argument("--ps", type=float, default=None,
+                   help="MD length the box is sized for and run-md runs by default, ps (default: "
+                        f"the whole --rod run, in whole time steps; {d.MD_PS:g} when build-md runs the rod)")
     p.add_argument("--forcefield", choices=FORCEFIELDS, default=d.FORCEFIELD)
     p.add_argument("--electrostatics", choices=ELECTROSTATICS, default=d.ELECTROSTATICS,
                    help="paper: full charges (default); neutral-phosphates: +0.5 e on O1P/O2P, "
@@ -103,10 +106,10 @@ def add_arguments(p):
 
 
 def run(args):
-    import warnings
-    # MDAnalysis 2.4 (Debian) imports the deprecated xdrlib: noise for a user
-    warnings.filterwarnings("ignore", message="'xdrlib' is deprecated")
+    import sys
+
     from dnarod.progress import Stages, md_rate
+    from mdbridge.md.gromacs.build_summary import summary_lines
     from mdbridge.md.build import BuildRequest, build_md
 
     request = BuildRequest(
@@ -118,30 +121,8 @@ def run(args):
         protocol=args.protocol, equilibrate_ps=args.equilibrate_ps, axial_pressure=args.axial_pressure,
         minimize=args.minimize, margin_A=args.margin, gmx=args.gmx, threads=args.threads)
     with Stages("build-md") as stages:
-        info = build_md(request, stages, md_rate)
-    _summary(info, args)
-    return 0
-
-
-def _summary(info: dict, args) -> None:
-    import sys
-    links = ", ".join(f"{s}: {v['junction']:.3f} A" for s, v in info["junction_O3P_t0_A"].items())
-    n_terms = sum(r["junction_total"] for r in info["junctions"])
-    fr = info["frames_t0_vs_rod"]
-    print(f"build-md: {info['n_atoms']} atoms, charge {info['total_charge_e']:+g} e; junction "
-          f"O3'-P {links}; {n_terms} junction terms verified; frames vs rod "
-          f"{fr['max_origin_A']:.3f} A / {fr['max_angle_deg']:.2f} deg", file=sys.stderr)
-    if info.get("minimization"):
-        m = info["minimization"]
-        print(f"build-md: minimisation {'converged' if m.get('converged') else 'NOT converged'}; "
-              f"base-pair frames moved {m['frames_moved']['max_origin_A']:.3f} A / "
-              f"{m['frames_moved']['max_angle_deg']:.2f} deg", file=sys.stderr)
-    if info.get("equilibration"):
-        q = info["equilibration"]
-        zt = q.get("axial_pressure")
-        print(f"build-md: equilibrated {q['ps']:g} ps at {args.temperature:g} K: T "
-              f"{q['temperature_K']['mean_second_half']:.1f} K, stationary: {q['stationary']}"
-              + (f"; zero-tension length {zt['zero_tension_length_nm']:.3f} +- "
-                 f"{zt['zero_tension_length_se_nm']:.3f} nm (built {zt['box_length_start_nm']:.3f})"
-                 if zt else ""), file=sys.stderr)
+        info, built_links = build_md(request, stages, md_rate)
+    for line in summary_lines(info, built_links, args.temperature):
+        print(f"build-md: {line}", file=sys.stderr)
     print(f"build-md: wrote {args.output}/ (conf.gro, topol.top, md.mdp, em.mdp, build.json)")
+    return 0

@@ -7,6 +7,7 @@ import math
 from pathlib import Path
 
 from dna_models.errors import InputError
+from dnarod.commands._options import add_output
 
 NAME = "coarse-grain"
 HELP = "coarse-grain an all-atom DNA trajectory into the rod's stiffness, shape, rho and I"
@@ -46,7 +47,7 @@ examples:
 def add_arguments(p):
     p.add_argument("structure", metavar="STRUCTURE", help="topology/coordinates (TPR, PDB, GRO, ...)")
     p.add_argument("trajectories", metavar="TRAJECTORY", nargs="*", help="trajectories, concatenated in order")
-    p.add_argument("-o", "--output", metavar="DIR", required=True, help="output directory")
+    add_output(p, metavar="DIR", help="output directory")
     p.add_argument("--temperature", metavar="K", help="temperature in K (default: kinetic, from velocities)")
     p.add_argument("--edr", metavar="FILE", help="GROMACS energy file: take T from it (gmx energy)")
     p.add_argument("-m", "--length", type=int, metavar="M",

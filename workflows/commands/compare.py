@@ -9,6 +9,7 @@ import threading
 from pathlib import Path
 
 from dna_models.errors import ExternalToolError, InputError
+from dnarod.commands._options import add_output
 
 NAME = "compare"
 HELP = "rod vs all-atom MD: run the whole comparison workflow and write a report"
@@ -26,18 +27,19 @@ independent runs go in parallel up to --cores. An interrupted MD continues from
 its last checkpoint; the progress of every running MD (ps, ns/day, time left) is
 printed while the workflow runs.
 
-Configuration (YAML): workflows/config/default.yaml documents every key. Shipped:
-  default.yaml  the 158-bp scene: A_v = 1 A/ps with 600 ps of MD (a wave period) and an
-                A_v = 0 equilibrium run of 150 ps (estimated ~55 min with setup, 2 cores)
-  paper.yaml    the paper's 600 ps of MD for A_v = 0, 1, 5, three seeds (~38 h, 2 cores)
-  prediction.yaml  default.yaml with a 1200-ps thermostatted A_v = 0 run: enough for the
-                coarse-grained rod's prediction (~2 h, 2 cores)
-  tiny.yaml     21 bp, a few ps (CI)
+Configuration (YAML): workflows/config/default.yaml documents every key; each
+shipped file says at its top what it runs and what it costs. Shipped (workflows/config/):
+  default.yaml          the main job (scripts/run.sh): 158 bp, A_v = 0 and 1 A/ps, a wave period of MD
+  headline.yaml         default.yaml restricted to A_v = 1 A/ps (the README's worked example)
+  paper.yaml            the paper's MD: 600 ps for A_v = 0, 1, 5 A/ps, three seeds each
+  prediction.yaml       default.yaml with an A_v = 0 run long enough for the coarse-grained prediction
+  small_amplitude.yaml  small kicks (A_v = 0, 0.1, 0.2 A/ps), ns of MD, four seeds each
+  tiny.yaml             21 bp, a few ps of MD (CI)
 
 Examples:
-  dnarod compare --out compare-default
-  dnarod compare --config workflows/config/tiny.yaml --out /tmp/tiny --cores 2
-  dnarod compare --config my.yaml --out runs/x -- --dry-run      (extra Snakemake options after --)
+  dnarod compare                                   (default.yaml, into out/compare)
+  dnarod compare --config workflows/config/tiny.yaml -o /tmp/tiny --cores 2
+  dnarod compare --config my.yaml -o runs/x -- --dry-run      (extra Snakemake options after --)
 """
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -46,7 +48,8 @@ ROOT = Path(__file__).resolve().parents[2]
 def add_arguments(p):
     p.add_argument("--config", default=str(ROOT / "workflows" / "config" / "default.yaml"),
                    help="workflow configuration (YAML); default: workflows/config/default.yaml")
-    p.add_argument("--out", default="compare-out", help="output directory (default: ./compare-out)")
+    add_output(p, metavar="DIR", required=False, default="out/compare",
+               help="output directory (default: out/compare, the README's)")
     p.add_argument("--cores", type=int, default=2, help="cores Snakemake may use at once (default 2)")
     p.add_argument("snakemake_args", nargs="*", help="extra Snakemake options, after `--`")
 
@@ -219,7 +222,7 @@ def run(args) -> int:
     load(cfg)  # every key checked before anything runs (workflows/config/schema.yaml)
     if args.cores < 1:
         raise InputError(f"--cores {args.cores}: must be at least 1")
-    out = Path(args.out).resolve()
+    out = Path(args.output).resolve()
     out.mkdir(parents=True, exist_ok=True)
     bin_dir = os.environ.get("DNAROD_BIN_DIR") or str(ROOT / "build" / "bin")
     cmd = [sys.executable, "-m", "snakemake", "-s", str(ROOT / "workflows" / "Snakefile"),

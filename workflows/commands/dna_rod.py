@@ -8,6 +8,7 @@ from pathlib import Path
 import numpy as np
 
 from dna_models.errors import InputError
+from dnarod.commands._options import add_output
 from mdbridge.jsonio import write_json
 
 NAME = "dna-rod"
@@ -66,7 +67,7 @@ def add_arguments(p):
                    help="transverse velocity amplitude, A/ps: lab velocity A_v sin(2 pi s / L) e_perp "
                         "(the paper's kick, Sec 6.1), e_perp = d1(0) made normal to the helix axis (0: at rest)")
     p.add_argument("--t-end-ps", type=float, default=600.0, help="scene length, ps (600, the paper's MD)")
-    p.add_argument("-o", "--output", required=True, metavar="DIR")
+    add_output(p, metavar="DIR", help="directory to write (steps.h5, material.h5, rest.h5, scene.toml, rest.json)")
 
 
 def _sequence(args):

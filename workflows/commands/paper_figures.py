@@ -7,6 +7,7 @@ import time
 from pathlib import Path
 
 from dna_models.errors import InputError
+from dnarod.commands._options import add_output
 
 NAME = "paper-figures"
 HELP = "regenerate the paper's Figs 1-7 and the reproduction checks (PNG + JSON)"
@@ -40,7 +41,7 @@ DESCRIPTION = None  # filled lazily below (argparse reads it when the parser is 
 def add_arguments(p):
     from dnarod.paper.registry import TARGETS
     p.description = _description()
-    p.add_argument("-o", "--out", required=True, metavar="DIR", help="output folder (created)")
+    add_output(p, metavar="DIR", help="output folder (created)")
     p.add_argument("--only", nargs="+", metavar="TARGET", choices=list(TARGETS),
                    help="make only these targets (see the list above)")
     p.add_argument("--figures", action="store_true", help="only the seven figures (fig1 ... fig7)")
@@ -51,7 +52,7 @@ def run(args):
     import matplotlib
     matplotlib.use("Agg")
     from dnarod.paper.registry import FIGURES, TARGETS
-    out = Path(args.out)
+    out = Path(args.output)
     try:
         out.mkdir(parents=True, exist_ok=True)
     except OSError as e:

@@ -7,6 +7,7 @@ from pathlib import Path
 import numpy as np
 
 from dna_models.errors import InputError
+from dnarod.commands._options import add_output
 from mdbridge.jsonio import write_json
 
 NAME = "rod-to-atoms"
@@ -40,8 +41,7 @@ def add_arguments(p):
     p.add_argument("--like", metavar="MDDIR", help="MD build directory (dnarod build-md) whose atoms and "
                                                   "coordinates to use (with --coarse: only its coordinates)")
     p.add_argument("--coarse", action="store_true", help="coarse bead model instead of atoms")
-    p.add_argument("-o", "--out", required=True,
-                   help="output trajectory (.xtc/.trr/.dcd with --like, .pdb with --coarse)")
+    add_output(p, help="output trajectory (.xtc/.trr/.dcd with --like, .pdb with --coarse)")
     p.add_argument("--bp", type=int, help="base pairs the rod carries (default: from MDDIR/build.json or the "
                                           "rod file's scene)")
     p.add_argument("--every", type=int, default=1, help="write every n-th rod frame (default 1)")
@@ -73,7 +73,7 @@ def run(args) -> int:
         raise InputError(f"{rod}: no such rod run (rodsim HDF5)")
     if args.every < 1:
         raise InputError(f"--every {args.every}: must be at least 1")
-    out = Path(args.out)
+    out = Path(args.output)
     if not (args.like or args.coarse):
         raise InputError("give --like MDDIR (all-atom, like that MD build) or --coarse (beads)")
     build = None
@@ -87,9 +87,7 @@ def run(args) -> int:
     run = RodRun.read(rod)
     R, o = run.bp_frames(n_bp)
     if build is not None:
-        # build-md moved the duplex into its box by build.json's box.shift_A: the same rigid
-        # shift puts the rod where the MD is, so the two overlay frame by frame
-        o = o + np.asarray(build["box"]["shift_A"], dtype=float)
+        R, o = _in_build_frame(run, R, o, build)
     t = np.asarray(run.time, float) * float(run.attrs.get("tau_ps", 1.0))  # ps, as the MD's
     R, o, t = R[::args.every], o[::args.every], t[::args.every]
     if args.coarse:
@@ -108,6 +106,19 @@ def run(args) -> int:
         return _atoms(args, md, build, out, R, o, t, stages)
 
 
+def _in_build_frame(run, R, o, build):
+    """The rod's base-pair frames where build-md put the duplex: build-md turns the rod's
+    helix axis (its period vector at t = 0) onto the box axis (lab_rotation_to_axis, a
+    no-op for a rod already along it) and moves the duplex into its box by
+    build.json's box.shift_A. The same rigid motion puts the rod where the MD is, so the
+    two overlay frame by frame, whatever axis the scene uses."""
+    from mdbridge.md.gromacs.rod import lab_rotation_to_axis
+    Q = lab_rotation_to_axis(run, axis=int(build["box"]["axis"]))
+    R = np.einsum("ij,tnjk->tnik", Q, R)
+    o = o @ Q.T + np.asarray(build["box"]["shift_A"], dtype=float)
+    return R, o
+
+
 # frames placed per call of AtomMap.place: progress granularity, and the memory of one
 # vectorised call stays small
 CHUNK = 25
@@ -117,7 +128,8 @@ def _atoms(args, md, build, out, R, o, t, stages) -> int:
     """The all-atom trajectory; STAGES (dnarod.progress.Stages) shows the frames
     back-mapped, relaxed (--relax-steps), written and checked (chemistry report)."""
     import MDAnalysis as mda
-    from mdbridge.md.backmap import atom_map, closest_nonbonded, link_lengths
+    from mdbridge.md.backmap import atom_map, closest_nonbonded, overlay_problems, rms_to_build_A
+    from mdbridge.md.builder.backbone import link_lengths
     import warnings
     from mdbridge.md.gromacs.gmx import find_gmx, gmx_top_dir
     gmx = find_gmx(args.gmx)
@@ -130,6 +142,7 @@ def _atoms(args, md, build, out, R, o, t, stages) -> int:
     for a in range(0, n, CHUNK):
         xyz[a:a + CHUNK] = amap.place(R[a:a + CHUNK], o[a:a + CHUNK])
         stages("frames back-mapped", min(n, a + CHUNK), n, "frames")
+    rms_t0 = rms_to_build_A(u, xyz[0], md / "duplex_in.pdb")
     if args.relax_steps:
         from mdbridge.md.backmap import relax
         xyz = relax(md, u, xyz, steps=args.relax_steps, gmx=gmx,
@@ -150,9 +163,11 @@ def _atoms(args, md, build, out, R, o, t, stages) -> int:
     with warnings.catch_warnings():  # MDAnalysis lists the PDB columns a .gro lacks
         warnings.simplefilter("ignore", UserWarning)
         u.atoms.write(str(out.with_suffix(".pdb")))
-    msg = f"rod-to-atoms: {len(t)} frames x {u.atoms.n_atoms} atoms -> {out} (+ {out.with_suffix('.gro').name})"
+    msg = (f"rod-to-atoms: {len(t)} frames x {u.atoms.n_atoms} atoms -> {out} (+ {out.with_suffix('.gro').name})"
+           f"; t = 0 vs the build {rms_t0:.3f} A rms")
+    links = contact = None
     if not args.no_chemistry:
-        links = link_lengths(u, xyz)
+        links = link_lengths(xyz, amap.links, amap.box_A)
         contact = closest_nonbonded(u, xyz, progress=lambda k, total: stages("frames checked", k, total,
                                                                              "frames"))
         report = {"times_ps": t.tolist(), "O3P_min_A": links.min(1).tolist(), "O3P_max_A": links.max(1).tolist(),
@@ -167,4 +182,9 @@ def _atoms(args, md, build, out, R, o, t, stages) -> int:
                 f"{np.nanmin(np.where(np.isfinite(contact), contact, np.nan)):.2f} A ({path.name})")
     stages.close()
     print(msg)
+    problems = overlay_problems(rms_t0, links, contact, t)
+    if problems:
+        hint = ("" if args.relax_steps or all("rms" in q for q in problems) else
+                "; to look at it anyway, --relax-steps N relaxes each frame (for viewing only)")
+        raise InputError(f"{out} (written, to look at) fails its checks: " + "; ".join(problems) + hint)
     return 0

@@ -50,9 +50,6 @@ def add_arguments(p):
 def run(args):
     import json
     import sys
-    import warnings
-    # MDAnalysis 2.4 (Debian) imports the deprecated xdrlib: noise for a user
-    warnings.filterwarnings("ignore", message="'xdrlib' is deprecated")
 
     from mdbridge.md.gromacs.defaults import CHECKPOINT_MIN
     from mdbridge.md.gromacs.run import run_md

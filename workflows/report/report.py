@@ -20,7 +20,7 @@ import numpy as np
 
 from mdbridge.md.gromacs.checks import DRIFT_TARGET_KJ_MOL_NS_ATOM as DRIFT_TARGET
 from mdbridge.jsonio import write_json
-from dnarod.report import prediction
+from dnarod.report import prediction, verdict
 from dnarod.report.values import mean_over_seeds, number
 from dnarod.report.prediction import CAPTION as PREDICTION_CAPTION
 
@@ -337,12 +337,19 @@ def _drift_html(x) -> str:
     return f"{_f(x, 2)} (target {DRIFT_TARGET:g})"
 
 
+def _check_part(x, sep="; ") -> str:
+    """'check X' + SEP for the summary, or nothing when the check gave no number (the
+    table of all runs says why)."""
+    return f"check {_f(x)}{sep}" if math.isfinite(number(x)) else ""
+
+
 def write_html(cfg: dict, res: dict, figs: dict, path: Path):
     rows = [
         (f"rod {html.escape(res.get('rod_quantity') or 'wave speed')} [A/ps] ({html.escape(str(res.get('rod_regime')))})", f"{_f(res['rod_wave_speed_A_per_ps'])} &plusmn; {_f(res['rod_wave_speed_err_A_per_ps'], 2)}"
-         f" (check {_f(res['rod_wave_speed_check_A_per_ps'])}; Eq 39: {_f(res['rod_dispersion_speed_A_per_ps'])})", "1.4"),
+         f" ({_check_part(res['rod_wave_speed_check_A_per_ps'])}Eq 39: {_f(res['rod_dispersion_speed_A_per_ps'])})", "1.4"),
         (f"MD {html.escape(res.get('md_quantity') or 'wave speed')} [A/ps] ({html.escape(str(res.get('md_regime')))})", f"{_f(res['md_wave_speed_A_per_ps'])} &plusmn; {_f(res['md_wave_speed_err_A_per_ps'], 2)}"
-         f" (check {_f(res['md_wave_speed_check_A_per_ps'])})", "2.2 (by eye)"),
+         + (f" ({_check_part(res['md_wave_speed_check_A_per_ps'], '')})"
+            if _check_part(res['md_wave_speed_check_A_per_ps']) else ""), "2.2 (by eye)"),
         ("predicted (CG rod) [A/ps]", f"{_f(res.get('cg_rod_wave_speed_A_per_ps'))} &plusmn; "
          f"{_f(res.get('cg_rod_wave_speed_err_A_per_ps'), 2)} (Eq 39: {_f(res.get('cg_rod_dispersion_speed_A_per_ps'))} "
          f"&plusmn; {_f(res.get('cg_rod_dispersion_speed_err_A_per_ps'), 2)})"
@@ -358,7 +365,11 @@ def write_html(cfg: dict, res: dict, figs: dict, path: Path):
         ("rod / MD run length [ps]", f"{_f(res['rod_run_ps'])} / {_f(res['md_run_ps'])}", "? / 600"),
         ("seeds", ", ".join(map(str, res["seeds"])), "one run per A_v"),
     ]
-    table = "\n".join(f"<tr><td>{a}</td><td>{b}</td><td>{c}</td></tr>" for a, b, c in rows)
+    # rows with a number go into the summary; the others move below it, each with its reason
+    have = [(a, b, c) for a, b, c in rows if not b.startswith("n/a")]
+    missing = [(a, verdict.reason_missing(html.unescape(a), res)) for a, b, c in rows if b.startswith("n/a")]
+    table = "\n".join(f"<tr><td>{a}</td><td>{b}</td><td>{c}</td></tr>" for a, b, c in have)
+    not_measured = "\n".join(f"<li><b>{a}</b>: {html.escape(why)}</li>" for a, why in missing)
     runs = "\n".join(
         f"<tr><td>{j['kind']}</td><td>{_f(j.get('A_v_A_per_ps'))}</td><td>{j.get('seed', '')}</td>"
         f"<td>{_f(j['wave_speed_A_per_ps'])} &plusmn; {_f(j['wave_speed_err_A_per_ps'], 2)}"
@@ -371,11 +382,16 @@ def write_html(cfg: dict, res: dict, figs: dict, path: Path):
         for j in res["runs"]["rod"] + res["runs"]["md"] + res["runs"]["sweep"])
     from dnarod.report.comparison import html_table
     matched_html = html_table(res["comparison"]) if res.get("comparison") else ""
-    matched_html = prediction.html_section(res) + matched_html
-    imgs = "\n".join(f'<figure id="fig-{html.escape(k)}"><img alt="{html.escape(k)}" '
-                     f'src="data:image/png;base64,{_png(fig)}"><figcaption><b>{html.escape(k)}.</b> '
-                     f'{html.escape(CAPTIONS[k])}</figcaption></figure>'
-                     for k, fig in figs.items())
+    # a refused prediction is said in the verdict and in the "not measured" list, not as a table of n/a
+    if math.isfinite(number(res.get("cg_rod_wave_speed_A_per_ps"))):
+        matched_html = prediction.html_section(res) + matched_html
+    fig_html = {k: (f'<figure id="fig-{html.escape(k)}"><img alt="{html.escape(k)}" '
+                    f'src="data:image/png;base64,{_png(fig)}"><figcaption><b>{html.escape(k)}.</b> '
+                    f'{html.escape(CAPTIONS[k])}</figcaption></figure>') for k, fig in figs.items()}
+    # the figure that shows the headline result comes first, right under the verdict
+    lead = next((k for k in ("prediction", "kymographs") if k in fig_html), next(iter(fig_html), None))
+    lead_html = fig_html.pop(lead) if lead is not None else ""
+    imgs = "\n".join(fig_html.values())
     note = ""
     if float(res["md_run_ps"]) < PAPER_MD_RUN_PS:
         note = (f"<p><b>Note:</b> the MD here runs {_f(res['md_run_ps'])} ps, shorter than the paper's "
@@ -386,9 +402,8 @@ def write_html(cfg: dict, res: dict, figs: dict, path: Path):
 <style>body{{font-family:sans-serif;max-width:1100px;margin:auto}} td,th{{border:1px solid #ccc;padding:3px 8px}}
 table{{border-collapse:collapse}} img{{max-width:100%}} figcaption{{font-size:90%;color:#333}}</style></head><body>
 <h1>Rod vs all-atom MD: bend-shear wave on a periodic duplex</h1>
-<p>Generated {datetime.datetime.now(datetime.timezone.utc).isoformat(timespec='seconds')} by
-<code>dnarod compare</code>. Headline run: A_v = {_f(res['headline_A_v_A_per_ps'])} A/ps.
-Estimators and definitions: docs/analysis.md.</p>{note}
+<section id="verdict"><h2>What this run found</h2><p>{verdict.verdict(res)}</p></section>
+{lead_html}{note}
 <h2>Summary vs the paper</h2>
 <table id="headline"><tr><th>quantity</th><th>this run</th><th>paper (Sec 6)</th></tr>{table}</table>
 {matched_html}
@@ -396,6 +411,11 @@ Estimators and definitions: docs/analysis.md.</p>{note}
 <table><tr><th>kind</th><th>A_v [A/ps]</th><th>seed</th><th>speed [A/ps]</th><th>check</th>
 <th>planarity</th><th>bp intact</th><th>energy drift [kJ/mol/ns/atom]</th><th>t_end [ps]</th></tr>{runs}</table>
 <h2>Figures</h2>{imgs}
+<h2 id="not-measured">Not measured or refused in this run</h2>
+<ul id="not-measured-list">{not_measured or "<li>nothing: every summary row has a number</li>"}</ul>
+<p>Generated {datetime.datetime.now(datetime.timezone.utc).isoformat(timespec='seconds')} by
+<code>dnarod compare</code>. Headline run: A_v = {_f(res['headline_A_v_A_per_ps'])} A/ps.
+Estimators and definitions: docs/analysis.md.</p>
 </body></html>
 """)
 

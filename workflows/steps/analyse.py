@@ -108,25 +108,17 @@ def analyse_rod(scene_path, h5_path, prefix, n_boot=200):
 
 
 def analyse_md(scene_path, md_dir, prefix, n_boot=200):
-    import MDAnalysis as mda
-    from mdbridge.analysis import BasePairTrajectory, WaveAnalysis
+    from mdbridge.analysis import WaveAnalysis
+    from mdbridge.md.folder import open_md_folder
     from mdbridge.md.integrity import bp_intact_fraction
     md_dir = Path(md_dir)
     scene = load_scene(scene_path)
-    top = md_dir / "md.tpr"
-    xtc = md_dir / "md.xtc"
-    for f in (top, xtc):
-        if not f.is_file():
-            raise InputError(f"{f}: missing; run `dnarod run-md {md_dir}` first")
-    u = mda.Universe(str(top), str(xtc))
+    folder = open_md_folder(md_dir)
+    u = folder.universe
     n_bp = scene_n_bp(scene, scene_path)
-    n_md = len(u.residues) // 2
-    if n_md != n_bp:
-        raise InputError(f"{md_dir}: the MD duplex has {n_md} base pairs, the scene {n_bp}")
-    # The pairs as built (not found by distance: pairs that fray during the run
-    # would otherwise stop the analysis); build-md numbers the residues this way.
-    from mdbridge.md.builder.duplex import base_pairs
-    traj = BasePairTrajectory.from_universe(u, pairs=base_pairs(n_bp))
+    if folder.n_bp != n_bp:
+        raise InputError(f"{md_dir}: the MD duplex has {folder.n_bp} base pairs, the scene {n_bp}")
+    traj = folder.trajectory()
     from dnarod.steps import matched
     e_in = matched.scene_in_plane(scene, scene_path)
     a = WaveAnalysis(traj, in_plane=e_in, offset=True, n_boot=n_boot).run()

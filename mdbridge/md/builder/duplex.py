@@ -95,7 +95,7 @@ def base_frames(origins, R, base_pair_params=None):
 
 
 def build_duplex(sequence, origins, R, *, periodic_box=None, hydrogens=False,
-                 base_pair_params=None) -> Structure:
+                 base_pair_params=None, close_backbone=False) -> Structure:
     """Build the all-atom duplex of `sequence` (strand I, 5'->3') on base-pair
     frames origins (n, 3) in A and R (n, 3, 3) (columns = x, y, z axes in the lab).
 
@@ -106,6 +106,9 @@ def build_duplex(sequence, origins, R, *, periodic_box=None, hydrogens=False,
     hydrogens: False gives heavy atoms only (the GROMACS route: pdb2gmx -ignh
     adds hydrogens); True adds CHARMM27 hydrogens from templates.
     base_pair_params: optional (n, 6) shear..opening (see base_frames).
+    close_backbone: close every O3'-P link outside 1.5-1.8 A by turning the next
+    nucleotide's 5' end (backbone.py); False places the templates rigidly, as 3DNA's
+    rebuild does.
     """
     seq = dna_sequence.validate(sequence)
     comp = dna_sequence.complement(seq)
@@ -146,9 +149,14 @@ def build_duplex(sequence, origins, R, *, periodic_box=None, hydrogens=False,
         if box is not None:
             bonds.append(np.array([[atom(last, "O3'"), atom(first, "P")]]))
 
-    return Structure(names=np.concatenate(names), resnames=np.concatenate(resnames),
-                     resids=np.concatenate(resids), strands=np.concatenate(strands),
-                     elements=np.concatenate(elements), coords=np.concatenate(coords),
+    xyz = np.concatenate(coords)
+    all_names, all_resids = np.concatenate(names), np.concatenate(resids)
+    if close_backbone:
+        from .backbone import close_links, duplex_links
+        xyz = close_links(xyz, duplex_links(all_names, all_resids, n, periodic=box is not None), box)
+    return Structure(names=all_names, resnames=np.concatenate(resnames),
+                     resids=all_resids, strands=np.concatenate(strands),
+                     elements=np.concatenate(elements), coords=xyz,
                      bonds=np.concatenate(bonds).astype(int), box=box,
                      base_origins=np.array([r[3] for r in sorted(residues, key=lambda r: r[2])]),
                      base_R=np.array([r[4] for r in sorted(residues, key=lambda r: r[2])]))

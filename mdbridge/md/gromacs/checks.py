@@ -14,7 +14,6 @@
 from __future__ import annotations
 
 import json
-import warnings
 from pathlib import Path
 
 import numpy as np
@@ -22,6 +21,7 @@ import numpy as np
 from dna_models.errors import ExternalToolError
 
 from dna_models.units import ANGSTROM_PER_NM as NM
+from mdbridge.geometry.analysis_base import AnalysisBase, UniverseFrames
 from mdbridge.md.builder.duplex import base_pairs
 from mdbridge.md.integrity import INTACT_CUTOFF_A, central_atoms, pair_distances
 
@@ -131,37 +131,52 @@ def min_side_image_distance(x_A, box_A, axis: int) -> float:
     return best if np.isfinite(best) else nearest(np.inf)
 
 
+class DuplexFrameChecks(AnalysisBase):
+    """Per frame of an MD of the closed duplex of N_BP base pairs (its helix along box axis
+    AXIS), an analysis of the one loop (mdbridge/geometry/analysis_base.py): results.links,
+    the O3'-P links of each frame (`o3p_links`; the box may in principle change, NVE keeps
+    it fixed), side_image_A (T,), the smallest distance to a side-wall image, and
+    pair_distance_A (T, n_bp), the Watson-Crick N1-N3 distances (mdbridge/md/integrity.py)."""
+
+    def __init__(self, universe, n_bp: int, axis: int):
+        super().__init__(UniverseFrames(universe))
+        self.universe, self.n_bp, self.axis = universe, n_bp, axis
+        self._resid = universe.atoms.resids
+        self._names = list(universe.atoms.names)
+        residue = {int(r.resid): r for r in universe.residues}
+        self._wc = central_atoms([(residue[i], residue[j]) for i, j in base_pairs(n_bp)])
+
+    def _prepare(self):
+        self.results.links = []
+        self.results.side_image_A = np.empty(self.n_frames)
+        self.results.pair_distance_A = np.empty((self.n_frames, self.n_bp))
+
+    def _single_frame(self):
+        u, r, k = self.universe, self.results, self._frame_index
+        x = u.atoms.positions.astype(float)
+        box = u.dimensions[:3].astype(float)
+        r.side_image_A[k] = min_side_image_distance(x, box, self.axis)
+        r.pair_distance_A[k] = pair_distances(self._wc[0].positions, self._wc[1].positions, u.dimensions)
+        r.links.append(o3p_links(x / NM, self._resid, self._names, self.n_bp, box / NM))
+
+
 def write_checks(directory: Path, *, gmx: str) -> dict:
-    with warnings.catch_warnings():   # MDAnalysis 2.4 imports the deprecated xdrlib
-        warnings.simplefilter("ignore", DeprecationWarning)
-        import MDAnalysis as mda
+    import MDAnalysis as mda
     d = Path(directory)
     build = json.loads((d / "build.json").read_text())
     n = int(build["n_bp"])
     axis = int(build["box"]["axis"])
     u = mda.Universe(str(d / "conf.gro"), str(d / "md.xtc"))
-    resid = u.atoms.resids
-    names = list(u.atoms.names)
-    residue = {int(r.resid): r for r in u.residues}
-    wc_a, wc_b = central_atoms([(residue[i], residue[j]) for i, j in base_pairs(n)])
-    times, pos, boxes, side, dist = [], [], [], [], []
-    for ts in u.trajectory:
-        times.append(ts.time)
-        pos.append(u.atoms.positions.astype(float))
-        boxes.append(ts.dimensions[:3].astype(float))
-        side.append(min_side_image_distance(pos[-1], boxes[-1], axis))
-        dist.append(pair_distances(wc_a.positions, wc_b.positions, ts.dimensions))
-    X = np.array(pos)                  # (T, N, 3) A
-    B = np.array(boxes)                # (T, 3) A
-    # O3'-P links per frame (box may in principle change; NVE keeps it fixed)
-    links = [o3p_links(X[t] / NM, resid, names, n, B[t] / NM) for t in range(len(X))]
+    per_frame = DuplexFrameChecks(u, n, axis).run()
+    times, links, side = per_frame.times_ps, per_frame.results.links, per_frame.results.side_image_A
+    dist = per_frame.results.pair_distance_A
     junction = {}
     for s in ("I", "II"):
         j = np.array([lk[s]["junction_A"] for lk in links])
         inner = np.array([lk[s]["interior_A"] for lk in links])
         junction[s] = {"junction_min_A": float(j.min()), "junction_max_A": float(j.max()),
                        "interior_min_A": float(inner.min()), "interior_max_A": float(inner.max())}
-    intact = (np.array(dist) < INTACT_CUTOFF_A).mean(axis=1)   # (T,) mdbridge/md/integrity.py
+    intact = (dist < INTACT_CUTOFF_A).mean(axis=1)   # (T,) mdbridge/md/integrity.py
     cutoff_A = float(build["md_settings"]["cutoff_nm"]) * NM
     checks = {
         "n_frames": len(times), "times_ps": [float(times[0]), float(times[-1])],

@@ -26,6 +26,7 @@ from pathlib import Path
 
 import numpy as np
 
+from dna_models.errors import InputError
 from mdbridge.stats import time_block_sem
 
 from .energy import read_energies
@@ -33,6 +34,7 @@ from .gmx import run_gmx, run_gmx_with_progress
 from .mdp import MdSettings, render_md
 
 PROTOCOLS = ("equilibrated", "paper")
+
 TAU_T_PS = 0.1
 TAU_P_PS = 5.0
 # Compressibility of the box along the axis: the box is mostly vacuum, so its
@@ -47,6 +49,19 @@ BLOCK_PS = 1.0
 # box with tau-p 5 ps), so the error of its mean uses 5-ps blocks and understates the
 # error unless the second half holds several periods; the range is recorded too.
 LENGTH_BLOCK_PS = 5.0
+
+
+def check_protocol(protocol: str, *, temperature_K: float, equilibrate_ps: float, axial_pressure: bool) -> None:
+    """The protocol's arguments, checked before anything is built (InputError, in the
+    command's spelling)."""
+    if protocol not in PROTOCOLS:
+        raise InputError(f"protocol {protocol!r}: allowed {', '.join(PROTOCOLS)}")
+    if protocol == "equilibrated" and not (temperature_K > 0 and equilibrate_ps > 0):
+        raise InputError(f"--temperature {temperature_K:g} K, --equilibrate-ps {equilibrate_ps:g}: the equilibrated "
+                         "protocol (the default at --temperature > 0) needs both > 0; to start from the build "
+                         "without an equilibration stage, use --protocol paper")
+    if axial_pressure and protocol != "equilibrated":
+        raise InputError("--axial-pressure acts in the equilibration stage: use --protocol equilibrated")
 
 
 def axial_compressibility(box_nm, axis: int) -> float:

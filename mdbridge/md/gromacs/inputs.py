@@ -29,7 +29,7 @@ from .clashes import CLASH_A, closest_contact
 from .gmx import find_gmx, gmx_version, run_gmx, run_gmx_with_progress
 from .gro import Gro, read_gro, write_gro
 from .junction import junction_report, o3p_links
-from .equilibrate import PROTOCOLS, equilibrate
+from .equilibrate import check_protocol, equilibrate
 from .mdp import MdSettings, render_em, render_md, read_mdp_value
 from .rod import RodInitial
 from .topology import parse_itp, run_pdb2gmx, write_pdb2gmx_input
@@ -66,9 +66,7 @@ def _unwrap_against(x_nm, ref_nm, box_nm):
 
 def _frames_of_gro(gro_path: Path, n_bp: int):
     """Base-pair frames of a built structure, re-analysed with mdbridge.geometry (3DNA)."""
-    with warnings.catch_warnings():   # MDAnalysis 2.4 imports the deprecated xdrlib
-        warnings.simplefilter("ignore", DeprecationWarning)
-        import MDAnalysis as mda
+    import MDAnalysis as mda
     from mdbridge.md.builder.duplex import base_pairs
     from mdbridge.geometry.structure import BasePairFrames
     u = mda.Universe(str(gro_path))
@@ -164,13 +162,8 @@ def build_inputs(outdir: Path, structure, rod: RodInitial, box: BoxPlan, *, sequ
 
 
 def _check_choices(protocol, temperature_K, equilibrate_ps, axial_pressure, n_sequence, n_bp):
-    if protocol not in PROTOCOLS:
-        raise InputError(f"protocol {protocol!r}: allowed {', '.join(PROTOCOLS)}")
-    if protocol == "equilibrated" and not (temperature_K > 0 and equilibrate_ps > 0):
-        raise InputError("the equilibrated protocol needs --temperature > 0 and "
-                         f"--equilibrate-ps > 0 (got {temperature_K} K, {equilibrate_ps} ps)")
-    if axial_pressure and protocol != "equilibrated":
-        raise InputError("--axial-pressure acts in the equilibration stage: use --protocol equilibrated")
+    check_protocol(protocol, temperature_K=temperature_K, equilibrate_ps=equilibrate_ps,
+                   axial_pressure=axial_pressure)
     if n_sequence != n_bp:
         raise InputError(f"sequence has {n_sequence} bases but the rod has {n_bp} base pairs")
     if temperature_K < 0:

@@ -21,7 +21,23 @@ from mdbridge.rod.frames import period_vector
 from mdbridge.rod.run import RodRun
 from mdbridge.rod.scene import _beside, scene_bp_turns, set_output
 
+from .defaults import MD_PS
+
 ROD_FRAMES = 101   # output frames of the sizing run: enough to catch the largest excursion
+DEFAULT_MD_PS = MD_PS   # the paper's MD length (Sec 6.1), when no rod run is given (defaults.py)
+
+
+def md_length_ps(run: RodRun | None, *, dt_ps: float, units: Units | None = None) -> float:
+    """build-md's MD length when none is asked for: the whole rod run it is given, in whole
+    MD steps of DT_PS that stay inside it (a scene's t_end of 637.2 tau is 599.97 ps, not
+    600), or DEFAULT_MD_PS when build-md runs the rod itself."""
+    if run is None:
+        return DEFAULT_MD_PS
+    u = units or Units.paper()
+    run.require("time")
+    assert run.time is not None
+    covered_ps = float(u.time_to_ps(run.time[-1] - run.time[0]))
+    return math.floor(covered_ps / dt_ps * (1 + 1e-12)) * dt_ps
 
 
 @dataclass

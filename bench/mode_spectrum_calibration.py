@@ -1,0 +1,148 @@
+"""Calibration of the errors of `dnarod modes` (mdbridge/analysis/mode_spectra.py fit_mode:
+the band, the debiased Whittle fit of the damped oscillator, the line refinement, the
+observed-information errors) on series of known frequency and damping.
+
+An input is a function that returns realisations (x (M, N) real series, dt_ps, omega,
+gamma): the truth beside each record. Today's input is `oscillator_input`, the exact
+discrete-time damped oscillator (mdbridge/analysis/spectrum.py simulate) at the record of
+the dispersion MD (4 ns of 0.5-ps frames), M = 4 series (bend: two quadratures, two
+directions), and a white floor of 1 % of the mode's variance. A second input (thermal-rod
+series, whose frequencies linear theory gives) is one more such function, run through
+the same `calibrate`.
+
+For each case: over the R realisations that the command would report (not refused: the
+refusals are counted), the bias, the RMS error about the truth, and the
+calibration ratio stated / RMS = sqrt(mean stated^2) / sqrt(mean (estimate - truth)^2) of
+omega (and of gamma when the mode is damped), with the ratio's own 68 % interval (bootstrap
+over the realisations). Pass: 0.7 <= ratio <= 1.4.
+The control: every mode taken as a sinusoid in white noise (spectrum.py line="always":
+the least-squares frequency and its white-noise error, what a wave fit does), which a
+damped mode's wandering amplitude and phase must defeat somewhere in the table.
+
+    /usr/bin/python3 bench/mode_spectrum_calibration.py [--realisations 60] [--out bench/results]
+"""
+from __future__ import annotations
+
+import argparse
+import math
+import time
+from pathlib import Path
+
+import numpy as np
+
+RECORD_PS = 4000.0
+DT_PS = 0.5
+N_SERIES = 4
+FLOOR = 0.01
+LOW, HIGH = 0.7, 1.4
+# (period [ps], Q): periods 12-1100 ps (the bend modes n = 15..1 of notes-science), Q from 1
+# to infinity; Q = 3-30 around gamma T = 1-4, where the line refinement takes over
+CASES = [(1100, 3), (1100, 10), (1100, math.inf), (375, 3), (375, 30), (375, math.inf),
+         (111, 1), (111, 10), (111, math.inf), (32, 1), (32, 3), (32, 100), (12, 3), (12, 30), (12, math.inf)]
+
+
+def gamma_of(period_ps: float, Q: float):
+    """(omega, gamma) [1/ps] of the oscillator of natural period 2 pi / omega0 and quality Q."""
+    w0 = 2 * math.pi / period_ps
+    g = 0.0 if math.isinf(Q) else w0 / (2 * Q)
+    return math.sqrt(w0 * w0 - g * g), g
+
+
+def oscillator_input(period_ps: float, Q: float, n_real: int, seed: int, record_ps=RECORD_PS, dt_ps=DT_PS,
+                     n_series=N_SERIES, floor=FLOOR):
+    """Realisations of the damped oscillator: (x, dt_ps, omega, gamma) each."""
+    from mdbridge.analysis.spectrum import simulate
+    rng = np.random.default_rng(seed)
+    w, g = gamma_of(period_ps, Q)
+    n = int(round(record_ps / dt_ps))
+    for _ in range(n_real):
+        x = simulate(rng, n_series, n, dt_ps, w, g, 1.0, floor)
+        yield x - x.mean(axis=1, keepdims=True), dt_ps, w, g
+
+
+def calibrate(realisations, line: str = "auto") -> dict:
+    """Bias, RMS error and stated / RMS of omega and gamma over the realisations."""
+    from mdbridge.analysis.mode_spectra import fit_mode, refusal
+    est = []
+    refused = []
+    lines = 0
+    for x, dt, w, g in realisations:
+        fit, why = fit_mode(x, dt, errors="hessian", line=line)
+        why = why or refusal(fit, x.shape[1] * dt)
+        if why:
+            refused.append(why)
+        if fit is not None and fit.line is not None:
+            lines += 1
+        if fit is None or why:
+            est.append((np.nan, np.nan, np.nan, np.nan, w, g))
+            continue
+        est.append((fit.omega_per_ps, fit.omega_err_per_ps, fit.damping_per_ps, fit.damping_err_per_ps, w, g))
+    e = np.array(est, float)
+    w_true, g_true = e[0, 4], e[0, 5]
+    ok = np.isfinite(e[:, 0]) & np.isfinite(e[:, 1])
+    dw = e[ok, 0] - w_true
+    out = {"realisations": len(e), "fitted": int(ok.sum()), "refused": refused, "taken_as_line": lines,
+           "omega_true_per_ps": w_true,
+           "gamma_true_per_ps": g_true,
+           "omega_bias_rel": float(dw.mean() / w_true), "omega_rms_rel": float(np.sqrt(np.mean(dw ** 2)) / w_true),
+           "omega_ratio": float(np.sqrt(np.mean(e[ok, 1] ** 2)) / np.sqrt(np.mean(dw ** 2))),
+           "omega_ratio_68": _ratio_interval(e[ok, 1], dw),
+           "omega_within_1_sigma": float(np.mean(np.abs(dw) <= e[ok, 1]))}
+    if g_true > 0:
+        okg = ok & np.isfinite(e[:, 3])
+        dg = e[okg, 2] - g_true
+        out.update(gamma_bias_rel=float(dg.mean() / g_true), gamma_rms_rel=float(np.sqrt(np.mean(dg ** 2)) / g_true),
+                   gamma_ratio=float(np.sqrt(np.mean(e[okg, 3] ** 2)) / np.sqrt(np.mean(dg ** 2)))
+                   if okg.sum() >= 2 else None)
+    out["omega_pass"] = bool(LOW <= out["omega_ratio"] <= HIGH)
+    return out
+
+
+def _ratio_interval(stated, dev, n_boot=2000, seed=0):
+    """The central 68 % interval of stated / RMS over bootstrap resamples of the
+    realisations: the ratio's own sampling error (large for lines, whose error scales as
+    1 / amplitude and the amplitude is random)."""
+    rng = np.random.default_rng(seed)
+    i = rng.integers(0, len(dev), (n_boot, len(dev)))
+    r = np.sqrt(np.mean(stated[i] ** 2, axis=1)) / np.sqrt(np.mean(dev[i] ** 2, axis=1))
+    return [float(v) for v in np.percentile(r, [16, 84])]
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--realisations", type=int, default=60)
+    ap.add_argument("--out", default=str(Path(__file__).resolve().parent / "results"))
+    ap.add_argument("--seed", type=int, default=1)
+    a = ap.parse_args(argv)
+    rows = []
+    t0 = time.time()
+    for i, (P, Q) in enumerate(CASES):
+        row = {"period_ps": P, "Q": None if math.isinf(Q) else Q}
+        for name, line in (("fit", "auto"), ("control", "always")):
+            row[name] = calibrate(oscillator_input(P, Q, a.realisations, a.seed + 100 * i), line)
+        rows.append(row)
+        d, c = row["fit"], row["control"]
+        print(f"P = {P:5g} ps, Q = {Q:>4}: omega bias {100 * d['omega_bias_rel']:+6.2f} %, rms "
+              f"{100 * d['omega_rms_rel']:5.2f} %, stated/rms {d['omega_ratio']:.2f} "
+              f"({d['omega_ratio_68'][0]:.2f}-{d['omega_ratio_68'][1]:.2f})"
+              + (f", gamma stated/rms {d['gamma_ratio']:.2f}" if d.get("gamma_ratio") else "")
+              + f" [{len(d['refused'])} refused, {d['taken_as_line']} lines]"
+              + f" | control: stated/rms {c['omega_ratio']:.2f}, bias {100 * c['omega_bias_rel']:+.2f} %",
+              flush=True)
+    res = {"what": "calibration of dnarod modes' frequency errors on damped-oscillator series "
+                   "(bench/mode_spectrum_calibration.py)",
+           "record_ps": RECORD_PS, "dt_ps": DT_PS, "n_series": N_SERIES, "floor_over_variance": FLOOR,
+           "pass_band": [LOW, HIGH], "realisations": a.realisations, "seed": a.seed, "cases": rows,
+           "all_pass": all(r["fit"]["omega_pass"] for r in rows),
+           "control_fails": any(not r["control"]["omega_pass"] for r in rows),
+           "cpu_s": time.process_time(), "wall_s": time.time() - t0}
+    from mdbridge.jsonio import write_json
+    out = Path(a.out)
+    out.mkdir(parents=True, exist_ok=True)
+    write_json(out / "mode_spectrum_calibration.json", res)
+    print(f"all pass: {res['all_pass']}; control fails: {res['control_fails']}; "
+          f"wrote {out / 'mode_spectrum_calibration.json'}")
+
+
+if __name__ == "__main__":
+    main()
