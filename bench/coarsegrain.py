@@ -26,6 +26,8 @@ from pathlib import Path
 
 import numpy as np
 
+from dna_models.bdna import RISE_A
+
 
 def make_trajectory(directory, n_bp=158, frames=600, seed=0):
     from mdbridge.coarsegrain.synthetic import ar1_steps
@@ -38,7 +40,7 @@ def make_trajectory(directory, n_bp=158, frames=600, seed=0):
 
     rng = np.random.default_rng(seed)
     seq = "".join(rng.choice(list("ACGT"), n_bp))
-    rise, twist = 3.38, 360.0 * 15 / n_bp
+    rise, twist = RISE_A, 360.0 * 15 / n_bp
     mean = np.tile([0.0, 0.0, rise, 0.0, 0.0, twist], (n_bp - 1, 1))
     K = np.tile(np.diag(1 / np.array([0.5, 0.5, 0.2, 3.0, 4.5, 3.5]) ** 2), (n_bp - 1, 1, 1))
     q = ar1_steps(mean, K, frames, 0.5, rng)

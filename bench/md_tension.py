@@ -54,11 +54,11 @@ from pathlib import Path
 
 import numpy as np
 
+from dna_models.units import BOLTZMANN
 from mdbridge.md.gromacs.run import _set_keys, run_md
 from mdbridge.md.gromacs.tension import mean_with_error, stretch_box, tension_series
 
 REPO = Path(__file__).resolve().parents[1]
-KB = 1.380649e-23
 SEED = 4
 DISCARD_PS = 20.0
 EQ_FRAME_PS = 0.1        # the equilibration stage writes frames every 0.1 ps (equilibrate.py)
@@ -175,7 +175,7 @@ def zero_tension(baro: Path, gmx: str, ps: float, axis: int) -> dict:
     var = float(np.var(L[keep], ddof=1))
     # error of var(L) by blocking the series (L - <L>)^2
     v = mean_with_error(t[keep], (L[keep] - L[keep].mean()) ** 2)
-    kT = KB * 300.0
+    kT = BOLTZMANN * 300.0
     S = kT * L0["mean"] * 1e-9 / (var * 1e-18) * 1e12
     S_err = S * math.hypot(v["sem"] / v["mean"], L0["sem"] / L0["mean"])
     bj = json.loads((baro / "build.json").read_text()) if (baro / "build.json").is_file() else None

@@ -18,6 +18,7 @@ import math
 
 import numpy as np
 
+from dna_models.bdna import RISE_A
 from mdbridge.analysis.mode_error import standing_mode_fit
 from mdbridge.analysis.thermal_mode import _oscillator
 
@@ -25,7 +26,7 @@ from mdbridge.analysis.thermal_mode import _oscillator
 # thermal rms at 300 K (24 A), 3-ns records of 4-ps frames, 20 realisations
 OMEGA_PER_PS = 0.00402
 A_THERMAL_A = 24.0
-K_PER_A = 2 * math.pi / (158 * 3.38)
+K_PER_A = 2 * math.pi / (158 * RISE_A)
 RECORD_PS = 3000.0
 
 

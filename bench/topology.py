@@ -23,11 +23,12 @@ from pathlib import Path
 
 import numpy as np
 
+from dna_models.bdna import RISE_A
 from mdbridge.geometry.topology import (centred_tangents, linking_number, perpendicular_unit, polygon_writhe,
                                         ribbon_topology, twist, writhe)
 from mdbridge.jsonio import write_json
 
-N_BP, RISE_A, LP_A, COILS, R_A, r_A = 10_500, 3.38, 500.0, 20, 4000.0, 200.0
+N_BP, LP_A, COILS, R_A, r_A = 10_500, 500.0, 20, 4000.0, 200.0
 
 
 def supercoil(seed: int):

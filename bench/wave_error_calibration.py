@@ -27,6 +27,7 @@ import time
 import numpy as np
 from scipy.signal import lfilter
 
+from dna_models.bdna import RISE_A
 from mdbridge.analysis import mode_error
 from mdbridge.jsonio import write_json
 
@@ -34,7 +35,7 @@ PERIOD_PS = 400.0
 DT_PS = 5.0
 AMPLITUDE_A = 10.0
 OFFSET_A = 1.0
-K_PER_A = 2 * math.pi / (158 * 3.38)
+K_PER_A = 2 * math.pi / (158 * RISE_A)
 NOISE_REL = (0.03, 0.3, 1.0)
 TAU_PS = (2.0, 40.0, 400.0)
 PERIODS = (0.75, 1.5, 3.0)

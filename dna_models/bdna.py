@@ -13,8 +13,12 @@ The idealised duplex used for building (3DNA's rebuild example
 `ideal_B_36_3.38.par`) has step parameters (0, 0, 3.38 A, 0, 0, 36 deg) and
 zero base-pair parameters: STEP_PARAMETERS below.
 """
+from .units import Units
+
 FIBRE_RISE_A = 3.375   # Arnott fibre B-DNA helical rise [Angstrom] (pitch 33.75 A / 10)
-RISE_A = 3.38          # rounded rise per base pair used for ideal duplexes [Angstrom]
+# the rounded rise per base pair of ideal duplexes and of the rod (3.38 A) [Angstrom]: its one
+# source is dna_models/data/dna_elastic_constants.toml ([b_dna] rise_A), read by units.py
+RISE_A = Units.paper().rise_A
 TWIST_DEG = 36.0       # helical twist per base pair [degrees] (10 bp per turn)
 
 #: step parameters (shift, slide, rise [A], tilt, roll, twist [deg]) of ideal B-DNA

@@ -43,6 +43,7 @@ class Units:
     D_ratios: tuple
     rise_A: float
     bend_shear_ratio: float  # D rho / (I C) as printed in Sec 2.2 (1.21)
+    bp_per_turn_paper: float  # 158 bp in 15 turns (Sec 6): the paper's uniform twist
 
     @classmethod
     def paper(cls, path: Path = DATA) -> "Units":
@@ -52,7 +53,8 @@ class Units:
         return cls(rho=p["rho"], I=p["I"], C=p["C"], D=p["D"],
                    I_ratios=tuple(p["I_ratios"]), C_ratios=tuple(p["C_ratios"]),
                    D_ratios=tuple(p["D_ratios"]), rise_A=d["b_dna"]["rise_A"],
-                   bend_shear_ratio=p["bend_shear_ratio_printed"])
+                   bend_shear_ratio=p["bend_shear_ratio_printed"],
+                   bp_per_turn_paper=d["b_dna"]["bp_per_turn_paper"])
 
     # -- scales (Sec 2.2) -------------------------------------------------
     @property

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from dna_models.bdna import RISE_A
 from mdbridge.geometry.trajectory import BasePairTrajectory
 
 E_AXIS = np.array([0.0, 1.0, 0.0])
@@ -21,7 +22,7 @@ E_IN = np.array([0.0, 0.0, 1.0])
 E_OUT = np.cross(E_AXIS, E_IN)  # = +X
 
 
-def helix_trajectory(times_ps, u_in, u_out=None, n=158, turns=15, rise_A=3.38, offset_A=0.0,
+def helix_trajectory(times_ps, u_in, u_out=None, n=158, turns=15, rise_A=RISE_A, offset_A=0.0,
                      noise_A=0.0, box_A=None, seed=0, e_in=E_IN):
     """times_ps (T,); u_in, u_out: callables f(x_A (n,), t_ps) -> (n,) [A].
 

@@ -12,7 +12,7 @@ from .constants import paper_rho_I
 from .continuum import UNITS
 from .mass import rod_densities
 from .prestress import rest_shape
-from .rod import segment_rod_material
+from .segment import segment_rod_material
 
 FORMAT = "dnarod-cg-params/1"
 UNITS_TEXT = "A, deg; stiffness kT/A^2, kT/(A deg), kT/deg^2"
@@ -43,30 +43,8 @@ def build_params(cg, temperature_source: str, extras: dict | None = None,
     def rest(mean, cov):
         return _l(rest_shape(mean, cov, F, tq, T_K)) if stressed else None
 
-    steps = []
-    row = {int(k): j for j, k in enumerate(b1["first_step"])}
-    tau = dict(zip(r["used_steps"].tolist(), r["tau_int_steps"]))
-    for k in range(ens.n_steps):
-        d = {"step": k + 1, "dimer": ens.dimer(k), "excluded": bool(ens.excluded[k])}
-        if k in row:
-            j = row[k]
-            d.update(mean=_l(b1["mean"][j]), mean_err=_l(b1["mean_err"][j]),
-                     stiffness=_l(b1["K"][j]), stiffness_err=_l(b1["K_err"][j]),
-                     tau_int_frames=_l(tau[k]))
-            if stressed:
-                d["rest_mean"] = rest(b1["mean"][j], b1["cov"][j])
-        steps.append(d)
-    by_length = []
-    for m, bm in sorted(r["by_m"].items()):
-        by_length.append({"m": m, "n_windows": int(len(bm["first_step"])),
-                          "mean": _l(bm["mean_avg"]), "mean_err": _l(bm["mean_avg_err"]),
-                          "rest_mean": rest(bm["mean_avg"], bm["cov"].mean(axis=0)),
-                          "stiffness": _l(bm["K_avg"]), "stiffness_err": _l(bm["K_avg_err"]),
-                          "physical": _phys(bm["physical"], bm["physical_err"])})
     m_rod = r["m_rod"]
     bm = r["by_m"][m_rod]
-    mean_rod = bm["mean_avg"] if not stressed else rest_shape(bm["mean_avg"], bm["cov"].mean(axis=0), F, tq, T_K)
-    rod = segment_rod_material(mean_rod, bm["cov"].mean(axis=0), T_K, bm["n_eff_pooled"])
     out = {
         "format": FORMAT,
         "source": ens.source, "sequence": ens.sequence, "closed": ens.closed,
@@ -79,48 +57,89 @@ def build_params(cg, temperature_source: str, extras: dict | None = None,
         "bootstrap": {"method": "moving block", "block_length_frames": r["block_length"],
                       "replicates": r["n_boot"]},
         "order": list(STEP_NAMES), "units": UNITS_TEXT,
-        "steps": steps,
+        "steps": _steps(ens, r, rest, stressed),
         "average": {"mean": _l(b1["mean_avg"]), "mean_err": _l(b1["mean_avg_err"]),
                     "rest_mean": rest(b1["mean_avg"], b1["cov"].mean(axis=0)),
                     "stiffness": _l(b1["K_avg"]), "stiffness_err": _l(b1["K_avg_err"]),
                     "over": f"{len(b1['first_step'])} steps not excluded"},
-        "by_length": by_length,
+        "by_length": [{"m": m, "n_windows": int(len(bl["first_step"])),
+                       "mean": _l(bl["mean_avg"]), "mean_err": _l(bl["mean_avg_err"]),
+                       "rest_mean": rest(bl["mean_avg"], bl["cov"].mean(axis=0)),
+                       "stiffness": _l(bl["K_avg"]), "stiffness_err": _l(bl["K_avg_err"]),
+                       "physical": _phys(bl["physical"], bl["physical_err"])}
+                      for m, bl in sorted(r["by_m"].items())],
         "physical": _phys(bm["physical"], bm["physical_err"]),
         "physical_m": m_rod,
         "physical_note": "continuum constants of m-step segments at m = physical_m "
                          "(docs/coarse-graining.md); by_length has every m",
-        "rod": {"m": m_rod, "segment_length_A": rod["segment_length_A"],
-                "K_star": _l(rod["K_star"]), "K_SI": _l(rod["K_SI"]),
-                "K_SI_units": "N (Gamma-Gamma), J (Gamma-Omega), J m (Omega-Omega)",
-                "order": ["Gamma1", "Gamma2", "Gamma3", "Omega1", "Omega2", "Omega3"],
-                "Gamma0_star": _l(rod["Gamma0_star"]), "Omega0_star": _l(rod["Omega0_star"]),
-                "units": "paper's (dna_models.units): force C, length l = sqrt(I/rho)"},
+        "rod": _rod_section(bm, m_rod, T_K, F, tq, stressed),
         "excluded": {"rule": "a base pair whose N1-N3 distance exceeds 3.5 A (mdbridge.analysis."
                              "integrity) opens; every step touching it is excluded",
                      "steps": [int(k) + 1 for k in r["excluded_steps"]]},
         "halves": _halves(bm),
-        "box_constraint": {"closed": ens.closed, "tension_pN": tension_pN, "torque_pN_nm": torque_pN_nm,
-                           "corrected": stressed,
-                           "correction": "rest mean q0 = <q> - <dq dq^T> f / kT, f = (0, 0, F, 0, 0, tau) "
-                                         "(mdbridge.coarsegrain.prestress)",
-                           "note": (("mean shape is the box's pre-stressed state; give --tension/--torque "
-                                     "to correct it" if not stressed else "rest_mean keys are corrected")
-                                    if ens.closed else "linear duplex: no box constraint")},
+        "box_constraint": _box_constraint(ens.closed, tension_pN, torque_pN_nm, stressed),
         "convergence": _convergence(bm),
         "caveats": list(caveats),
     }
     if extras:
-        out["excluded"]["opened_pairs"] = [int(i) + 1 for i in extras.get("opened_pairs", [])]
-        out["excluded"]["open_fraction"] = _l(extras.get("open_fraction"))
-        out["excluded"]["max_open_fraction"] = extras.get("max_open_fraction")
-        if "mass_inertia" in extras:
-            out["mass_inertia"] = _mass_section(extras["mass_inertia"], b1["mean_avg"][2], ens.excluded,
-                                                rod_rho_I=None)
-            rho_p, I_p = paper_rho_I()
-            mi = out["mass_inertia"]
-            out["rod"]["rho_star"] = mi["rho"]["value"] / rho_p
-            out["rod"]["I_star"] = _l(np.asarray(mi["I"]["value"]) / I_p)
+        _add_extras(out, extras, b1["mean_avg"][2], ens.excluded)
     return out
+
+
+def _steps(ens, r, rest, stressed) -> list:
+    """One row per step: its dimer, whether it is excluded, and (not excluded) its mean,
+    stiffness and their errors at m = 1."""
+    b1 = r["by_m"][1]
+    row = {int(k): j for j, k in enumerate(b1["first_step"])}
+    tau = dict(zip(r["used_steps"].tolist(), r["tau_int_steps"]))
+    steps = []
+    for k in range(ens.n_steps):
+        d = {"step": k + 1, "dimer": ens.dimer(k), "excluded": bool(ens.excluded[k])}
+        if k in row:
+            j = row[k]
+            d.update(mean=_l(b1["mean"][j]), mean_err=_l(b1["mean_err"][j]),
+                     stiffness=_l(b1["K"][j]), stiffness_err=_l(b1["K_err"][j]),
+                     tau_int_frames=_l(tau[k]))
+            if stressed:
+                d["rest_mean"] = rest(b1["mean"][j], b1["cov"][j])
+        steps.append(d)
+    return steps
+
+
+def _rod_section(bm, m_rod, T_K, F, tq, stressed) -> dict:
+    """The uniform rod of the m_rod-step segments (segment.py), at their rest mean when the
+    box pre-stresses them."""
+    mean_rod = bm["mean_avg"] if not stressed else rest_shape(bm["mean_avg"], bm["cov"].mean(axis=0), F, tq, T_K)
+    rod = segment_rod_material(mean_rod, bm["cov"].mean(axis=0), T_K, bm["n_eff_pooled"])
+    return {"m": m_rod, "segment_length_A": rod["segment_length_A"],
+            "K_star": _l(rod["K_star"]), "K_SI": _l(rod["K_SI"]),
+            "K_SI_units": "N (Gamma-Gamma), J (Gamma-Omega), J m (Omega-Omega)",
+            "order": ["Gamma1", "Gamma2", "Gamma3", "Omega1", "Omega2", "Omega3"],
+            "Gamma0_star": _l(rod["Gamma0_star"]), "Omega0_star": _l(rod["Omega0_star"]),
+            "units": "paper's (dna_models.units): force C, length l = sqrt(I/rho)"}
+
+
+def _box_constraint(closed, tension_pN, torque_pN_nm, stressed) -> dict:
+    return {"closed": closed, "tension_pN": tension_pN, "torque_pN_nm": torque_pN_nm,
+            "corrected": stressed,
+            "correction": "rest mean q0 = <q> - <dq dq^T> f / kT, f = (0, 0, F, 0, 0, tau) "
+                          "(mdbridge.coarsegrain.prestress)",
+            "note": (("mean shape is the box's pre-stressed state; give --tension/--torque "
+                      "to correct it" if not stressed else "rest_mean keys are corrected")
+                     if closed else "linear duplex: no box constraint")}
+
+
+def _add_extras(out: dict, extras: dict, rise_A, excluded) -> None:
+    """The opened pairs, and the mass and inertia (and so the rod's rho* and I*)."""
+    out["excluded"]["opened_pairs"] = [int(i) + 1 for i in extras.get("opened_pairs", [])]
+    out["excluded"]["open_fraction"] = _l(extras.get("open_fraction"))
+    out["excluded"]["max_open_fraction"] = extras.get("max_open_fraction")
+    if "mass_inertia" in extras:
+        out["mass_inertia"] = _mass_section(extras["mass_inertia"], rise_A, excluded, rod_rho_I=None)
+        rho_p, I_p = paper_rho_I()
+        mi = out["mass_inertia"]
+        out["rod"]["rho_star"] = mi["rho"]["value"] / rho_p
+        out["rod"]["I_star"] = _l(np.asarray(mi["I"]["value"]) / I_p)
 
 
 def _halves(bm):

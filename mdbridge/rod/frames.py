@@ -1,4 +1,6 @@
-"""Rod <-> base-pair frames (docs/contracts.md, "Discrete <-> continuous").
+"""Rod <-> base-pair frames (docs/contracts.md, "Discrete <-> continuous"): the one place
+where a rod is sampled at its base pairs (frames, origins, the cross-sections' lab
+velocities, the period vector) and where base-pair frames become rod strains.
 
 Rod -> base pairs: base pair i (i = 0 .. n_bp - 1) sits at the fiducial
 arclength s_i = i L / n_bp; its frame is the rod's directors there
@@ -50,13 +52,40 @@ def bp_frames_from_rod(centerline, directors, n_bp, ell_A=None):
     """
     r = np.asarray(centerline, dtype=float)
     D = np.asarray(directors, dtype=float)
-    N = r.shape[-2]
+    stride = bp_stride(r.shape[-2], n_bp)
+    ell = Units.paper().ell_A if ell_A is None else float(ell_A)
+    return D[..., ::stride, :, :], r[..., ::stride, :] * ell
+
+
+def bp_stride(N: int, n_bp: int) -> int:
+    """Grid points per base pair: base pair i is grid point i N / n_bp (N a multiple of n_bp)."""
     if n_bp < 1 or N % n_bp != 0:
         raise InputError(f"rod grid of N = {N} points cannot place {n_bp} base pairs on grid points: "
                          f"N must be a multiple of n_bp (s_i = i L / n_bp must equal a grid point j L / N)")
-    ell = Units.paper().ell_A if ell_A is None else float(ell_A)
-    stride = N // n_bp
-    return D[..., ::stride, :, :], r[..., ::stride, :] * ell
+    return N // n_bp
+
+
+def bp_lab_velocities(directors, gamma, omega, n_bp):
+    """The rigid-body velocities of the base pairs' cross-sections in the laboratory frame,
+    d_k gamma_k and d_k omega_k at s_i = i L / n_bp (solver units).
+
+    directors (..., N, 3, 3) as in bp_frames_from_rod; gamma, omega (..., N, 3) in the
+    internal (body) frame, as the rod writes them. Returns (v (..., n_bp, 3),
+    w (..., n_bp, 3))."""
+    D = np.asarray(directors, dtype=float)
+    stride = bp_stride(D.shape[-3], n_bp)
+    D = D[..., ::stride, :, :]
+    v = np.einsum("...nik,...nk->...ni", D, np.asarray(gamma, dtype=float)[..., ::stride, :])
+    w = np.einsum("...nik,...nk->...ni", D, np.asarray(omega, dtype=float)[..., ::stride, :])
+    return v, w
+
+
+def period_vector(directors, Gamma, ds):
+    """P = int_0^L d_k Gamma_k ds (Eq 1: dr/ds = T Gamma), the end-to-end vector of one
+    period, by the periodic trapezoid rule (spectrally accurate for a smooth periodic rod).
+    directors (..., N, 3, 3), Gamma (..., N, 3) on the whole grid; returns (..., 3)."""
+    return np.einsum("...ixk,...ik->...x", np.asarray(directors, dtype=float),
+                     np.asarray(Gamma, dtype=float)) * ds
 
 
 def rod_step_parameters(centerline, directors, n_bp, ell_A=None):

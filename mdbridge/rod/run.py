@@ -8,9 +8,7 @@ dict (`RodRun.from_result`) or from a `rodsim run` output file (`RodRun.read`) -
 writes the same layout back (`RodRun.write`). The layout is docs/contracts.md, "Rod
 output".
 
-The scene's number of base pairs and helical turns (`scene_bp_turns`) are read from
-the scene, and where the scene leaves them out, from rodcore's own defaults of the
-`dna_planar` kind (`rodcore.kinds()`): Python keeps no copy of them.
+A scene as a dict (read, resolved, edited, written) is mdbridge/rod/scene.py.
 """
 from __future__ import annotations
 
@@ -24,12 +22,12 @@ from dna_models.errors import DnarodError, InputError, NumericalError
 from dna_models.units import Units
 from mdbridge.geometry.trajectory import BasePairTrajectory
 
-from .frames import bp_frames_from_rod
+from .frames import bp_frames_from_rod, bp_lab_velocities, period_vector
 
 FIELDS = ("gamma", "omega", "Gamma", "Omega")
 
 
-def _rodcore():
+def rodcore_module():
     """The compiled module. The source folder rodcore/ imports as an empty namespace
     package when the module is not installed, so test for `run`, not the import."""
     try:
@@ -44,66 +42,7 @@ def _rodcore():
 
 def analytic():
     """rodcore.analytic: the paper's closed forms (dispersion, exact waves), in C++ only."""
-    return _rodcore().analytic
-
-
-def resolve_scene(scene, source="scene") -> dict:
-    """SCENE with every key rodcore fills by default (rodcore.resolve), as a dict. With
-    rodcore.kinds (scene_bp_turns) this is how Python learns a default of the solver
-    (material, grid, kind parameters): from the solver, never from a copy."""
-    try:
-        text = _rodcore().resolve(str(scene) if isinstance(scene, Path) else scene)
-    except ValueError as e:
-        raise InputError(f"{source}: {e}") from None
-    return tomllib.loads(text)
-
-
-def load_scene(path) -> dict:
-    """A scene file as a dict; InputError naming the file when it is missing or not TOML."""
-    path = Path(path)
-    try:
-        with open(path, "rb") as f:
-            return tomllib.load(f)
-    except FileNotFoundError:
-        raise InputError(f"{path}: scene file not found") from None
-    except OSError as e:
-        raise InputError(f"{path}: cannot read the scene ({e.strerror})") from None
-    except tomllib.TOMLDecodeError as e:
-        raise InputError(f"{path}: not valid TOML ({e})") from None
-
-
-def _kind_default(kind: str, key: str) -> float:
-    for k in _rodcore().kinds():
-        if k["name"] == kind:
-            for p in k["numbers"]:
-                if p["name"] == key:
-                    return float(p["default"])
-    raise DnarodError(f"rodcore has no default for initial.{key} of kind {kind!r}")
-
-
-def _whole(scene: dict, key: str, minimum: int, source, why: str = "") -> int:
-    ini = scene.get("initial", {})
-    v = ini[key] if key in ini else _kind_default("dna_planar", key)
-    if isinstance(v, bool) or not (isinstance(v, (int, float)) and v == int(v) and v >= minimum):
-        raise InputError(f"{source}: [initial] {key} = {v!r}: need an integer >= {minimum}{why}")
-    return int(v)
-
-
-def scene_bp_turns(scene: dict, source="scene") -> tuple[int, int]:
-    """Base pairs and helical turns of a DNA scene ([initial] kind = "dna_planar")."""
-    kind = scene.get("initial", {}).get("kind")
-    if kind != "dna_planar":
-        raise InputError(f"{source}: [initial] kind = {kind!r}: the number of base pairs is known "
-                         "only for a DNA scene (kind = \"dna_planar\" with bp and turns), e.g. "
-                         "workflows/scenes/dna158.toml")
-    return (_whole(scene, "bp", 4, source),
-            _whole(scene, "turns", 1, source, " (the ligated helix must close on itself: "
-                   "twist = 360 turns / bp)"))
-
-
-def scene_n_bp(scene: dict, source="scene") -> int:
-    """Base pairs of a DNA scene (see scene_bp_turns)."""
-    return scene_bp_turns(scene, source)[0]
+    return rodcore_module().analytic
 
 
 @dataclass
@@ -240,6 +179,15 @@ class RodRun:
         self.require("centerline", "directors", "time")
         return bp_frames_from_rod(self.centerline, self.directors, n_bp, self.ell_A)
 
+    def bp_lab_velocities(self, n_bp: int, frame: int = 0):
+        """(v, w) (n_bp, 3) at output frame FRAME: the base pairs' cross-section velocity
+        and angular velocity in the laboratory frame, solver units
+        (mdbridge.rod.frames.bp_lab_velocities)."""
+        self.require("directors", "fields/gamma", "fields/omega")
+        assert self.directors is not None
+        return bp_lab_velocities(self.directors[frame], self.fields["gamma"][frame],
+                                 self.fields["omega"][frame], n_bp)
+
     def trajectory(self, n_bp: int, units: Units | None = None) -> BasePairTrajectory:
         """The run's base pairs at s_i = i L / n_bp as a BasePairTrajectory, in A and ps
         (what `BasePairTrajectory.from_rod` returns).
@@ -256,11 +204,10 @@ class RodRun:
     def period(self) -> np.ndarray:
         """The period vector r(L) - r(0) of every frame (T, 3) [l]: P = int_0^L T(s) Gamma(s) ds
         (Eq 1: dr/ds = T Gamma) by the periodic trapezoid rule, spectrally accurate for a
-        smooth periodic rod; about 0 for a rod closed into a ring."""
+        smooth periodic rod; about 0 for a rod closed into a ring (mdbridge.rod.frames.period_vector)."""
         self.require("s", "directors", "fields/Gamma")
         s = np.asarray(self.s, float)
-        return np.einsum("tixk,tik->tx", np.asarray(self.directors, float),
-                         np.asarray(self.fields["Gamma"], float)) * (s[1] - s[0])
+        return period_vector(self.directors, self.fields["Gamma"], s[1] - s[0])
 
     def until(self, t_end: float) -> "RodRun":
         """The frames with time <= t_end (solver units), the same run otherwise."""
@@ -282,7 +229,7 @@ def run_scene(scene, *, source=None, initial=None, set=(), output=None, progress
     progress, if given, is called as progress(t, t_end) (solver time) at every output
     frame: the run then goes through rodcore.Simulation with an observer, and its frames
     are read back from the HDF5 file it writes (the same file rodsim writes)."""
-    rodcore = _rodcore()
+    rodcore = rodcore_module()
     if source is None:
         source = str(scene) if isinstance(scene, Path) else "scene"
     arg = str(scene) if isinstance(scene, Path) else scene

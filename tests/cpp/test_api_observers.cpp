@@ -1,4 +1,4 @@
-// The run loop as observers (rodcore/include/rodcore/observer.hpp, issue 11):
+// The run loop as observers (rodcore/include/rodcore/observer.hpp, docs/architecture.md):
 // the order of the calls, that the scene's checks run before any observer of
 // the user (a frame that fails a check is never delivered), that a failure
 // reaches failed() and not finished(), and that step_to() in pieces gives the

@@ -1,4 +1,4 @@
-// Energy is computed only where it is asked for (issue 7): without energy
+// Energy is computed only where it is asked for (docs/numerics.md): without energy
 // output and without a drift bound, frames carry no energy and the summary's
 // drift is the end-to-end one, |E(t_end) - E(0)| / |E(0)|, evaluated here
 // independently from the delivered first and last states.

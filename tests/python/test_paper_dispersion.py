@@ -6,7 +6,7 @@ import pytest
 
 from dnarod.paper import theory
 from mdbridge.rod.run import run_scene
-from dnarod.paper.rod import scene, straight_rod
+from mdbridge.rod.scene import new_scene, straight_rod
 
 D1 = 1.21
 
@@ -74,7 +74,7 @@ def test_eq27_from_the_eq24_fields(kappa_branch, branch):
     """Eq (27) against Gamma_perp^2 / (D1 Omega_perp^2) of the exact fields built by the
     solver's twisted_wave kind, and against the solver's shear / bend energy parts."""
     k, O3, G = 2.0, 1.0, 1.0
-    run = run_scene(scene(straight_rod(np.pi, 32, G, O3),
+    run = run_scene(new_scene(straight_rod(np.pi, 32, G, O3),
                           {"kind": "twisted_wave", "mode": 1, "A": 0.3, "kappa": kappa_branch, "branch": branch},
                           t_end=1e-3, frames=2))
     Gp = run.fields["Gamma"][0][:, :2]
@@ -90,7 +90,7 @@ def test_eq27_from_the_eq24_fields(kappa_branch, branch):
 @pytest.mark.parametrize("branch", ["plus", "minus"])
 @pytest.mark.parametrize("k", [0.5, 2.0, 8.0])
 def test_fig5_ratio_from_the_eq40_43_fields(branch, k):
-    run = run_scene(scene(straight_rod(2 * np.pi / k, 32),
+    run = run_scene(new_scene(straight_rod(2 * np.pi / k, 32),
                           {"kind": "untwisted_wave", "mode": 1, "epsilon": 0.01, "branch": branch},
                           t_end=1e-3, frames=2))
     G1 = run.fields["Gamma"][0][:, 0]

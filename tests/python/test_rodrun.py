@@ -14,8 +14,8 @@ import pytest
 from dna_models.errors import InputError, NumericalError
 from dna_models.units import Units
 from mdbridge.jsonio import dumps, jsonable, write_json
-from mdbridge.rod.run import (RodRun, load_scene, resolve_scene, run_scene, scene_bp_turns,
-                             scene_n_bp)
+from mdbridge.rod.run import RodRun, run_scene
+from mdbridge.rod.scene import load_scene, resolve_scene, scene_bp_turns, scene_n_bp
 
 DNA21 = '[initial]\nkind = "dna_planar"\nbp = 21\nturns = 2\nA_v_A_per_ps = 1.0\n'
 
@@ -119,8 +119,7 @@ def test_base_pairs_of_a_scene_come_from_rodcore():
 def test_build_md_takes_the_workflow_rod_run(rodsim, tmp_path):
     """The frames of the workflow's rod.h5 up to the MD length give the builder the same
     t = 0 base pairs and velocities, and nearly the same box, as build-md's own run."""
-    from mdbridge.md.gromacs.inputs import rod_initial_from_run
-    from mdbridge.md.gromacs.rod import md_scene, rod_for_md
+    from mdbridge.md.gromacs.rod import md_scene, rod_for_md, rod_initial_from_run
     u = Units.paper()
     scene = tmp_path / "dna21.toml"
     scene.write_text(DNA21.replace("1.0", "5.0"))

@@ -120,7 +120,7 @@ def test_build_md_links_in_range_and_reported(built):
     from dna_models.errors import InputError
     from mdbridge.md.builder import build_duplex
     from mdbridge.md.builder.backbone import check_structure_links
-    from mdbridge.md.gromacs.inputs import rod_initial_from_run
+    from mdbridge.md.gromacs.rod import rod_initial_from_run
     from mdbridge.md.gromacs.rod import lab_rotation_to_axis, rotate_rod
     from mdbridge.rod.run import RodRun
     d, err = built

@@ -2,9 +2,6 @@
 starts in the rod scene's shape with the rod's velocities (paper Sec 6.2)."""
 from __future__ import annotations
 
-from pathlib import Path
-
-from dna_models.errors import InputError
 from dnarod.commands._options import add_output
 
 NAME = "build-md"
@@ -44,14 +41,15 @@ Examples:
 
 
 def add_arguments(p):
+    from mdbridge.md.gromacs import defaults as d
     from mdbridge.md.gromacs.charges import ELECTROSTATICS
     from mdbridge.md.gromacs.mdp import CUTOFFS
     from mdbridge.md.gromacs.topology import FORCEFIELDS
     p.add_argument("scene", metavar="SCENE.toml", help="rod scene: [initial] kind = \"dna_planar\" (uniform "
                    "paper DNA), or a sequence-dependent scene of `dnarod dna-rod` (its DNA is built)")
     add_output(p, metavar="DIR", help="directory to write")
-    p.add_argument("--temperature", type=float, default=300.0, metavar="K",
-                   help="thermal part of the initial velocities, K (300; 0 = rod motion only)")
+    p.add_argument("--temperature", type=float, default=d.TEMPERATURE_K, metavar="K",
+                   help=f"thermal part of the initial velocities, K ({d.TEMPERATURE_K:g}; 0 = rod motion only)")
     p.add_argument("--seed", type=int, default=None,
                    help="seed of the random sequence and the thermal velocities (default: drawn "
                         "and recorded in build.json)")
@@ -65,161 +63,65 @@ def add_arguments(p):
                         "running the rod again")
     p.add_argument("--ps", type=float, default=None,
                    help="MD length the box is sized for and run-md runs by default, ps (default: "
-                        "the whole --rod run, in whole time steps; 600 when build-md runs the rod)")
-    p.add_argument("--forcefield", choices=FORCEFIELDS, default="charmm27")
-    p.add_argument("--electrostatics", choices=ELECTROSTATICS, default="paper",
+                        f"the whole --rod run, in whole time steps; {d.MD_PS:g} when build-md runs the rod)")
+    p.add_argument("--forcefield", choices=FORCEFIELDS, default=d.FORCEFIELD)
+    p.add_argument("--electrostatics", choices=ELECTROSTATICS, default=d.ELECTROSTATICS,
                    help="paper: full charges (default); neutral-phosphates: +0.5 e on O1P/O2P, "
                         "every nucleotide neutral (docs/md.md: measured effect and its cost)")
     p.add_argument("--dt", type=float, default=None,
-                   help="time step, ps (0.001 without constraints; 0.002 with --constraints h-bonds)")
-    p.add_argument("--constraints", choices=("none", "h-bonds"), default="none")
-    p.add_argument("--cutoffs", choices=CUTOFFS, default="smooth",
+                   help=f"time step, ps ({d.DT_PS:g} without constraints; {d.DT_CONSTRAINED_PS:g} with "
+                        "--constraints h-bonds)")
+    p.add_argument("--constraints", choices=("none", "h-bonds"), default=d.CONSTRAINTS)
+    p.add_argument("--cutoffs", choices=CUTOFFS, default=d.COMMAND_CUTOFFS,
                    help="smooth (default): reaction-field eps_rf = 0 and vdW force-switch 0.8-1.0 nm, "
                         "potential and force zero at the 1.0-nm cut-off (energy-conserving); paper: "
                         "plain cut-offs, force jumps at 1.0 nm (docs/md.md, energy conservation)")
-    p.add_argument("--lincs-order", type=int, default=4, help="LINCS expansion order (4)")
-    p.add_argument("--lincs-iter", type=int, default=1, help="LINCS iterations (1)")
+    p.add_argument("--lincs-order", type=int, default=d.LINCS_ORDER,
+                   help=f"LINCS expansion order ({d.LINCS_ORDER})")
+    p.add_argument("--lincs-iter", type=int, default=d.LINCS_ITER, help=f"LINCS iterations ({d.LINCS_ITER})")
     p.add_argument("--thermostat", action="store_true",
                    help="v-rescale at --temperature instead of NVE (the paper is NVE)")
-    p.add_argument("--tau-t-ps", type=float, default=1.0, metavar="PS",
-                   help="coupling time of --thermostat, ps (1.0; a global stochastic thermostat "
+    p.add_argument("--tau-t-ps", type=float, default=d.TAU_T_PS, metavar="PS",
+                   help=f"coupling time of --thermostat, ps ({d.TAU_T_PS:.1f}; a global stochastic thermostat "
                         "with tau-t of ~1-2 ps leaves the duplex's mode dynamics unchanged)")
     p.add_argument("--protocol", choices=("equilibrated", "paper"), default=None,
                    help="equilibrated (default when --temperature > 0): a v-rescale stage at "
                         "--temperature of --equilibrate-ps before the rod's velocities are added; "
                         "paper: no equilibration, as in the paper (default at 0 K)")
-    p.add_argument("--equilibrate-ps", type=float, default=20.0, metavar="PS",
-                   help="length of the equilibration stage, ps (20; build.json records whether "
-                        "temperature and potential energy were stationary)")
+    p.add_argument("--equilibrate-ps", type=float, default=d.EQUILIBRATE_PS, metavar="PS",
+                   help=f"length of the equilibration stage, ps ({d.EQUILIBRATE_PS:g}; build.json records "
+                        "whether temperature and potential energy were stationary)")
     p.add_argument("--axial-pressure", action="store_true",
                    help="equilibrate with pressure coupling along the helix axis only (ref 0 bar): "
                         "the box length becomes the duplex's zero-tension length (build.json)")
     p.add_argument("--minimize", action="store_true",
                    help="restrained steepest descent (base heavy atoms held) before velocities")
-    p.add_argument("--margin", type=float, default=10.0,
-                   help="extra box margin across the axis, A (10)")
+    p.add_argument("--margin", type=float, default=d.MARGIN_A,
+                   help=f"extra box margin across the axis, A ({d.MARGIN_A:g})")
     p.add_argument("--gmx", metavar="PATH",
                    help="gmx: a path, or a name (gmx_d) looked up in the project's build, then PATH "
                         "(default: $DNAROD_GMX, else the project's build, else PATH)")
-    p.add_argument("--threads", type=int, default=2, help="threads for the minimisation (2)")
+    p.add_argument("--threads", type=int, default=d.BUILD_THREADS,
+                   help=f"threads for the minimisation ({d.BUILD_THREADS})")
 
 
 def run(args):
-    from dnarod.progress import Stages, md_rate
-
-    with Stages("build-md") as stages:
-        return _build(args, stages, md_rate)
-
-
-def _build(args, stages, md_rate):
-    """build-md's steps; STAGES (dnarod.progress.Stages) shows the rod run, the
-    minimisation and the equilibration while they run."""
-    import secrets
     import sys
 
-    import numpy as np
-
-    from dna_models.sequence import random_sequence, validate
-    from dna_models.units import ANGSTROM_PER_NM, Units
-    from mdbridge.md.builder import build_duplex
-    from mdbridge.md.builder.backbone import check_structure_links
+    from dnarod.progress import Stages, md_rate
     from mdbridge.md.gromacs.build_summary import summary_lines
-    from mdbridge.md.gromacs.box import plan_box
-    from mdbridge.md.gromacs.equilibrate import check_protocol
-    from mdbridge.md.gromacs.gmx import find_gmx
-    from mdbridge.md.gromacs.inputs import build_inputs, rod_initial_from_run
-    from mdbridge.md.gromacs.mdp import MdSettings
-    from mdbridge.md.gromacs.rod import (lab_rotation_to_axis, md_length_ps, md_scene, rod_for_md,
-                                        rotate_rod, scene_sequence, with_absolute_paths)
-    from mdbridge.rod.run import RodRun, load_scene, resolve_scene, run_scene, scene_bp_turns
+    from mdbridge.md.build import BuildRequest, build_md
 
-    gmx = find_gmx(args.gmx)
-    if args.ps is not None and args.ps < 0:
-        raise InputError(f"--ps {args.ps}: must be >= 0")
-    if args.rod and (args.bp is not None or args.turns is not None):
-        raise InputError("--rod: the rod run fixes the base pairs and turns; drop --bp/--turns "
-                         "(or run the rod again without --rod)")
-    dt = args.dt if args.dt is not None else (0.002 if args.constraints == "h-bonds" else 0.001)
-    if args.constraints == "none" and dt > 0.001 + 1e-12:
-        raise InputError(f"--dt {dt}: without constraints the X-H bonds (period ~10 fs) need "
-                         "dt <= 0.001 ps; use --constraints h-bonds for 0.002")
-    if not args.tau_t_ps > 0:
-        raise InputError(f"--tau-t-ps {args.tau_t_ps}: must be > 0 ps")
-    protocol = args.protocol or ("equilibrated" if args.temperature > 0 else "paper")
-    check_protocol(protocol, temperature_K=args.temperature, equilibrate_ps=args.equilibrate_ps,
-                   axial_pressure=args.axial_pressure)
-    u = Units.paper()
-    rod_given = RodRun.read(args.rod) if args.rod else None
-    md_ps = args.ps if args.ps is not None else md_length_ps(rod_given, dt_ps=dt, units=u)
-    settings = MdSettings(dt_ps=dt, constraints=args.constraints, thermostat=args.thermostat,
-                          tau_t_ps=args.tau_t_ps,
-                          cutoffs=args.cutoffs, lincs_order=args.lincs_order,
-                          lincs_iter=args.lincs_iter,
-                          temperature_K=args.temperature, nsteps=int(round(md_ps / dt)))
-    scene = load_scene(args.scene)
-    seed = args.seed if args.seed is not None else secrets.randbelow(2**31)
-    # a sequence-dependent scene (`dnarod dna-rod`) carries its DNA: build THAT sequence
-    scene_seq = scene_sequence(scene, args.scene)
-    n_bp_scene = None
-    if scene_seq is not None:
-        if args.bp is not None or args.turns is not None:
-            raise InputError(f"{args.scene}: a sequence-dependent scene fixes its base pairs and shape "
-                             "(its material file's sequence); drop --bp/--turns")
-        if args.sequence and validate(args.sequence, "--sequence") != scene_seq:
-            raise InputError(f"--sequence differs from the sequence of {args.scene} ({len(scene_seq)} bp, "
-                             f"{scene_seq[:12]}...): the MD must be the rod's DNA; drop --sequence")
-        scene = with_absolute_paths(scene, args.scene)
-        seq, bp, turns, n_bp_scene = scene_seq, len(scene_seq), None, len(scene_seq)
-        print(f"build-md: {bp} bp, the sequence of the scene's material file, seed {seed}", file=sys.stderr)
-    else:
-        bp, turns = scene_bp_turns(md_scene(scene, md_ps=0, bp=args.bp, turns=args.turns,
-                                            source=args.scene), args.scene)
-        if args.sequence:
-            seq = validate(args.sequence, "--sequence")
-            if len(seq) != bp:
-                raise InputError(f"--sequence has {len(seq)} bases, the scene has {bp} base pairs")
-        else:
-            seq = random_sequence(bp, seed=seed)
-        print(f"build-md: {bp} bp, {turns} turns (twist {360.0 * turns / bp:.4f} deg), seed {seed}",
-              file=sys.stderr)
-    if args.rod:
-        print(f"build-md: the rod run {args.rod} (box sizing) ...", file=sys.stderr)
-        run = rod_for_md(rod_given, md_ps=md_ps,
-                         scene=resolve_scene(Path(args.scene), args.scene), units=u)
-    else:
-        print("build-md: running the rod for the MD length (box sizing) ...", file=sys.stderr)
-        run = run_scene(md_scene(scene, md_ps=md_ps, bp=args.bp, turns=args.turns, units=u,
-                                 source=args.scene, n_bp=n_bp_scene), source=args.scene,
-                        progress=lambda t, t_end: stages("rod run", round(float(u.time_to_ps(t)), 3),
-                                                         round(float(u.time_to_ps(t_end)), 3), "ps"))
-        stages.close()
-    rod, centerline = rod_initial_from_run(run, bp, u)
-    if scene_seq is not None:     # the closed shape's helix axis onto lab Y (orthorhombic box)
-        rod, centerline = rotate_rod(rod, centerline, lab_rotation_to_axis(run, axis=1))
-    box = plan_box(centerline, rod.origins_A, rod.closure_length_A, rod_run_ps=md_ps,
-                   cutoff_A=settings.cutoff_nm * ANGSTROM_PER_NM, margin_A=args.margin)
-    periodic = np.zeros(3)
-    periodic[box.axis] = rod.closure_length_A
-    structure = build_duplex(seq, rod.origins_A, rod.R, periodic_box=periodic, close_backbone=True)
-    built_links = check_structure_links(structure, where=f"{args.scene}: the duplex on the rod's t = 0 frames")
-    print(f"build-md: box {np.round(box.box_A, 2).tolist()} A; pdb2gmx, junction check, "
-          "velocities, grompp ...", file=sys.stderr)
-    info = build_inputs(Path(args.output), structure, rod, box, sequence=seq,
-                        forcefield=args.forcefield, electrostatics=args.electrostatics,
-                        temperature_K=args.temperature, seed=seed, settings=settings,
-                        minimize=args.minimize, gmx=gmx, threads=args.threads,
-                        protocol=protocol, equilibrate_ps=args.equilibrate_ps,
-                        axial_pressure=args.axial_pressure,
-                        progress=lambda stage, done, total, unit: stages(
-                            stage, round(done, 6), total, unit, rate=md_rate if unit == "ps" else None,
-                            time_left=stage != "minimisation"),   # it stops when converged
-                        meta={"scene": str(Path(args.scene).resolve()), "turns": turns,
-                              "rod_run": str(Path(args.rod).resolve()) if args.rod else "run by build-md",
-                              "twist_deg": None if turns is None else 360.0 * turns / bp,
-                              "md_length_ps": md_ps,
-                              "sequence_source": ("the scene's material file" if scene_seq is not None
-                                                  else "given" if args.sequence else f"random, seed {seed}")})
-    stages.close()
+    request = BuildRequest(
+        scene=args.scene, output=args.output, temperature_K=args.temperature, seed=args.seed,
+        sequence=args.sequence, bp=args.bp, turns=args.turns, rod=args.rod, ps=args.ps,
+        forcefield=args.forcefield, electrostatics=args.electrostatics, dt_ps=args.dt,
+        constraints=args.constraints, cutoffs=args.cutoffs, lincs_order=args.lincs_order,
+        lincs_iter=args.lincs_iter, thermostat=args.thermostat, tau_t_ps=args.tau_t_ps,
+        protocol=args.protocol, equilibrate_ps=args.equilibrate_ps, axial_pressure=args.axial_pressure,
+        minimize=args.minimize, margin_A=args.margin, gmx=args.gmx, threads=args.threads)
+    with Stages("build-md") as stages:
+        info, built_links = build_md(request, stages, md_rate)
     for line in summary_lines(info, built_links, args.temperature):
         print(f"build-md: {line}", file=sys.stderr)
     print(f"build-md: wrote {args.output}/ (conf.gro, topol.top, md.mdp, em.mdp, build.json)")

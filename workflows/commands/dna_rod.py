@@ -89,10 +89,11 @@ def _sequence(args):
 def run(args):
     from dna_models.units import Units
     from mdbridge.rod.material.closed_rest import closed_rest_state, tension_torque_physical, _frames_on_grid
-    from mdbridge.rod.material.gridfile import scene_text, write_grid_material, write_initial_file
+    from mdbridge.rod.material.gridfile import grid_scene, write_grid_material, write_initial_file
     from mdbridge.rod.material.parameter_sets import step_material
     from mdbridge.rod.material.stepfile import write_steps
     from mdbridge.rod.material.steps_to_rod import grid_material, rod_material
+    from mdbridge.rod.scene import write_scene
 
     u = Units.paper()
     seq = _sequence(args)
@@ -120,13 +121,12 @@ def run(args):
         v = u.velocity_to_rod(args.kick) * np.sin(2 * np.pi * g["s"] / L)[:, None] * e[None, :]
         gamma = np.einsum("jki,jk->ji", R, v)          # body frame: R^T v
     write_initial_file(out / "rest.h5", g["s"], rest.Gamma, rest.Omega, gamma=gamma)
-    t_end = u.time_to_rod(args.t_end_ps)
-    (out / "scene.toml").write_text(scene_text(
-        L, N, "material.h5", "rest.h5", space=args.space, t_end=t_end, frames=int(args.t_end_ps) + 1,
-        comment=f"{rm.n_bp}-bp DNA, sequence {seq}\nparameters: {sm.source}\n"
+    write_scene(out / "scene.toml", grid_scene(L, N, "material.h5", "rest.h5", space=args.space,
+                                               t_end_ps=args.t_end_ps, units=u),
+                comment=f"{rm.n_bp}-bp DNA, sequence {seq}\nparameters: {sm.source}\n"
                 f"t = 0: the closed, pre-stressed rest state" + (f", kicked with A_v = {args.kick} A/ps"
                                                                     if args.kick else "")
-                + "\nwritten by `dnarod dna-rod` (docs/scenes.md, 'Sequence-dependent DNA')"))
+                + "\nwritten by `dnarod dna-rod` (docs/scenes.md, 'Sequence-dependent DNA')")
     T_pN, M_pNnm = tension_torque_physical(rest, u)
     info = {"sequence": seq, "params": args.params, "source": sm.source, "n_bp": rm.n_bp, "points": N,
             "length": L, "box_length": box, "h_A": rm.h_A, "interpolation": args.interpolation, "shape": args.shape,

@@ -57,7 +57,8 @@ def _n_bp(args, rod_path: Path, build: dict | None) -> int:
         return args.bp
     if build is not None:
         return int(build["n_bp"])
-    from mdbridge.rod.run import RodRun, scene_n_bp
+    from mdbridge.rod.run import RodRun
+    from mdbridge.rod.scene import scene_n_bp
     scene = RodRun.read(rod_path).attrs.get("scene")
     if scene is None:
         raise InputError(f"{rod_path}: the number of base pairs is not recorded; give --bp")

@@ -51,7 +51,8 @@ def run(args):
     import json
     import sys
 
-    from mdbridge.md.gromacs.run import CHECKPOINT_MIN, run_md
+    from mdbridge.md.gromacs.defaults import CHECKPOINT_MIN
+    from mdbridge.md.gromacs.run import run_md
     from dnarod.progress import Progress, md_rate
     bar: list[Progress] = []
 

@@ -19,7 +19,7 @@ import numpy as np
 from dnarod.paper import theory
 from dnarod.paper.common import find_frequencies, finish, mode_amplitude, plt, write_json
 from mdbridge.rod.run import run_scene
-from dnarod.paper.rod import scene, straight_rod
+from mdbridge.rod.scene import new_scene, straight_rod
 
 EPS = 1e-4
 TRANSVERSE = [(f, c) for f in ("gamma", "omega", "Gamma", "Omega") for c in (0, 1)]
@@ -45,7 +45,7 @@ def measure(k: float, Omega03: float, N: int = 16, periods: float = 6.0) -> dict
     fields = {"gamma": np.column_stack([z, z, z]), "omega": np.column_stack([z, z, z]),
               "Gamma": np.column_stack([EPS * np.cos(k * s), z, 1.0 + z]),
               "Omega": np.column_stack([z, EPS * np.sin(k * s), Omega03 + z])}
-    run = run_scene(scene(straight_rod(L, N, 1.0, Omega03), None, t_end=t_end, frames=frames,
+    run = run_scene(new_scene(straight_rod(L, N, 1.0, Omega03), None, t_end=t_end, frames=frames,
                           fields=("internal",), rtol=1e-12), initial=fields)
     amplitudes = []
     for f, c in TRANSVERSE:

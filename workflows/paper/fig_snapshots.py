@@ -18,7 +18,7 @@ import numpy as np
 from dnarod.paper import theory
 from dnarod.paper.common import write_json
 from mdbridge.rod.run import run_scene
-from dnarod.paper.rod import scene, straight_rod
+from mdbridge.rod.scene import new_scene, straight_rod
 from dnarod.paper.tubes import close_periodic, snapshot_figure
 
 FIELDS_3D = ("internal", "energy", "energy_parts", "centerline", "directors")
@@ -40,7 +40,7 @@ def fig3(outdir: Path, quick: bool = False) -> dict:
     mode = 2  # two wavelengths on the periodic rod, L = 2 pi mode / k
     L = 2 * np.pi * mode / k
     N = 32 if quick else 96
-    sc = scene(straight_rod(L, N, G03, O03),
+    sc = new_scene(straight_rod(L, N, G03, O03),
                {"kind": "twisted_wave", "mode": mode, "A": A, "kappa": "p", "branch": "plus"},
                t_end=T, frames=5, fields=FIELDS_3D, rtol=1e-11)
     run = run_scene(sc)
@@ -84,7 +84,7 @@ def fig4(outdir: Path, quick: bool = False) -> dict:
     # The rodcore kind puts the s-independent motion of Eqs 28-30 on the twisted
     # rod seen through the twist: omega = omega2 (sin O03 s, cos O03 s, 0),
     # Gamma = (Gamma1 cos O03 s, -Gamma1 sin O03 s, Gamma3) (docs/numerics.md).
-    sc = scene(straight_rod(L, N, G03, O03),
+    sc = new_scene(straight_rod(L, N, G03, O03),
                {"kind": "shear_oscillation", "omega2": omega0, "Gamma1": 0.0, "Gamma3": G03},
                t_end=t_end, frames=7 if quick else 61, fields=FIELDS_3D, rtol=1e-11)
     run = run_scene(sc)
@@ -119,7 +119,7 @@ def fig6(outdir: Path, quick: bool = False) -> dict:
     mode = 1
     L = 2 * np.pi * mode / k
     N = 32 if quick else 64
-    sc = scene(straight_rod(L, N, G03, 0.0),
+    sc = new_scene(straight_rod(L, N, G03, 0.0),
                {"kind": "untwisted_wave", "mode": mode, "epsilon": eps, "branch": "plus"},
                t_end=3.6, frames=5, fields=FIELDS_3D, rtol=1e-11)
     run = run_scene(sc)

@@ -18,7 +18,8 @@ from pathlib import Path
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from mdbridge.rod.run import resolve_scene, run_scene
+from mdbridge.rod.run import run_scene
+from mdbridge.rod.scene import resolve_scene
 
 SCENES = Path(__file__).resolve().parents[1] / "scenes"
 

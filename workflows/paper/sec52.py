@@ -25,7 +25,7 @@ from scipy.optimize import brentq, least_squares
 from dnarod.paper import theory
 from dnarod.paper.common import finish, mode_amplitude, plt, write_json
 from mdbridge.rod.run import run_scene
-from dnarod.paper.rod import scene, straight_rod
+from mdbridge.rod.scene import new_scene, straight_rod
 
 PARTS = ("kinetic_translational", "kinetic_rotational", "shear", "extension", "bend", "twist")
 
@@ -33,7 +33,7 @@ PARTS = ("kinetic_translational", "kinetic_rotational", "shear", "extension", "b
 def untwisted_run(k, eps, branch, t_end, frames, N, mode=1, fields=("internal", "energy", "energy_parts"),
                   rtol=1e-11):
     L = 2 * np.pi * mode / k
-    sc = scene(straight_rod(L, N, 1.0, 0.0),
+    sc = new_scene(straight_rod(L, N, 1.0, 0.0),
                {"kind": "untwisted_wave", "mode": mode, "epsilon": eps, "branch": branch},
                t_end=t_end, frames=frames, fields=fields, rtol=rtol)
     return run_scene(sc)
@@ -202,7 +202,7 @@ def second_harmonic(outdir: Path | None = None, quick: bool = False, k=2.0, bran
     for eps in eps_list:
         s, L, f = _first_order_fields(k, eps, branch, N, mode)
         a = float(np.abs(mode_amplitude(f["omega"][:, 1], 1)))  # first-order amplitude eps (1 + eps)
-        run = run_scene(scene(straight_rod(L, N, 1.0, 0.0), None, t_end=t_end, frames=frames,
+        run = run_scene(new_scene(straight_rod(L, N, 1.0, 0.0), None, t_end=t_end, frames=frames,
                               fields=("internal",), rtol=1e-11), initial=f)
         c = mode_amplitude(run.fields["Gamma"][..., 2] - 1.0, 2 * mode)   # mode 2 k
         c1 = mode_amplitude(run.fields["omega"][..., 1], mode)

@@ -18,13 +18,13 @@ import numpy as np
 from dnarod.paper import theory
 from dnarod.paper.common import write_json
 from mdbridge.rod.run import run_scene
-from dnarod.paper.rod import scene, straight_rod
+from mdbridge.rod.scene import new_scene, straight_rod
 
 K, A, O3, G3 = 2.0, 0.5, 1.0, 1.0
 
 
 def _wave_scene(t_end, frames, time="dop853", rtol=1e-11, dt=None, fields=("internal", "energy")):
-    sc = scene(straight_rod(2 * np.pi / K, 32, G3, O3),
+    sc = new_scene(straight_rod(2 * np.pi / K, 32, G3, O3),
                {"kind": "twisted_wave", "mode": 1, "A": A, "kappa": "p", "branch": "plus"},
                t_end=t_end, frames=frames, fields=fields, rtol=rtol)
     sc["solver"]["time"] = time

@@ -22,7 +22,8 @@ import numpy as np
 from dna_models.units import Units
 from dnarod.paper import theory
 from dnarod.paper.common import write_json
-from mdbridge.rod.run import run_scene, scene_bp_turns
+from mdbridge.rod.run import run_scene
+from mdbridge.rod.scene import scene_bp_turns
 
 SCENE = Path(__file__).resolve().parents[1] / "scenes" / "dna158.toml"
 

@@ -94,22 +94,57 @@ def collect(cfg: dict, out: Path) -> dict:
     return data
 
 
-def results_json(cfg: dict, data: dict) -> dict:
-    from mdbridge.analysis.dispersion import bend_modulus_for_speed
-    head = float(cfg.get("headline_A_v_A_per_ps", 1.0))
-    seeds = [int(s) for s in cfg["seeds"]]
-    rod_j, _ = data["rod"].get(head, (None, None))
+# What each number of results.json means (its "definitions").
+DEFINITIONS = {
+    "wave_speed": "NLS fit of forward+backward travelling waves to the k = 2 pi/L mode of u(s,t); "
+                  "error: max(covariance, block bootstrap); *_check: phase velocity of the mode",
+    "md_energy_drift": "least-squares slope of the conserved energy from 10 % of the NVE "
+                       "run to its end, per atom (mdbridge/md/gromacs/checks.py fit_drift); "
+                       "worst headline run",
+    "md_protocols": "equilibrated: v-rescale stage before the kick; paper: none "
+                    "(mdbridge/md/gromacs/equilibrate.py)",
+    "planarity": "RMS out-of-plane / RMS in-plane displacement over the run (0 = planar)",
+    "md_bp_intact_fraction": "fraction of base pairs with N1-N3 < 3.5 A (minimum image), "
+                             "last frame, mean over seeds",
+}
+
+
+def _headline_md(cfg: dict, data: dict, head: float, seeds: list):
+    """The headline amplitude's MD runs, their speed and error (the comparison's standing-mode
+    fit when every run has one), the comparison block and its headline row."""
+    from dnarod.report.comparison import comparison_block
     md_runs = [data["md"].get((head, s), (None, None))[0] for s in seeds]
     md_runs = [m for m in md_runs if m]
     md_speed, md_err = mean_over_seeds([m["wave_speed_A_per_ps"] for m in md_runs],
                                 [m["wave_speed_err_A_per_ps"] for m in md_runs])
-    from dnarod.report.comparison import comparison_block
     comp = comparison_block(cfg, data)
     head_row: dict = next((r for r in comp["rows"] if r["A_v_A_per_ps"] == head), {})
     md_head = head_row.get("md") or {}
     if md_runs and all("standing_mode" in m for m in md_runs):
         # the three-part error of mdbridge/analysis/mode_error.py (offset always fitted)
         md_speed, md_err = md_head.get("speed_A_per_ps", md_speed), md_head.get("speed_err_A_per_ps", md_err)
+    return md_runs, md_speed, md_err, comp, head_row, md_head
+
+
+def _rmsd_per_seed(data: dict, head: float, seeds: list) -> list:
+    """The rod's axis fitted onto each headline MD's, per MD frame (rod_md_rmsd)."""
+    rmsd = []
+    for s in seeds:
+        r = data["rod"].get(head, (None, None))[1]
+        m = data["md"].get((head, s), (None, None))[1]
+        if r is not None and m is not None:
+            t, d = rod_md_rmsd(r, m)
+            if len(d):
+                rmsd.append({"seed": s, "times_ps": t.tolist(), "rmsd_A": d.tolist()})
+    return rmsd
+
+
+def results_json(cfg: dict, data: dict) -> dict:
+    from mdbridge.analysis.dispersion import bend_modulus_for_speed
+    head = float(cfg.get("headline_A_v_A_per_ps", 1.0))
+    seeds = [int(s) for s in cfg["seeds"]]
+    rod_j, _ = data["rod"].get(head, (None, None))
+    md_runs, md_speed, md_err, comp, head_row, md_head = _headline_md(cfg, data, head, seeds)
     res = {
         "headline_A_v_A_per_ps": head,
         "rod_wave_speed_A_per_ps": number(rod_j and rod_j["wave_speed_A_per_ps"]),
@@ -136,18 +171,7 @@ def results_json(cfg: dict, data: dict) -> dict:
         "seeds": seeds,
         "A_v_A_per_ps": [float(a) for a in cfg["A_v_A_per_ps"]],
         "paper": PAPER,
-        "definitions": {
-            "wave_speed": "NLS fit of forward+backward travelling waves to the k = 2 pi/L mode of u(s,t); "
-                          "error: max(covariance, block bootstrap); *_check: phase velocity of the mode",
-            "md_energy_drift": "least-squares slope of the conserved energy from 10 % of the NVE "
-                               "run to its end, per atom (mdbridge/md/gromacs/checks.py fit_drift); "
-                               "worst headline run",
-            "md_protocols": "equilibrated: v-rescale stage before the kick; paper: none "
-                            "(mdbridge/md/gromacs/equilibrate.py)",
-            "planarity": "RMS out-of-plane / RMS in-plane displacement over the run (0 = planar)",
-            "md_bp_intact_fraction": "fraction of base pairs with N1-N3 < 3.5 A (minimum image), "
-                                     "last frame, mean over seeds",
-        },
+        "definitions": dict(DEFINITIONS),
         "comparison": comp,
         "md_wave_speed_err_parts_A_per_ps": {k: md_head.get(k) for k in (
             "speed_err_fit_A_per_ps", "speed_err_record_A_per_ps", "speed_err_seeds_A_per_ps",
@@ -167,14 +191,7 @@ def results_json(cfg: dict, data: dict) -> dict:
             md_speed, rod_j["dispersion"]["fiducial_length"], rod_j["dispersion"]["Gamma03"])
     if data.get("modulus"):
         res["modulus_fit_for_md_speed"] = data["modulus"]
-    rmsd = []
-    for s in seeds:
-        r = data["rod"].get(head, (None, None))[1]
-        m = data["md"].get((head, s), (None, None))[1]
-        if r is not None and m is not None:
-            t, d = rod_md_rmsd(r, m)
-            if len(d):
-                rmsd.append({"seed": s, "times_ps": t.tolist(), "rmsd_A": d.tolist()})
+    rmsd = _rmsd_per_seed(data, head, seeds)
     res["rod_md_rmsd"] = rmsd
     res["rod_md_rmsd_A_final"] = float(np.mean([x["rmsd_A"][-1] for x in rmsd])) if rmsd else float("nan")
     return res
@@ -206,16 +223,29 @@ def figures(cfg: dict, data: dict, res: dict) -> dict:
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    figs = {}
     head = res["headline_A_v_A_per_ps"]
     seeds = res["seeds"]
     rod = data["rod"].get(head, (None, None))[1]
     md = next((data["md"][(head, s)][1] for s in seeds
                if data["md"].get((head, s), (None, None))[1] is not None), None)
     pairs = [("rod", rod)] + ([("MD", md)] if md is not None else [])
-    # kymographs
+    figs = {"kymographs": _kymographs(plt, pairs, head, rod is not None),
+            "snapshots": _snapshots(plt, pairs),
+            "planarity_integrity": _planarity_integrity(plt, data)}
+    if res["rod_md_rmsd"]:
+        figs["rmsd"] = _rmsd_figure(plt, res["rod_md_rmsd"], head)
+    fig = prediction.figure(res)
+    if fig is not None:
+        figs["prediction"] = fig
+    sw = sorted((av, j) for av, (j, _) in data["sweep"].items() if j)
+    if sw:
+        figs["amplitude"] = _amplitude_figure(plt, sw, data)
+    return figs
+
+
+def _kymographs(plt, pairs, head, have_rod: bool):
     fig, axs = plt.subplots(1, len(pairs), figsize=(5.5 * len(pairs), 4), squeeze=False)
-    vmax = max(np.max(np.abs(z["u_in"])) for _, z in pairs if z is not None) if rod is not None else 1
+    vmax = max(np.max(np.abs(z["u_in"])) for _, z in pairs if z is not None) if have_rod else 1
     for ax, (name, z) in zip(axs[0], pairs):
         if z is None:
             continue
@@ -223,8 +253,11 @@ def figures(cfg: dict, data: dict, res: dict) -> dict:
                        extent=[z["x_A"][0], z["x_A"][-1], z["times_ps"][0], z["times_ps"][-1]])
         ax.set(xlabel="axial position s [A]", ylabel="t [ps]", title=f"{name}: u_in(s, t), A_v = {head:g} A/ps")
     fig.colorbar(im, ax=axs[0].tolist(), label="in-plane displacement [A]")
-    figs["kymographs"] = fig
-    # snapshots (paper Figs 8-9)
+    return fig
+
+
+def _snapshots(plt, pairs):
+    """u_in(s) at five times (paper Figs 8-9)."""
     fig, axs = plt.subplots(len(pairs), 1, figsize=(8, 3 * len(pairs)), squeeze=False, constrained_layout=True)
     for ax, (name, z) in zip(axs[:, 0], pairs):
         if z is None:
@@ -235,8 +268,10 @@ def figures(cfg: dict, data: dict, res: dict) -> dict:
             ax.plot(z["x_A"], z["u_in"][i], label=f"t = {z['times_ps'][i]:.0f} ps")
         ax.set(xlabel="axial position s [A]", ylabel="u_in [A]", title=f"{name} snapshots (cf. paper Figs 8-9)")
         ax.legend(fontsize=7)
-    figs["snapshots"] = fig
-    # planarity and integrity
+    return fig
+
+
+def _planarity_integrity(plt, data):
     fig, axs = plt.subplots(1, 2, figsize=(11, 3.8))
     for av, (j, z) in data["rod"].items():
         if z is not None:
@@ -249,39 +284,37 @@ def figures(cfg: dict, data: dict, res: dict) -> dict:
     axs[0].legend(fontsize=7)
     axs[1].set(xlabel="t [ps]", ylabel="fraction with N1-N3 < 3.5 A [1]", title="MD base-pair integrity", ylim=(0, 1.05))
     axs[1].legend(fontsize=7)
-    figs["planarity_integrity"] = fig
-    # RMSD
-    if res["rod_md_rmsd"]:
-        fig, ax = plt.subplots(figsize=(6, 3.5))
-        for r in res["rod_md_rmsd"]:
-            ax.plot(r["times_ps"], r["rmsd_A"], label=f"seed {r['seed']}")
-        ax.set(xlabel="t [ps]", ylabel="RMSD [A]", title=f"rod axis fitted onto MD axis (Kabsch), A_v = {head:g}")
-        ax.legend(fontsize=7)
-        figs["rmsd"] = fig
-    fig = prediction.figure(res)
-    if fig is not None:
-        figs["prediction"] = fig
-    # amplitude dependence
-    sw = sorted((av, j) for av, (j, _) in data["sweep"].items() if j)
-    if sw:
-        fig, ax = plt.subplots(figsize=(6, 3.8))
-        a = np.array([av for av, _ in sw])
-        v = np.array([number(j["wave_speed_A_per_ps"]) for _, j in sw])
-        e = np.array([number(j["wave_speed_err_A_per_ps"]) for _, j in sw])
-        ax.errorbar(a, v, yerr=e, fmt="o-", label="rod (this run)")
-        ax.axhline(sw[0][1]["dispersion"]["bend_branch_speed_A_per_ps"], color="k", ls=":",
-                   label="Eq 39, small amplitude (bend branch)")
-        ax.axhline(PAPER["rod_wave_speed_A_per_ps"], color="C1", ls="--", label="paper rod 1.4 A/ps")
-        ax.axhline(PAPER["md_wave_speed_A_per_ps"], color="C2", ls="--", label="paper MD 2.2 A/ps")
-        mdv = [(av, number(j["wave_speed_A_per_ps"])) for (av, s), (j, _) in data["md"].items() if j]
-        if mdv:
-            ax.plot(*zip(*mdv), "s", color="C3", label="MD (this run)")
-        pos = a[a > 0]
-        ax.set_xscale("symlog", linthresh=float(pos.min()) if len(pos) else 1.0)
-        ax.set(xlabel="A_v [A/ps]", ylabel="wave speed [A/ps]", title="wave speed vs amplitude")
-        ax.legend(fontsize=7)
-        figs["amplitude"] = fig
-    return figs
+    return fig
+
+
+def _rmsd_figure(plt, rmsd, head):
+    fig, ax = plt.subplots(figsize=(6, 3.5))
+    for r in rmsd:
+        ax.plot(r["times_ps"], r["rmsd_A"], label=f"seed {r['seed']}")
+    ax.set(xlabel="t [ps]", ylabel="RMSD [A]", title=f"rod axis fitted onto MD axis (Kabsch), A_v = {head:g}")
+    ax.legend(fontsize=7)
+    return fig
+
+
+def _amplitude_figure(plt, sw, data):
+    """The wave speed against the amplitude: the rod's sweep, Eq 39, the paper's, the MD's."""
+    fig, ax = plt.subplots(figsize=(6, 3.8))
+    a = np.array([av for av, _ in sw])
+    v = np.array([number(j["wave_speed_A_per_ps"]) for _, j in sw])
+    e = np.array([number(j["wave_speed_err_A_per_ps"]) for _, j in sw])
+    ax.errorbar(a, v, yerr=e, fmt="o-", label="rod (this run)")
+    ax.axhline(sw[0][1]["dispersion"]["bend_branch_speed_A_per_ps"], color="k", ls=":",
+               label="Eq 39, small amplitude (bend branch)")
+    ax.axhline(PAPER["rod_wave_speed_A_per_ps"], color="C1", ls="--", label="paper rod 1.4 A/ps")
+    ax.axhline(PAPER["md_wave_speed_A_per_ps"], color="C2", ls="--", label="paper MD 2.2 A/ps")
+    mdv = [(av, number(j["wave_speed_A_per_ps"])) for (av, s), (j, _) in data["md"].items() if j]
+    if mdv:
+        ax.plot(*zip(*mdv), "s", color="C3", label="MD (this run)")
+    pos = a[a > 0]
+    ax.set_xscale("symlog", linthresh=float(pos.min()) if len(pos) else 1.0)
+    ax.set(xlabel="A_v [A/ps]", ylabel="wave speed [A/ps]", title="wave speed vs amplitude")
+    ax.legend(fontsize=7)
+    return fig
 
 
 def _f(x, nd=3):

@@ -23,31 +23,23 @@ import numpy as np
 from dna_models.errors import DnarodError, InputError
 from dna_models.units import Units
 from mdbridge.jsonio import write_json
-from mdbridge.rod.run import RodRun, load_scene, scene_n_bp
+from mdbridge.rod.run import RodRun
+from mdbridge.rod.scene import load_scene, scale_atol, scene_n_bp, set_output, write_scene
 
 
 def make_scene(base_path, out_path, A_v: float, run_ps: float, every_ps: float) -> dict:
     """The base scene with initial.A_v_A_per_ps = A_v and output for the analysis."""
-    import toml
     sc = load_scene(base_path)
     ini = sc.setdefault("initial", {})
     if ini.get("kind") != "dna_planar":
         raise InputError(f"{base_path}: initial.kind = {ini.get('kind')!r}; the comparison needs "
                          "\"dna_planar\" (the paper's Sec 6 scene)")
     ini["A_v_A_per_ps"] = float(A_v)
-    if 0 < abs(A_v) < 1:
-        # The fields scale with A_v, an absolute tolerance does not: keep the relative
-        # accuracy (and so the scene's energy-drift check) as at A_v = 1 A/ps.
-        sol = sc.setdefault("solver", {})
-        sol["atol"] = float(sol.get("atol", 1e-10)) * abs(A_v)
-    u = Units.paper()
-    out = sc.setdefault("output", {})
-    out["t_end"] = float(u.time_to_rod(run_ps))
-    out["frames"] = int(round(run_ps / every_ps)) + 1
-    out["fields"] = ["internal", "centerline", "directors"]
-    Path(out_path).parent.mkdir(parents=True, exist_ok=True)
-    Path(out_path).write_text(f"# made by dnarod compare from {base_path}, A_v = {A_v} A/ps, "
-                              f"{run_ps} ps\n" + toml.dumps(sc))
+    if 0 < abs(A_v) < 1:   # (and so the scene's energy-drift check holds as at 1 A/ps)
+        scale_atol(sc, abs(A_v), str(base_path))
+    set_output(sc, t_end=float(Units.paper().time_to_rod(run_ps)), frames=int(round(run_ps / every_ps)) + 1,
+               fields=["internal", "centerline", "directors"])
+    write_scene(out_path, sc, f"made by dnarod compare from {base_path}, A_v = {A_v} A/ps, {run_ps} ps")
     return sc
 
 

@@ -33,6 +33,7 @@ import numpy as np
 
 from dna_models.errors import DnarodError, InputError
 from mdbridge.jsonio import write_json
+from mdbridge.rod.scene import write_scene
 
 from dnarod.steps.analyse import run_step
 
@@ -86,12 +87,6 @@ def _material_scene(scene: dict, mat: dict) -> dict:
     return sc
 
 
-def _write_scene(path: Path, sc: dict, comment: str):
-    import toml
-    path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text("".join(f"# {c}\n" for c in comment.splitlines()) + toml.dumps(sc))
-
-
 def _run_rodsim(rodsim, scene_path: Path, h5: Path):
     """rodsim run; exit 3 (a numerical stop, frames kept) is analysed like the workflow's rod runs."""
     p = subprocess.run([str(rodsim), "run", str(scene_path), "-o", str(h5)], capture_output=True, text=True)
@@ -103,7 +98,8 @@ def _run_rodsim(rodsim, scene_path: Path, h5: Path):
 def _mode_speed(scene_path: Path, h5: Path, scene: dict) -> dict:
     """The standing-mode fit of one replicate run (no files kept)."""
     from mdbridge.analysis import BasePairTrajectory, WaveAnalysis
-    from mdbridge.rod.run import RodRun, scene_n_bp
+    from mdbridge.rod.run import RodRun
+    from mdbridge.rod.scene import scene_n_bp
     from dnarod.steps import matched
     run = RodRun.read(h5)
     traj = BasePairTrajectory.from_rod(run, scene_n_bp(scene, scene_path))
@@ -125,7 +121,7 @@ def cg_rod(scene_path, cg_dir, md_dir, out_dir, rodsim, m=1, n_replicas=20, n_bo
            sequence_dependent=False) -> dict:
     from mdbridge.stats import spread
     from mdbridge.coarsegrain.cgrod import as_json, eq39_prediction, materials, read_replicas
-    from mdbridge.rod.run import load_scene
+    from mdbridge.rod.scene import load_scene
     from dnarod.steps.analyse import analyse_rod, rod_dispersion
     scene_path, cg_dir, out = Path(scene_path), Path(cg_dir), Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
@@ -143,7 +139,7 @@ def cg_rod(scene_path, cg_dir, md_dir, out_dir, rodsim, m=1, n_replicas=20, n_bo
     eq39 = eq39_prediction(reps, m, disp["fiducial_length"], 1.0)
     A_v = scene["initial"].get("A_v_A_per_ps")
     sc = out / "central" / "scene.toml"
-    _write_scene(sc, _material_scene(scene, central),
+    write_scene(sc, _material_scene(scene, central),
                  f"dnarod compare: the uniform coarse-grained rod (m = {m}) of {cg_dir}, kicked like {scene_path}")
     _run_rodsim(rodsim, sc, out / "central" / "rod.h5")
     c = analyse_rod(sc, out / "central" / "rod.h5", out / "analysis_central", n_boot)
@@ -155,7 +151,7 @@ def cg_rod(scene_path, cg_dir, md_dir, out_dir, rodsim, m=1, n_replicas=20, n_bo
             continue
         d = out / f"replicate{i:03d}"
         sp = d / "scene.toml"
-        _write_scene(sp, _material_scene(scene, b), f"bootstrap replicate {i} of {cg_dir}")
+        write_scene(sp, _material_scene(scene, b), f"bootstrap replicate {i} of {cg_dir}")
         _run_rodsim(rodsim, sp, d / "rod.h5")
         r = _mode_speed(sp, d / "rod.h5", load_scene(sp))
         r["replicate"] = i

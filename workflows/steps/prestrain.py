@@ -53,9 +53,8 @@ def prestrain_prediction(n_bp, rise_box_A, Gamma03, turns, D1, C3, units: Units 
 def make_prestrain_scene(base_path, out_path, Gamma03: float, A_v: float, run_ps: float,
                          every_ps: float, units: Units | None = None) -> dict:
     """Write OUT.toml (kind = "file"), OUT.ic.h5 and OUT.json (in_plane, the prediction)."""
-    import h5py
-    import toml
-    from mdbridge.rod.run import load_scene
+    from mdbridge.rod.material.gridfile import write_initial_file
+    from mdbridge.rod.scene import load_scene, scale_atol, scene_bp_turns, set_output, write_scene
     u = units or Units.paper()
     sc = load_scene(base_path)
     ini = sc.get("initial", {})
@@ -64,8 +63,7 @@ def make_prestrain_scene(base_path, out_path, Gamma03: float, A_v: float, run_ps
                          "built from a \"dna_planar\" scene")
     if not (0.5 < Gamma03 < 2.0):
         raise InputError(f"Gamma03 = {Gamma03!r} (box / MD rest length) outside (0.5, 2)")
-    n = int(ini.get("bp", 158))
-    turns = float(ini.get("turns", 15))
+    n, turns = scene_bp_turns(sc, base_path)
     rise = float(ini.get("rise_A", u.rise_A))
     A = float(ini.get("A_A", 0.0)) / u.ell_A
     Av = float(A_v) / u.velocity_A_per_ps
@@ -83,23 +81,19 @@ def make_prestrain_scene(base_path, out_path, Gamma03: float, A_v: float, run_ps
     out = Path(out_path)
     out.parent.mkdir(parents=True, exist_ok=True)
     ic = out.with_suffix(".ic.h5")
-    with h5py.File(ic, "w") as f:
-        f["s"] = s
-        for k, v in fields.items():
-            f[f"fields/{k}"] = v
+    write_initial_file(ic, s, fields["Gamma"], fields["Omega"], gamma=fields["gamma"], omega=fields["omega"])
     mat = sc.get("material", {})
     D1 = float(mat.get("D", u.D_star)[0])
     C3 = float(mat.get("C", u.C_star)[2])
     new = {k: v for k, v in sc.items() if k not in ("initial", "rod", "output")}
     new["initial"] = {"kind": "file", "path": str(ic.resolve())}
     new["rod"] = {"length": L, "points": n, "Gamma0": [0.0, 0.0, 1.0], "Omega0": [0.0, 0.0, O3]}
-    if 0 < abs(A_v) < 1:
-        sol = new.setdefault("solver", {})
-        sol["atol"] = float(sol.get("atol", 1e-10)) * abs(A_v)
-    new["output"] = {"t_end": float(u.time_to_rod(run_ps)), "frames": int(round(run_ps / every_ps)) + 1,
-                     "fields": ["internal", "centerline", "directors"]}
-    out.write_text(f"# made by dnarod compare from {base_path}: pre-strained rod, Gamma03 = "
-                   f"{Gamma03!r} (box / MD rest length), A_v = {A_v} A/ps, {run_ps} ps\n" + toml.dumps(new))
+    if 0 < abs(A_v) < 1:   # as dnarod.steps.analyse.make_scene
+        scale_atol(new, abs(A_v), str(base_path))
+    set_output(new, t_end=float(u.time_to_rod(run_ps)), frames=int(round(run_ps / every_ps)) + 1,
+               fields=["internal", "centerline", "directors"])
+    write_scene(out, new, f"made by dnarod compare from {base_path}: pre-strained rod, Gamma03 = "
+                          f"{Gamma03!r} (box / MD rest length), A_v = {A_v} A/ps, {run_ps} ps")
     pred = prestrain_prediction(n, rise, Gamma03, turns, D1, C3, u)
     meta = {"in_plane": [1.0, 0.0, 0.0], "n_bp": n, "A_v_A_per_ps": float(A_v), "A_A": float(ini.get("A_A", 0.0)),
             "Gamma03": Gamma03, "box_rise_A": rise, "rest_length_A": n * rise / Gamma03,

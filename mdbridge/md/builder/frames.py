@@ -19,4 +19,3 @@ def ideal_frames(n_bp: int, rise: float = bdna.RISE_A, twist: float = bdna.TWIST
     steps[:, 2] = rise
     steps[:, 5] = twist
     return frames_from_steps(steps)
-

@@ -17,7 +17,6 @@ fresh pdb2gmx run on a different structure).
 from __future__ import annotations
 
 import argparse
-import json
 import re
 import tempfile
 from pathlib import Path

@@ -12,14 +12,14 @@ the box along which the strands close.
 """
 from __future__ import annotations
 
-import copy
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from dna_models.errors import InputError
-from mdbridge.rod.run import RodRun, load_scene, run_scene, scene_n_bp
+from mdbridge.rod.run import RodRun, run_scene
+from mdbridge.rod.scene import load_scene, scene_n_bp, set_output, with_absolute_paths
 
 
 @dataclass(frozen=True)
@@ -57,11 +57,7 @@ def frames_from_scene(path) -> RodFrames:
     path = Path(path)
     scene = load_scene(path)
     n_bp = scene_n_bp(scene, path)
-    sc = copy.deepcopy(scene)
-    sc.setdefault("output", {}).update(t_end=1e-6, frames=3,
-                                       fields=["internal", "centerline", "directors"])
-    # initial.path (kind = "file") is relative to the scene file
-    ini = sc.get("initial", {})
-    if "path" in ini and not Path(ini["path"]).is_absolute():
-        ini["path"] = str((path.parent / ini["path"]).resolve())
+    # the scene's files (initial.path, material_file, ...) are relative to the scene file
+    sc = set_output(with_absolute_paths(scene, path), t_end=1e-6, frames=3,
+                    fields=["internal", "centerline", "directors"])
     return frames_from_rod_output(run_scene(sc, source=str(path)), n_bp, source=str(path))

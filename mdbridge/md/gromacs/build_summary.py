@@ -18,12 +18,12 @@ from __future__ import annotations
 import numpy as np
 
 from dna_models.errors import DnarodError
+from dna_models.units import BOLTZMANN_KJ_PER_MOL_K
 
 from mdbridge.md.builder.backbone import LINK_RANGE_A
 
 FRAMES_LIMIT = {"max_origin_A": 0.1, "max_angle_deg": 1.0}
 O3P_BOND_K_KJ_MOL_NM2 = 225936.0    # CHARMM27 ON2-P (charmm27.ff/ffnabonded.itp)
-KB_KJ_MOL_K = 0.0083144626
 
 
 def summary_lines(info: dict, built_links_A, temperature_K: float) -> list[str]:
@@ -44,7 +44,7 @@ def summary_lines(info: dict, built_links_A, temperature_K: float) -> list[str]:
         gro = [x for v in js.values() for x in (v["interior_min"], v["interior_max"], v["junction"])]
         text += f"; in conf.gro {min(gro):.2f}-{max(gro):.2f} A, junctions {junctions} A"
         if info.get("equilibration") and temperature_K > 0:
-            sigma = np.sqrt(KB_KJ_MOL_K * temperature_K / O3P_BOND_K_KJ_MOL_NM2) * 10.0
+            sigma = np.sqrt(BOLTZMANN_KJ_PER_MOL_K * temperature_K / O3P_BOND_K_KJ_MOL_NM2) * 10.0
             text += f" (bonds vibrate by {sigma:.2f} A rms at {temperature_K:g} K)"
     else:
         text += f"; junctions {junctions} A"

@@ -12,8 +12,8 @@ Order matters and is the reason for this module:
 from __future__ import annotations
 
 import json
-import warnings
 import platform
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -23,7 +23,7 @@ from dna_models.errors import DnarodError, InputError
 from dna_models.units import ANGSTROM_PER_NM, Units
 from mdbridge.jsonio import write_json
 
-from . import charges, posres
+from . import charges, defaults, posres
 from .box import BoxPlan
 from .clashes import CLASH_A, closest_contact
 from .gmx import find_gmx, gmx_version, run_gmx, run_gmx_with_progress
@@ -31,45 +31,16 @@ from .gro import Gro, read_gro, write_gro
 from .junction import junction_report, o3p_links
 from .equilibrate import check_protocol, equilibrate
 from .mdp import MdSettings, render_em, render_md, read_mdp_value
+from .rod import RodInitial
 from .topology import parse_itp, run_pdb2gmx, write_pdb2gmx_input
 from .velocities import (base_pair_of_residue, kinetic_temperature, rigid_body_velocities,
                          thermal_velocities)
 
 NM = ANGSTROM_PER_NM  # Angstrom per nm (dna_models.units)
-
-
-@dataclass
-class RodInitial:
-    """The rod at t = 0 sampled at the base pairs s_i = i L / n_bp, in A, ps, rad."""
-    origins_A: np.ndarray        # (n, 3) r(s_i)
-    R: np.ndarray                # (n, 3, 3) columns d1, d2, d3 (= bp x, y, z axes)
-    gamma_lab_A_ps: np.ndarray   # (n, 3)
-    omega_lab_rad_ps: np.ndarray  # (n, 3)
-    closure_length_A: float      # |r(s + L) - r(s)|
-
-    @property
-    def n_bp(self) -> int:
-        return len(self.origins_A)
-
-
-def rod_initial_from_run(run, n_bp: int, units: Units | None = None):
-    """RodInitial (t = 0) and the centerline over the whole run in A (T, N, 3), from a
-    rod run (mdbridge.rod.run.RodRun, solver units, fields in the internal frame,
-    directors[t, i, :, k] = d_k). Base pair i sits on grid point i N / n_bp (as
-    mdbridge.analysis does), so no interpolation is involved."""
-    from mdbridge.geometry.trajectory import BasePairTrajectory
-    u = units or Units.paper()
-    run.require("fields/gamma", "fields/omega")
-    traj = BasePairTrajectory.from_rod(run, n_bp, u)
-    every = len(run.s) // n_bp
-    D0 = np.asarray(run.directors, float)[0, ::every]            # (n, 3, 3), columns d_k
-    g = np.einsum("nik,nk->ni", D0, np.asarray(run.fields["gamma"], float)[0, ::every])
-    w = np.einsum("nik,nk->ni", D0, np.asarray(run.fields["omega"], float)[0, ::every])
-    rod = RodInitial(origins_A=traj.origins[0], R=traj.R[0],
-                     gamma_lab_A_ps=u.velocity_to_A_per_ps(g),
-                     omega_lab_rad_ps=u.angular_velocity_to_rad_per_ps(w),
-                     closure_length_A=float(np.linalg.norm(traj.period[0])))
-    return rod, u.length_to_A(np.asarray(run.centerline, float))
+PROTOCOL_DOC = ("equilibrated: v-rescale stage at T, then rod velocities added to the "
+                "equilibrated ones, then NVE; paper: no equilibration (paper Sec 6.2)")
+RESIDUE_TO_BASE_PAIR = ("strand I residue k -> pair k; strand II residue r -> pair 2n+1-r "
+                        "(1-based, 3DNA numbering)")
 
 
 def structure_chains(structure, shift_A) -> list[dict]:
@@ -121,10 +92,10 @@ def frame_deviation(o1, R1, o2, R2, box_A=None) -> dict:
 
 
 def build_inputs(outdir: Path, structure, rod: RodInitial, box: BoxPlan, *, sequence: str,
-                 forcefield: str = "charmm27", electrostatics: str = "paper",
-                 temperature_K: float = 300.0, seed: int = 0, settings: MdSettings | None = None,
-                 minimize: bool = False, gmx: str | None = None, threads: int = 1,
-                 protocol: str = "paper", equilibrate_ps: float = 20.0,
+                 forcefield: str = defaults.FORCEFIELD, electrostatics: str = defaults.ELECTROSTATICS,
+                 temperature_K: float = defaults.TEMPERATURE_K, seed: int = 0,
+                 settings: MdSettings | None = None, minimize: bool = False, gmx: str | None = None,
+                 threads: int = 1, protocol: str = "paper", equilibrate_ps: float = defaults.EQUILIBRATE_PS,
                  axial_pressure: bool = False, meta: dict | None = None, progress=None) -> dict:
     """Write every MD input into OUTDIR and return the content of build.json.
     gmx: as find_gmx (the given path, else $DNAROD_GMX, else the project's build, else PATH).
@@ -141,17 +112,78 @@ def build_inputs(outdir: Path, structure, rod: RodInitial, box: BoxPlan, *, sequ
     for stale in ("build.json", "md.done", "checks.json"):
         (outdir / stale).unlink(missing_ok=True)
     settings = settings or MdSettings()
-    check_protocol(protocol, temperature_K=temperature_K, equilibrate_ps=equilibrate_ps,
-                   axial_pressure=axial_pressure)
+    _check_choices(protocol, temperature_K, equilibrate_ps, axial_pressure, len(sequence), rod.n_bp)
     n = rod.n_bp
-    if len(sequence) != n:
-        raise InputError(f"sequence has {len(sequence)} bases but the rod has {n} base pairs")
-    if temperature_K < 0:
-        raise InputError(f"--temperature {temperature_K}: must be >= 0 K")
     shift = np.asarray(box.shift_A, float)
     box_nm = np.asarray(box.box_A, float) / NM
 
-    # 1-2. topology with ring closure, verified
+    top = _topology(outdir, gmx, structure, shift, box_nm, forcefield, electrostatics)     # 1-3
+    g = top.gro
+    (outdir / "em.mdp").write_text(render_em(settings))
+    (outdir / "md.mdp").write_text(render_md(settings))
+    x_nm, em = g.x.copy(), None
+    if minimize:                                                                            # 4
+        x_nm, em = _minimise(outdir, gmx, g, box_nm, n, threads, progress)
+    x_nm, box_nm, v_th, eq = _thermal_velocities(                                           # 5
+        outdir, gmx, settings, top, x_nm, box_nm, protocol=protocol, temperature_K=temperature_K, seed=seed,
+        equilibrate_ps=equilibrate_ps, axis=box.axis, axial_pressure=axial_pressure, threads=threads,
+        progress=progress)
+    v_rod = _write_conf(outdir, g, x_nm, v_th, box_nm, rod, shift,
+                        f"dnarod periodic duplex {n} bp, {forcefield}, T={temperature_K} K, seed={seed}")
+    contact, frames_t0, links = _t0_checks(outdir, top, x_nm, box_nm, rod, shift, box.box_A)
+    _grompp_check(outdir, gmx)                                                              # 6
+
+    info = {
+        "sequence": sequence, "n_bp": n, "seed": seed, "temperature_K": temperature_K,
+        "forcefield": forcefield, "electrostatics": electrostatics,
+        "electrostatics_doc": charges.__doc__.strip(),
+        **_charge_record(top),
+        "units": Units.paper().as_dict(),
+        "box": box.as_dict(), "box_nm": box_nm.tolist(),
+        "md_settings": settings.as_dict(),
+        "junctions": top.junctions,
+        "junction_O3P_t0_A": {s: {"junction": float(d["junction_A"]), "interior_min": float(d["interior_A"].min()),
+                                  "interior_max": float(d["interior_A"].max())} for s, d in links.items()},
+        "frames_t0_vs_rod": frames_t0,
+        "closest_nonbonded_contact": contact,
+        "velocities": _velocity_record(top.masses, v_th, v_rod, temperature_K, equilibrated=eq is not None),
+        "minimization": em,
+        "protocol": protocol,
+        "protocol_doc": PROTOCOL_DOC,
+        "equilibration": eq,
+        "residue_to_base_pair": RESIDUE_TO_BASE_PAIR,
+        "gmx": {"path": gmx, "version": gmx_version(gmx)},
+        "host": platform.node(),
+        "files": ["conf.gro", "topol.top"] + [p.name for p in top.itps] + ["md.mdp", "em.mdp", "build.json"],
+    }
+    info.update(meta or {})
+    write_json(outdir / "build.json", info)
+    return info
+
+
+def _check_choices(protocol, temperature_K, equilibrate_ps, axial_pressure, n_sequence, n_bp):
+    check_protocol(protocol, temperature_K=temperature_K, equilibrate_ps=equilibrate_ps,
+                   axial_pressure=axial_pressure)
+    if n_sequence != n_bp:
+        raise InputError(f"sequence has {n_sequence} bases but the rod has {n_bp} base pairs")
+    if temperature_K < 0:
+        raise InputError(f"--temperature {temperature_K}: must be >= 0 K")
+
+
+@dataclass
+class _Topology:
+    """The verified topology: one molecule per strand (after the electrostatics variant and
+    the base restraints) and pdb2gmx's coordinates in the topology's atom order."""
+    itps: list
+    mols: list
+    junctions: list
+    gro: Gro
+    masses: np.ndarray
+
+
+def _topology(outdir: Path, gmx, structure, shift, box_nm, forcefield, electrostatics) -> _Topology:
+    """Steps 1-3: the duplex moved into the box, pdb2gmx with ring closure, the junction
+    check, the electrostatics variant and the base restraints."""
     pdb = outdir / "duplex_in.pdb"
     write_pdb2gmx_input(pdb, structure_chains(structure, shift), forcefield)
     lb_nm = float(np.max(box_nm)) * 2.0 + 1.0   # larger than any distance in the structure
@@ -164,147 +196,134 @@ def build_inputs(outdir: Path, structure, rod: RodInitial, box: BoxPlan, *, sequ
                           + ", ".join(j["molecule"] for j in bad or junctions)
                           + " differ from an interior step's: "
                           + json.dumps(bad or junctions, indent=1)[:3000])
-
-    # 3. electrostatics and restraints
     for p, m in zip(top["itps"], mols):
         charges.apply_electrostatics(p, electrostatics)
         posres.add_base_restraints(p, m)
     mols = [parse_itp(p) for p in top["itps"]]
     masses = np.concatenate([m.mass for m in mols])
-    total_charge = float(sum(m.charge.sum() for m in mols))
-    q_res = np.concatenate([np.bincount(m.resnr - m.resnr.min(), weights=m.charge)[
-        np.unique(m.resnr - m.resnr.min())] for m in mols])
-
     g = read_gro(top["gro"])
     names_itp: list[str] = sum((m.atomname for m in mols), [])
     if g.n_atoms != len(masses) or g.name != names_itp:
         raise DnarodError(f"{top['gro']}: atoms differ from the topology's ({g.n_atoms} vs {len(masses)})")
+    return _Topology(itps=top["itps"], mols=mols, junctions=junctions, gro=g, masses=masses)
+
+
+def _minimise(outdir: Path, gmx, g: Gro, box_nm, n_bp: int, threads: int, progress):
+    """Step 4: restrained steepest descent (em.mdp) from pdb2gmx's coordinates. Returns the
+    minimised coordinates, whole (unwrapped against the input), and the build.json record."""
     x_nm = g.x.copy()
-    (outdir / "em.mdp").write_text(render_em(settings))
-    (outdir / "md.mdp").write_text(render_md(settings))
+    em_in = Gro("dnarod: before minimisation", g.resid, g.resname, g.name, x_nm, None, box_nm)
+    write_gro(outdir / "em_in.gro", em_in)
+    run_gmx(gmx, ["grompp", "-f", "em.mdp", "-c", "em_in.gro", "-r", "em_in.gro", "-p",
+                  "topol.top", "-o", "em.tpr", "-po", "em_out.mdp", "-maxwarn", "0"], outdir,
+            log_name="gmx_grompp_em.log")
+    em_steps = int(read_mdp_value((outdir / "em.mdp").read_text(), "nsteps") or 0)
+    # -v: mdrun's step reports ("Step= k", 0-based: k + 1 steps made) drive the progress;
+    # it stops earlier once converged
+    run_gmx_with_progress(gmx, ["mdrun", "-v", "-deffnm", "em", "-nt", str(threads)], outdir,
+                          log_name="gmx_mdrun_em.log",
+                          on_step=None if progress is None else
+                          (lambda k: progress("minimisation", k + 1, em_steps, "steps")))
+    x_em = _unwrap_against(read_gro(outdir / "em.gro").x, x_nm, box_nm)
+    o0, R0 = _frames_of_gro(outdir / "em_in.gro", n_bp)
+    write_gro(outdir / "em_whole.gro",
+              Gro("dnarod: after minimisation (whole)", g.resid, g.resname, g.name, x_em, None, box_nm))
+    o1, R1 = _frames_of_gro(outdir / "em_whole.gro", n_bp)
+    em = {"frames_moved": frame_deviation(o0, R0, o1, R1),
+          "max_atom_displacement_A": float(np.linalg.norm(x_em - x_nm, axis=1).max() * NM),
+          "log": str(outdir / "em.log")}
+    em.update(_em_summary(outdir / "gmx_mdrun_em.log"))
+    if not em["converged"]:
+        warnings.warn(f"{outdir}/em.log: the restrained minimisation did not reach Fmax < "
+                      "500 kJ/mol/nm; check closest_nonbonded_contact in build.json", stacklevel=3)
+    return x_em, em
 
-    # 4. optional restrained minimisation
-    em = None
-    if minimize:
-        em_in = Gro("dnarod: before minimisation", g.resid, g.resname, g.name, x_nm, None, box_nm)
-        write_gro(outdir / "em_in.gro", em_in)
-        run_gmx(gmx, ["grompp", "-f", "em.mdp", "-c", "em_in.gro", "-r", "em_in.gro", "-p",
-                      "topol.top", "-o", "em.tpr", "-po", "em_out.mdp", "-maxwarn", "0"], outdir,
-                log_name="gmx_grompp_em.log")
-        em_steps = int(read_mdp_value((outdir / "em.mdp").read_text(), "nsteps") or 0)
-        # -v: mdrun's step reports ("Step= k", 0-based: k + 1 steps made) drive the progress;
-        # it stops earlier once converged
-        run_gmx_with_progress(gmx, ["mdrun", "-v", "-deffnm", "em", "-nt", str(threads)], outdir,
-                              log_name="gmx_mdrun_em.log",
-                              on_step=None if progress is None else
-                              (lambda k: progress("minimisation", k + 1, em_steps, "steps")))
-        x_em = _unwrap_against(read_gro(outdir / "em.gro").x, x_nm, box_nm)
-        o0, R0 = _frames_of_gro(outdir / "em_in.gro", n)
-        write_gro(outdir / "em_whole.gro",
-                  Gro("dnarod: after minimisation (whole)", g.resid, g.resname, g.name, x_em, None, box_nm))
-        o1, R1 = _frames_of_gro(outdir / "em_whole.gro", n)
-        em = {"frames_moved": frame_deviation(o0, R0, o1, R1),
-              "max_atom_displacement_A": float(np.linalg.norm(x_em - x_nm, axis=1).max() * NM),
-              "log": str(outdir / "em.log")}
-        em.update(_em_summary(outdir / "gmx_mdrun_em.log"))
-        if not em["converged"]:
-            warnings.warn(f"{outdir}/em.log: the restrained minimisation did not reach Fmax < "
-                          "500 kJ/mol/nm; check closest_nonbonded_contact in build.json", stacklevel=2)
-        x_nm = x_em
 
-    # 5. equilibration stage (protocol "equilibrated"), then velocities on the final
-    #    coordinates: thermal (fresh, or the equilibrated ones) + the rod's field
-    eq = None
-    if protocol == "equilibrated":
-        write_gro(outdir / "eq_in.gro", Gro("dnarod: before equilibration", g.resid, g.resname,
-                                            g.name, x_nm, thermal_velocities(masses, temperature_K,
-                                                                             seed), box_nm))
-        eq = equilibrate(outdir, gmx, settings, ps=equilibrate_ps, temperature_K=temperature_K,
-                         axis=box.axis, axial_pressure=axial_pressure, threads=threads,
-                         box_nm=box_nm, progress=progress)
-        g_eq = read_gro(outdir / "eq.gro")
-        box_nm = g_eq.box
-        x_nm = _unwrap_against(g_eq.x, x_nm, box_nm)
-        v_th = g_eq.v
-        if not eq["stationary"]:
-            warnings.warn(f"{outdir}/eq.edr: temperature or potential energy still trends over the "
-                          f"second half of the {equilibrate_ps:g}-ps equilibration (build.json: "
-                          "equilibration); use a longer --equilibrate-ps", stacklevel=2)
-    else:
-        v_th = thermal_velocities(masses, temperature_K, seed)
-    bp = base_pair_of_residue(g.resid, n)
+def _thermal_velocities(outdir: Path, gmx, settings, top: _Topology, x_nm, box_nm, *, protocol,
+                        temperature_K, seed, equilibrate_ps, axis, axial_pressure, threads, progress):
+    """Step 5a, the thermal part of the velocities: fresh Maxwell-Boltzmann ones (protocol
+    "paper"), or those at the end of a thermostatted stage (protocol "equilibrated", which
+    also moves the atoms and, with the axial barostat, the box). Returns (x_nm, box_nm,
+    v_thermal, the equilibration's build.json record or None)."""
+    g, masses = top.gro, top.masses
+    if protocol != "equilibrated":
+        return x_nm, box_nm, thermal_velocities(masses, temperature_K, seed), None
+    write_gro(outdir / "eq_in.gro", Gro("dnarod: before equilibration", g.resid, g.resname,
+                                        g.name, x_nm, thermal_velocities(masses, temperature_K,
+                                                                         seed), box_nm))
+    eq = equilibrate(outdir, gmx, settings, ps=equilibrate_ps, temperature_K=temperature_K,
+                     axis=axis, axial_pressure=axial_pressure, threads=threads,
+                     box_nm=box_nm, progress=progress)
+    g_eq = read_gro(outdir / "eq.gro")
+    box_nm = g_eq.box
+    x_nm = _unwrap_against(g_eq.x, x_nm, box_nm)
+    if not eq["stationary"]:
+        warnings.warn(f"{outdir}/eq.edr: temperature or potential energy still trends over the "
+                      f"second half of the {equilibrate_ps:g}-ps equilibration (build.json: "
+                      "equilibration); use a longer --equilibrate-ps", stacklevel=3)
+    return x_nm, box_nm, g_eq.v, eq
+
+
+def _write_conf(outdir: Path, g: Gro, x_nm, v_th, box_nm, rod: RodInitial, shift, title: str):
+    """Step 5b, velocities LAST on the final coordinates: thermal + for every atom of base
+    pair i the rod cross-section's rigid-body velocity; writes conf.gro and
+    velocities_rod.npy and returns the rod part."""
+    bp = base_pair_of_residue(g.resid, rod.n_bp)
     v_rod = rigid_body_velocities(x_nm * NM, bp, rod.origins_A + shift, rod.gamma_lab_A_ps,
                                   rod.omega_lab_rad_ps)
-    v = v_th + v_rod
-    conf = Gro(f"dnarod periodic duplex {n} bp, {forcefield}, T={temperature_K} K, seed={seed}",
-               g.resid, g.resname, g.name, x_nm, v, box_nm)
-    write_gro(outdir / "conf.gro", conf)
+    write_gro(outdir / "conf.gro", Gro(title, g.resid, g.resname, g.name, x_nm, v_th + v_rod, box_nm))
     np.save(outdir / "velocities_rod.npy", v_rod)
+    return v_rod
 
-    contact = closest_contact(x_nm * NM, box_nm * NM, mols, g.name, g.resid)
+
+def _t0_checks(outdir: Path, top: _Topology, x_nm, box_nm, rod: RodInitial, shift, box_A):
+    """The t = 0 geometry: the closest non-bonded contact (a warning below CLASH_A), the
+    built structure's base-pair frames against the rod's, the junctions' O3'-P links."""
+    g = top.gro
+    contact = closest_contact(x_nm * NM, box_nm * NM, top.mols, g.name, g.resid)
     if contact["min_distance_A"] is not None and contact["min_distance_A"] < CLASH_A:
         warnings.warn(f"{outdir}/conf.gro: {contact['n_below_clash']} atom pairs closer than "
                       f"{CLASH_A} A (closest {contact['atoms']} at {contact['min_distance_A']:.2f} A)"
                       "; MD will blow up from these contacts: build with --minimize",
-                      stacklevel=2)
+                      stacklevel=3)
+    o_b, R_b = _frames_of_gro(outdir / "conf.gro", rod.n_bp)
+    frames_t0 = frame_deviation(rod.origins_A + shift, rod.R, o_b, R_b, box_A)
+    links = o3p_links(x_nm, g.resid, g.name, rod.n_bp, box_nm)
+    return contact, frames_t0, links
 
-    # t = 0 geometry checks: frames of the built structure vs the rod's; junction links
-    o_b, R_b = _frames_of_gro(outdir / "conf.gro", n)
-    frames_t0 = frame_deviation(rod.origins_A + shift, rod.R, o_b, R_b, box.box_A)
-    links = o3p_links(x_nm, g.resid, g.name, n, box_nm)
 
-    # 6. grompp proves the inputs are accepted
+def _grompp_check(outdir: Path, gmx):
+    """Step 6: grompp proves the inputs are accepted (its outputs are not kept)."""
     run_gmx(gmx, ["grompp", "-f", "md.mdp", "-c", "conf.gro", "-p", "topol.top", "-o",
                   "grompp_check.tpr", "-po", "grompp_check.mdp", "-maxwarn", "0"], outdir,
             log_name="gmx_grompp_check.log")
     for p in ("grompp_check.tpr", "grompp_check.mdp"):
         (outdir / p).unlink(missing_ok=True)
 
-    u = Units.paper()
-    info = {
-        "sequence": sequence, "n_bp": n, "seed": seed, "temperature_K": temperature_K,
-        "forcefield": forcefield, "electrostatics": electrostatics,
-        "electrostatics_doc": charges.__doc__.strip(),
-        "total_charge_e": round(total_charge, 4) or 0.0, "n_atoms": int(g.n_atoms),
-        "nucleotide_charge_range_e": [round(float(q_res.min()), 4), round(float(q_res.max()), 4)],
-        "units": u.as_dict(),
-        "box": box.as_dict(), "box_nm": box_nm.tolist(),
-        "md_settings": settings.as_dict(),
-        "junctions": junctions,
-        "junction_O3P_t0_A": {s: {"junction": float(d["junction_A"]),
-                                  "interior_min": float(d["interior_A"].min()),
-                                  "interior_max": float(d["interior_A"].max())}
-                              for s, d in links.items()},
-        "frames_t0_vs_rod": frames_t0,
-        "closest_nonbonded_contact": contact,
-        "velocities": {
-            "rule": ("v = equilibrated (end of the v-rescale stage, eq.gro)" if eq else
-                     "v = thermal (Maxwell-Boltzmann, COM removed, rescaled to exactly T with "
-                     "3N-3 dof)") + " + gamma_lab(s_i) + omega_lab(s_i) x (x - r(s_i)) for every atom "
-                    "of both nucleotides of base pair i",
-            "thermal_temperature_K": float(kinetic_temperature(masses, v_th, 3 * len(masses) - 3))
-            if temperature_K > 0 else 0.0,
-            "rod_max_speed_nm_ps": float(np.linalg.norm(v_rod, axis=1).max()),
-            "total_momentum_amu_nm_ps": (masses[:, None] * v).sum(axis=0).tolist(),
-            "rod_momentum_amu_nm_ps": (masses[:, None] * v_rod).sum(axis=0).tolist(),
-            # comm-mode = Linear removes this at the first step (md.mdp)
-            "rod_com_velocity_nm_ps": ((masses[:, None] * v_rod).sum(axis=0) / masses.sum()).tolist(),
-        },
-        "minimization": em,
-        "protocol": protocol,
-        "protocol_doc": "equilibrated: v-rescale stage at T, then rod velocities added to the "
-                        "equilibrated ones, then NVE; paper: no equilibration (paper Sec 6.2)",
-        "equilibration": eq,
-        "residue_to_base_pair": "strand I residue k -> pair k; strand II residue r -> pair 2n+1-r "
-                                "(1-based, 3DNA numbering)",
-        "gmx": {"path": gmx, "version": gmx_version(gmx)},
-        "host": platform.node(),
-        "files": ["conf.gro", "topol.top"] + [p.name for p in top["itps"]]
-                 + ["md.mdp", "em.mdp", "build.json"],
+
+def _charge_record(top: _Topology) -> dict:
+    total_charge = float(sum(m.charge.sum() for m in top.mols))
+    q_res = np.concatenate([np.bincount(m.resnr - m.resnr.min(), weights=m.charge)[
+        np.unique(m.resnr - m.resnr.min())] for m in top.mols])
+    return {"total_charge_e": round(total_charge, 4) or 0.0, "n_atoms": int(top.gro.n_atoms),
+            "nucleotide_charge_range_e": [round(float(q_res.min()), 4), round(float(q_res.max()), 4)]}
+
+
+def _velocity_record(masses, v_th, v_rod, temperature_K, equilibrated: bool) -> dict:
+    v = v_th + v_rod
+    return {
+        "rule": ("v = equilibrated (end of the v-rescale stage, eq.gro)" if equilibrated else
+                 "v = thermal (Maxwell-Boltzmann, COM removed, rescaled to exactly T with "
+                 "3N-3 dof)") + " + gamma_lab(s_i) + omega_lab(s_i) x (x - r(s_i)) for every atom "
+                "of both nucleotides of base pair i",
+        "thermal_temperature_K": float(kinetic_temperature(masses, v_th, 3 * len(masses) - 3))
+        if temperature_K > 0 else 0.0,
+        "rod_max_speed_nm_ps": float(np.linalg.norm(v_rod, axis=1).max()),
+        "total_momentum_amu_nm_ps": (masses[:, None] * v).sum(axis=0).tolist(),
+        "rod_momentum_amu_nm_ps": (masses[:, None] * v_rod).sum(axis=0).tolist(),
+        # comm-mode = Linear removes this at the first step (md.mdp)
+        "rod_com_velocity_nm_ps": ((masses[:, None] * v_rod).sum(axis=0) / masses.sum()).tolist(),
     }
-    info.update(meta or {})
-    write_json(outdir / "build.json", info)
-    return info
 
 
 def _em_summary(log: Path) -> dict:

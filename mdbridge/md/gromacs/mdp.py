@@ -8,26 +8,29 @@ from __future__ import annotations
 import math
 from dataclasses import asdict, dataclass
 
+from . import defaults
+
 
 @dataclass
 class MdSettings:
+    """The mdp settings; their defaults are the paper's setting (defaults.py)."""
     nsteps: int = 0                 # set by run-md (--ps / --steps); 0 = grompp check only
-    dt_ps: float = 0.001            # 1 fs: no constraints, best NVE energy conservation
-    constraints: str = "none"       # "h-bonds" allows dt 2 fs (2x faster, small drift cost)
-    cutoff_nm: float = 1.0          # paper: 10 A electrostatics cut-off; vdW the same
-    temperature_K: float = 300.0    # thermostat target, only used with thermostat=True
+    dt_ps: float = defaults.DT_PS   # 1 fs: no constraints, best NVE energy conservation
+    constraints: str = defaults.CONSTRAINTS  # "h-bonds" allows dt 2 fs (2x faster, small drift cost)
+    cutoff_nm: float = defaults.CUTOFF_NM    # paper: 10 A electrostatics cut-off; vdW the same
+    temperature_K: float = defaults.TEMPERATURE_K  # thermostat target, only used with thermostat=True
     thermostat: bool = False        # NVE by default: the rod is Hamiltonian (paper Sec 6.2)
-    tau_t_ps: float = 1.0
-    output_ps: float = 1.0          # coordinates (xtc) and energies every output_ps
+    tau_t_ps: float = defaults.TAU_T_PS
+    output_ps: float = defaults.OUTPUT_PS  # coordinates (xtc) and energies every output_ps
     epsilon_r: float = 1.0
     # "paper": plain cut-offs as the paper states them (Coulomb shifted = reaction-field
     # with eps_rf = 1, vdW potential-shift, rlist 1.1 nm); the force jumps at the cut-off.
     # "smooth": reaction-field with eps_rf = 0 (infinity) and vdW force-switch from
     # SWITCH_NM to the cut-off, rlist 1.2 nm: potential AND force vanish at the cut-off,
     # which is what makes NVE conserve energy (docs/md.md, energy conservation table).
-    cutoffs: str = "paper"
-    lincs_order: int = 4            # GROMACS defaults; 8/2 tested in docs/md.md
-    lincs_iter: int = 1
+    cutoffs: str = defaults.PAPER_CUTOFFS
+    lincs_order: int = defaults.LINCS_ORDER
+    lincs_iter: int = defaults.LINCS_ITER
 
     def steps_per(self, ps: float) -> int:
         return max(1, int(round(ps / self.dt_ps)))
@@ -36,7 +39,7 @@ class MdSettings:
         return asdict(self)
 
 
-CUTOFFS = ("paper", "smooth")
+CUTOFFS = (defaults.PAPER_CUTOFFS, defaults.COMMAND_CUTOFFS)
 SWITCH_NM = 0.8                     # vdW force-switch start of the "smooth" cut-offs
 SMOOTH_RLIST_NM = 1.2
 

@@ -1,7 +1,7 @@
 """The rod side of an MD build: the rod run that sizes the box and gives t = 0.
 
-The same run gives (a) the rod's state at t = 0 (base-pair frames and the
-rigid-body velocities of the cross-sections) and (b) the rod's own prediction
+The same run gives (a) the rod's state at t = 0 (`RodInitial`: base-pair frames and
+the rigid-body velocities of the cross-sections, sampled by mdbridge.rod.frames) and (b) the rod's own prediction
 of how far the centerline will wander across the helix axis during the MD,
 which sizes the box (box.py). `dnarod build-md` takes that run either from a
 rod output file the workflow already made (`--rod ROD.h5`: `rod_for_md`) or runs
@@ -9,17 +9,22 @@ the scene for the MD's length (`md_scene`, through mdbridge.rod.run.run_scene)."
 from __future__ import annotations
 
 import copy
+import dataclasses
 import math
-from pathlib import Path
+from dataclasses import dataclass
 
 import numpy as np
 
 from dna_models.errors import InputError
 from dna_models.units import Units
-from mdbridge.rod.run import RodRun, scene_bp_turns
+from mdbridge.rod.frames import period_vector
+from mdbridge.rod.run import RodRun
+from mdbridge.rod.scene import _beside, scene_bp_turns, set_output
+
+from .defaults import MD_PS
 
 ROD_FRAMES = 101   # output frames of the sizing run: enough to catch the largest excursion
-DEFAULT_MD_PS = 600.0   # the paper's MD length (Sec 6.1), when no rod run is given
+DEFAULT_MD_PS = MD_PS   # the paper's MD length (Sec 6.1), when no rod run is given (defaults.py)
 
 
 def md_length_ps(run: RodRun | None, *, dt_ps: float, units: Units | None = None) -> float:
@@ -33,6 +38,35 @@ def md_length_ps(run: RodRun | None, *, dt_ps: float, units: Units | None = None
     assert run.time is not None
     covered_ps = float(u.time_to_ps(run.time[-1] - run.time[0]))
     return math.floor(covered_ps / dt_ps * (1 + 1e-12)) * dt_ps
+
+
+@dataclass
+class RodInitial:
+    """The rod at t = 0 sampled at the base pairs s_i = i L / n_bp, in A, ps, rad."""
+    origins_A: np.ndarray        # (n, 3) r(s_i)
+    R: np.ndarray                # (n, 3, 3) columns d1, d2, d3 (= bp x, y, z axes)
+    gamma_lab_A_ps: np.ndarray   # (n, 3)
+    omega_lab_rad_ps: np.ndarray  # (n, 3)
+    closure_length_A: float      # |r(s + L) - r(s)|
+
+    @property
+    def n_bp(self) -> int:
+        return len(self.origins_A)
+
+
+def rod_initial_from_run(run, n_bp: int, units: Units | None = None):
+    """RodInitial (t = 0) and the centerline over the whole run in A (T, N, 3), from a
+    rod run. Base pair i sits on grid point i N / n_bp, so no interpolation is involved;
+    the sampling is mdbridge.rod.frames' (RodRun.trajectory, RodRun.bp_lab_velocities)."""
+    u = units or Units.paper()
+    run.require("fields/gamma", "fields/omega")
+    traj = run.trajectory(n_bp, u)
+    g, w = run.bp_lab_velocities(n_bp, frame=0)
+    rod = RodInitial(origins_A=traj.origins[0], R=traj.R[0],
+                     gamma_lab_A_ps=u.velocity_to_A_per_ps(g),
+                     omega_lab_rad_ps=u.angular_velocity_to_rad_per_ps(w),
+                     closure_length_A=float(np.linalg.norm(traj.period[0])))
+    return rod, u.length_to_A(np.asarray(run.centerline, float))
 
 
 def md_scene(scene: dict, *, md_ps: float, bp: int | None = None, turns: int | None = None,
@@ -53,16 +87,13 @@ def md_scene(scene: dict, *, md_ps: float, bp: int | None = None, turns: int | N
     # base pair i must be grid point i N / n_bp (dna_planar's default N is n_bp)
     if "points" in rod and int(rod["points"]) % n_bp:
         rod["points"] = n_bp * math.ceil(int(rod["points"]) / n_bp)
-    out = s.setdefault("output", {})
-    out.update({"t_end": u.time_to_rod(md_ps) if md_ps > 0 else 0.0,
-                "frames": ROD_FRAMES if md_ps > 0 else 1,
-                "fields": ["internal", "centerline", "directors"]})
-    return s
+    return set_output(s, t_end=u.time_to_rod(md_ps) if md_ps > 0 else 0.0,
+                      frames=ROD_FRAMES if md_ps > 0 else 1, fields=["internal", "centerline", "directors"])
 
 
 def rod_for_md(run: RodRun, *, md_ps: float, scene: dict, units: Units | None = None) -> RodRun:
     """The frames of an existing rod run that cover the MD (0 <= t <= md_ps), checked to
-    be a run of SCENE (resolved, mdbridge.rod.run.resolve_scene: every [rod], [material]
+    be a run of SCENE (resolved, mdbridge.rod.scene.resolve_scene: every [rod], [material]
     and [initial] value the file records must be the scene's) that starts at t = 0 and
     lasts at least as long as the MD."""
     u = units or Units.paper()
@@ -115,21 +146,6 @@ def scene_sequence(scene: dict, scene_path) -> str | None:
     return validate(seq.decode() if isinstance(seq, bytes) else str(seq), f"{path}: attribute 'sequence'")
 
 
-def _beside(scene_path, p) -> Path:
-    q = Path(p)
-    return q if q.is_absolute() else Path(scene_path).resolve().parent / q
-
-
-def with_absolute_paths(scene: dict, scene_path) -> dict:
-    """A copy of SCENE whose file paths (material_file, initial.path, rod.intrinsic_file)
-    are absolute, so the dict runs from any folder as the file does from its own."""
-    s = copy.deepcopy(scene)
-    for section, key in (("material", "material_file"), ("initial", "path"), ("rod", "intrinsic_file")):
-        if key in s.get(section, {}):
-            s[section][key] = str(_beside(scene_path, s[section][key]))
-    return s
-
-
 def lab_rotation_to_axis(run: RodRun, axis: int = 1) -> np.ndarray:
     """The rotation Q (3, 3) that turns the rod's period vector at t = 0 (P = int_0^L
     d_k Gamma_k ds, the end-to-end vector of one period) onto the lab axis `axis`
@@ -138,8 +154,8 @@ def lab_rotation_to_axis(run: RodRun, axis: int = 1) -> np.ndarray:
     helix axis is wherever the sequence's closed shape puts it. The smallest rotation."""
     run.require("s", "directors", "fields/Gamma")
     s = np.asarray(run.s, float)   # present: require() raised otherwise
-    ds = float(s[1] - s[0])
-    P = np.einsum("ixk,ik->x", np.asarray(run.directors, float)[0], np.asarray(run.fields["Gamma"], float)[0]) * ds
+    assert run.directors is not None
+    P = period_vector(run.directors[0], run.fields["Gamma"][0], float(s[1] - s[0]))
     a = P / np.linalg.norm(P)
     e = np.zeros(3)
     e[axis] = 1.0
@@ -157,7 +173,6 @@ def lab_rotation_to_axis(run: RodRun, axis: int = 1) -> np.ndarray:
 def rotate_rod(rod, centerline_A, Q):
     """RodInitial and centerline (T, N, 3) seen in the lab rotated by Q (a rigid rotation
     of the whole rod run: positions, frames and velocities)."""
-    import dataclasses
     return (dataclasses.replace(rod, origins_A=rod.origins_A @ Q.T, R=np.einsum("ij,njk->nik", Q, rod.R),
                                 gamma_lab_A_ps=rod.gamma_lab_A_ps @ Q.T, omega_lab_rad_ps=rod.omega_lab_rad_ps @ Q.T),
             centerline_A @ Q.T)

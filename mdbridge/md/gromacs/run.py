@@ -28,6 +28,7 @@ from pathlib import Path
 
 from dna_models.errors import ExternalToolError, InputError
 
+from .defaults import CHECKPOINT_MIN
 from .gmx import find_gmx, gmx_version, run_gmx, run_gmx_with_progress
 from .mdp import read_mdp_value
 from mdbridge.jsonio import write_json
@@ -36,7 +37,6 @@ PARTS = {"md.part.xtc": "md.xtc", "md.part.edr": "md.edr", "md.part.log": "md.lo
          "confout.part.gro": "confout.gro", "md.part.cpt": "md.cpt", "md.part.tpr": "md.tpr"}
 FINAL = ("md.tpr", "md.xtc", "md.edr", "md.log", "confout.gro", "md.cpt", "md.done", "checks.json")
 STATE = ("md.run.json", "md.part_prev.cpt", "md.part.trr")
-CHECKPOINT_MIN = 2.0   # wall-clock minutes between checkpoints: a kill loses at most this
 
 
 def _set_keys(mdp_text: str, values: dict) -> str:
@@ -149,6 +149,36 @@ def run_md(directory: Path, *, ps: float | None = None, steps: int | None = None
     build = json.loads((d / "build.json").read_text())
     mdp = (d / "md.mdp").read_text()
     dt = float(read_mdp_value(mdp, "dt") or 0.001)
+    steps = _md_steps(d, build, dt, ps, steps, stream)
+    run_mdp = _set_keys(mdp, _run_keys(steps, dt, output_ps))
+    request = _request(d, run_mdp, gmx_path, steps)
+    resume = _start_or_resume(d, request, run_mdp, gmx_path, dt, fresh, stream)
+    wall = _mdrun(d, gmx_path, resume=resume, reprod=reprod, threads=threads, checkpoint_min=checkpoint_min,
+                  on_step=(lambda k: progress(k * dt, steps * dt)) if progress is not None else None)
+    for src, dst in PARTS.items():
+        if (d / src).exists():
+            (d / src).replace(d / dst)
+    for f in STATE:
+        (d / f).unlink(missing_ok=True)
+    log = (d / "md.log").read_text() if (d / "md.log").exists() else ""
+    m = re.findall(r"Performance:\s+(\S+)\s+(\S+)", log)
+    record: dict = {"steps": steps, "dt_ps": dt, "length_ps": steps * dt, "wall_s": round(wall, 2),
+                    "ns_per_day": float(m[-1][0]) if m else None, "threads": threads,
+                    "resumed_from_checkpoint": resume, "checkpoint_min": checkpoint_min,
+                    "reprod": reprod,
+                    "gmx": {"path": gmx_path, "version": gmx_version(gmx_path)}}
+    # written after every MD output is in place: its presence means the MD is complete
+    write_json(d / "md.done", record)
+    if checks:
+        from .checks import write_checks
+        write_checks(d, gmx=gmx_path)
+        record["checks"] = "checks.json"
+    return record
+
+
+def _md_steps(d: Path, build: dict, dt: float, ps, steps, stream) -> int:
+    """The MD's steps: --steps, else --ps, else the length the build was made for; a
+    warning when the run outlasts the rod run that sized the box."""
     if steps is None:
         if ps is None:
             ps = float(build.get("md_length_ps") or 0.0)
@@ -162,6 +192,12 @@ def run_md(directory: Path, *, ps: float | None = None, steps: int | None = None
     if run_ps > planned * (1 + 1e-9) and stream is not None:
         stream.write(f"warning: running {run_ps:g} ps but the box was sized from a rod run of "
                      f"{planned:g} ps; check min_side_image_distance in checks.json\n")
+    return steps
+
+
+def _run_keys(steps: int, dt: float, output_ps) -> dict:
+    """The md.mdp keys this run sets: nsteps, and with --output-ps the output intervals
+    (nstcalcenergy divides both the output interval and 100 steps)."""
     values = {"nsteps": steps}
     if output_ps is not None:
         if output_ps <= 0:
@@ -169,8 +205,14 @@ def run_md(directory: Path, *, ps: float | None = None, steps: int | None = None
         every = max(1, int(round(output_ps / dt)))
         values.update({"nstxout-compressed": every, "nstenergy": every, "nstlog": every,
                        "nstcalcenergy": math.gcd(every, 100)})
-    run_mdp = _set_keys(mdp, values)
-    request = _request(d, run_mdp, gmx_path, steps)
+    return values
+
+
+def _start_or_resume(d: Path, request: dict, run_mdp: str, gmx_path: str, dt: float, fresh: bool,
+                     stream) -> bool:
+    """True when an interrupted run of the same request continues from its checkpoint
+    (the finished files of any earlier run removed); otherwise every earlier output goes
+    and grompp makes md.part.tpr. The request is recorded in md.run.json."""
     resume = not fresh and _resumable(d, request)
     if resume:
         for f in FINAL:      # a finished earlier run of something else is not this run
@@ -179,14 +221,21 @@ def run_md(directory: Path, *, ps: float | None = None, steps: int | None = None
         if stream is not None:
             stream.write("run-md: continuing from the checkpoint md.part.cpt"
                          + (f" (step {step0}, {step0 * dt:g} ps)" if step0 is not None else "") + "\n")
-    else:
-        for f in FINAL + tuple(PARTS) + STATE:
-            (d / f).unlink(missing_ok=True)
-        (d / "md_run.mdp").write_text(run_mdp)
-        run_gmx(gmx_path, ["grompp", "-f", "md_run.mdp", "-c", "conf.gro", "-p", "topol.top",
-                           "-o", "md.part.tpr", "-po", "mdout.mdp", "-maxwarn", "0"], d,
-                log_name="gmx_grompp_md.log")
-        write_json(d / "md.run.json", request)
+        return True
+    for f in FINAL + tuple(PARTS) + STATE:
+        (d / f).unlink(missing_ok=True)
+    (d / "md_run.mdp").write_text(run_mdp)
+    run_gmx(gmx_path, ["grompp", "-f", "md_run.mdp", "-c", "conf.gro", "-p", "topol.top",
+                       "-o", "md.part.tpr", "-po", "mdout.mdp", "-maxwarn", "0"], d,
+            log_name="gmx_grompp_md.log")
+    write_json(d / "md.run.json", request)
+    return False
+
+
+def _mdrun(d: Path, gmx_path: str, *, resume: bool, reprod: bool, threads, checkpoint_min: float,
+           on_step) -> float:
+    """mdrun into the part files (appending to them when RESUME); on failure an
+    ExternalToolError with mdrun_diagnosis. Returns the wall time, s."""
     args = ["mdrun", "-v", "-s", "md.part.tpr", "-x", "md.part.xtc", "-e", "md.part.edr",
             "-g", "md.part.log", "-c", "confout.part.gro", "-cpo", "md.part.cpt",
             "-o", "md.part.trr", "-cpt", f"{checkpoint_min:g}"]
@@ -196,7 +245,6 @@ def run_md(directory: Path, *, ps: float | None = None, steps: int | None = None
         args += ["-reprod"]
     if threads:
         args += ["-nt", str(int(threads))]
-    on_step = (lambda k: progress(k * dt, run_ps)) if progress is not None else None
     t0 = time.time()
     try:
         run_gmx_with_progress(gmx_path, args, d, log_name="gmx_mdrun_md.log", on_step=on_step,
@@ -208,23 +256,4 @@ def run_md(directory: Path, *, ps: float | None = None, steps: int | None = None
                                 "\nNo MD result was kept "
                                 f"(no md.done; partial files md.part.* in {d}; rerunning the "
                                 "same command continues from the last checkpoint).") from None
-    wall = time.time() - t0
-    for src, dst in PARTS.items():
-        if (d / src).exists():
-            (d / src).replace(d / dst)
-    for f in STATE:
-        (d / f).unlink(missing_ok=True)
-    log = (d / "md.log").read_text() if (d / "md.log").exists() else ""
-    m = re.findall(r"Performance:\s+(\S+)\s+(\S+)", log)
-    record: dict = {"steps": steps, "dt_ps": dt, "length_ps": run_ps, "wall_s": round(wall, 2),
-              "ns_per_day": float(m[-1][0]) if m else None, "threads": threads,
-              "resumed_from_checkpoint": resume, "checkpoint_min": checkpoint_min,
-              "reprod": reprod,
-              "gmx": {"path": gmx_path, "version": gmx_version(gmx_path)}}
-    # written after every MD output is in place: its presence means the MD is complete
-    write_json(d / "md.done", record)
-    if checks:
-        from .checks import write_checks
-        write_checks(d, gmx=gmx_path)
-        record["checks"] = "checks.json"
-    return record
+    return time.time() - t0

@@ -240,116 +240,134 @@ def _shooting_minimiser(g, L, b, refine=2, tol=1e-8, maxiter=30, segment_length=
     at R(L) = I, |r(L)| = b and N || r(L). Levenberg-Marquardt (scipy, MINPACK) with a
     central-difference Jacobian whose shots (all segments of all 12 K perturbations)
     are integrated together. K = 1 is the single shooting."""
-    N = g["K"].shape[0]
-    x0 = np.concatenate([g["Gamma0"], g["Omega0"]], axis=1)
-    Cg = np.linalg.inv(g["K"])                               # compliance, SPD
-    M = refine * N
-    hc = L / M
-    t = (np.arange(M) + 0.5) / refine                        # cell midpoints in grid units
-    j0 = np.floor(t).astype(int) % N
-    w = (t - np.floor(t))[:, None]
-    j1 = (j0 + 1) % N
-    xc0 = (1 - w) * x0[j0] + w * x0[j1]                       # linear in s: convex, so the
-    Cc = (1 - w[..., None]) * Cg[j0] + w[..., None] * Cg[j1]  # compliance stays SPD
-    K = max(1, min(N, int(np.ceil(L / (SEGMENT_LENGTH if segment_length is None else segment_length)))))
-    jb = np.round(np.linspace(0, N, K + 1)).astype(int)      # segment k: grid points jb[k] .. jb[k+1]
-    c0, nc = refine * jb[:-1], refine * np.diff(jb)          # its first cell, its number of cells
-
-    def cross(a, b):
-        return a[:, [1, 2, 0]] * b[:, [2, 0, 1]] - a[:, [2, 0, 1]] * b[:, [1, 2, 0]]
-
-    def strains(R, r, Nf, Mm, xs0, C_):                      # batched over shots: R (B, 3, 3)
-        st = np.concatenate([np.einsum("bji,bj->bi", R, Nf),
-                             np.einsum("bji,bj->bi", R, Mm - cross(r, Nf))], axis=1)
-        return xs0 + np.einsum("bij,bj->bi", C_, st)
-
-    def exp(v, w):
-        """SE(3) exponential (R, J(v) w) of (B, 3) twists, lean (the shot's inner loop)."""
-        t2 = np.einsum("bi,bi->b", v, v)
-        t = np.sqrt(t2)
-        small = t < 1e-3
-        ts = np.where(small, 1.0, t)
-        a = np.where(small, 1 - t2 / 6, np.sin(ts) / ts)
-        bb = np.where(small, 0.5 - t2 / 24, (1 - np.cos(ts)) / ts**2)
-        cc = np.where(small, 1 / 6 - t2 / 120, (ts - np.sin(ts)) / ts**3)
-        V = skew(v)
-        V2 = V @ V
-        R = np.eye(3) + a[:, None, None] * V + bb[:, None, None] * V2
-        Jw = w + bb[:, None] * np.einsum("bij,bj->bi", V, w) + cc[:, None] * np.einsum("bij,bj->bi", V2, w)
-        return R, Jw
-
-    def shoot(R, r, P, grid=False):
-        """Ends (R, r) (B, K, 3, 3), (B, K, 3) of the K segments of B shots from the
-        starts R, r (same shapes) under P (B, 6) = (N, M); grid=True (B = 1): the
-        strains at the grid points instead."""
-        B = len(P)
-        R, r = R.reshape(B * K, 3, 3).copy(), r.reshape(B * K, 3).copy()
-        Nf, Mm = np.repeat(P[:, :3], K, axis=0), np.repeat(P[:, 3:], K, axis=0)
-        seg = np.tile(np.arange(K), B)
-        out = np.empty((N, 6))
-        for c in range(int(nc.max())):
-            live = c < nc[seg]                               # segments may differ by a grid cell
-            cell = np.minimum(c0[seg] + c, M - 1)
-            if grid and c % refine == 0:
-                j = jb[seg[live]] + c // refine
-                out[j] = strains(R[live], r[live], Nf[live], Mm[live], x0[j], Cg[j])
-            # midpoint rule; the mid-cell frame by a first-order predictor (its O(h^2)
-            # error changes the midpoint strains at the order of the rule itself)
-            xs = strains(R, r, Nf, Mm, xc0[cell], Cc[cell])
-            Rm = R + 0.5 * hc * R @ skew(xs[:, 3:])
-            xm = strains(Rm, r + 0.5 * hc * np.einsum("bij,bj->bi", R, xs[:, :3]), Nf, Mm, xc0[cell], Cc[cell])
-            Rc, dc = exp(hc * xm[:, 3:], hc * xm[:, :3])
-            r = np.where(live[:, None], r + np.einsum("bij,bj->bi", R, dc), r)
-            R = np.where(live[:, None, None], R @ Rc, R)
-        return out if grid else (R.reshape(B, K, 3, 3), r.reshape(B, K, 3))
-
-    # references: the intrinsic shape at the segment starts (at N = M = 0 the strains do not
-    # depend on the frame, so each segment's motion is shot from the identity and chained)
-    Rs, rs = shoot(np.broadcast_to(np.eye(3), (1, K, 3, 3)), np.zeros((1, K, 3)), np.zeros((1, 6)))
-    Rref, rref = np.empty((K, 3, 3)), np.empty((K, 3))
-    Rref[0], rref[0] = np.eye(3), 0.0
-    for k in range(1, K):
-        Rref[k] = Rref[k - 1] @ Rs[0, k - 1]
-        rref[k] = rref[k - 1] + Rref[k - 1] @ rs[0, k - 1]
-
-    def starts(Z):
-        """Segment starts (B, K, 3, 3), (B, K, 3) of the unknowns Z (B, 6 K)."""
-        B = len(Z)
-        u = Z[:, 6:].reshape(B, K - 1, 6)
-        R = np.broadcast_to(Rref, (B, K, 3, 3)).copy()
-        r = np.broadcast_to(rref, (B, K, 3)).copy()
-        R[:, 1:] = R[:, 1:] @ rotation_exp(u[..., :3])
-        r[:, 1:] += u[..., 3:]
-        return R, r
-
-    def resid(Z):
-        R0, r0 = starts(Z)
-        R1, r1 = shoot(R0, r0, Z[:, :6])
-        Rt = np.swapaxes(R0[:, 1:], -1, -2)
-        joins = np.concatenate([rotation_log(Rt @ R1[:, :-1]),
-                                np.einsum("bkij,bkj->bki", Rt, r1[:, :-1] - r0[:, 1:])], axis=2)
-        Re, re = R1[:, -1], r1[:, -1]
-        close = np.concatenate([rotation_log(Re), np.cross(re, Z[:, :3]) / b,
-                                (np.linalg.norm(re, axis=1) - b)[:, None]], axis=1)
-        return np.concatenate([joins.reshape(len(Z), -1), close], axis=1)
-
     from scipy.optimize import least_squares
+    sh = _Shooting(g, L, b, refine, SEGMENT_LENGTH if segment_length is None else segment_length)
+    K = sh.K
     eps = 1e-7
     E = np.vstack([eps * np.eye(6 * K), -eps * np.eye(6 * K)])
 
     def jac(p):
-        Rr = resid(p[None] + E)
+        Rr = sh.residual(p[None] + E)
         return ((Rr[:6 * K] - Rr[6 * K:]) / (2 * eps)).T
 
-    sol = least_squares(lambda p: resid(p[None])[0], np.zeros(6 * K), jac=jac, method="lm",
+    sol = least_squares(lambda p: sh.residual(p[None])[0], np.zeros(6 * K), jac=jac, method="lm",
                         xtol=1e-3 * tol, ftol=1e-3 * tol, gtol=1e-15, max_nfev=50 * maxiter)
     p = sol.x
-    f = resid(p[None])[0]
+    f = sh.residual(p[None])[0]
     if np.max(np.abs(f)) > tol:
         raise InputError(f"closed rest state: shooting for the closed minimiser did not converge "
                          f"({K} segments, closure and join residual {np.max(np.abs(f)):.3g})")
-    R0, r0 = starts(p[None])
-    return shoot(R0, r0, p[None, :6], grid=True)
+    R0, r0 = sh.starts(p[None])
+    return sh.shoot(R0, r0, p[None, :6], grid=True)
+
+
+def _cross(a, b):
+    return a[:, [1, 2, 0]] * b[:, [2, 0, 1]] - a[:, [2, 0, 1]] * b[:, [1, 2, 0]]
+
+
+def _shot_strains(R, r, Nf, Mm, xs0, C_):
+    """x = x0 + C (R^T N, R^T (M - r x N)), batched over shots: R (B, 3, 3)."""
+    st = np.concatenate([np.einsum("bji,bj->bi", R, Nf),
+                         np.einsum("bji,bj->bi", R, Mm - _cross(r, Nf))], axis=1)
+    return xs0 + np.einsum("bij,bj->bi", C_, st)
+
+
+def _se3_exp_lean(v, w):
+    """SE(3) exponential (R, J(v) w) of (B, 3) twists, lean (the shot's inner loop)."""
+    t2 = np.einsum("bi,bi->b", v, v)
+    t = np.sqrt(t2)
+    small = t < 1e-3
+    ts = np.where(small, 1.0, t)
+    a = np.where(small, 1 - t2 / 6, np.sin(ts) / ts)
+    bb = np.where(small, 0.5 - t2 / 24, (1 - np.cos(ts)) / ts**2)
+    cc = np.where(small, 1 / 6 - t2 / 120, (ts - np.sin(ts)) / ts**3)
+    V = skew(v)
+    V2 = V @ V
+    R = np.eye(3) + a[:, None, None] * V + bb[:, None, None] * V2
+    Jw = w + bb[:, None] * np.einsum("bij,bj->bi", V, w) + cc[:, None] * np.einsum("bij,bj->bi", V2, w)
+    return R, Jw
+
+
+class _Shooting:
+    """The multiple shooting of _shooting_minimiser: the rod's compliance and intrinsic
+    strains linear between grid points (refine cells per grid cell), K segments between
+    grid points jb[k] .. jb[k + 1], their reference starts (the intrinsic shape), the
+    shot and the residual of the unknowns p = (N, M, theta_k, dr_k for k = 1 .. K-1)."""
+
+    def __init__(self, g, L, b, refine, segment_length):
+        N = g["K"].shape[0]
+        self.N, self.b, self.refine = N, b, refine
+        self.x0 = np.concatenate([g["Gamma0"], g["Omega0"]], axis=1)
+        self.Cg = np.linalg.inv(g["K"])                          # compliance, SPD
+        self.M = refine * N
+        self.hc = L / self.M
+        t = (np.arange(self.M) + 0.5) / refine                   # cell midpoints in grid units
+        j0 = np.floor(t).astype(int) % N
+        w = (t - np.floor(t))[:, None]
+        j1 = (j0 + 1) % N
+        self.xc0 = (1 - w) * self.x0[j0] + w * self.x0[j1]      # linear in s: convex, so the
+        self.Cc = (1 - w[..., None]) * self.Cg[j0] + w[..., None] * self.Cg[j1]  # compliance stays SPD
+        K = self.K = max(1, min(N, int(np.ceil(L / segment_length))))
+        self.jb = np.round(np.linspace(0, N, K + 1)).astype(int)  # segment k: grid points jb[k] .. jb[k+1]
+        self.c0, self.nc = refine * self.jb[:-1], refine * np.diff(self.jb)  # its first cell, its cells
+        # references: the intrinsic shape at the segment starts (at N = M = 0 the strains do not
+        # depend on the frame, so each segment's motion is shot from the identity and chained)
+        Rs, rs = self.shoot(np.broadcast_to(np.eye(3), (1, K, 3, 3)), np.zeros((1, K, 3)), np.zeros((1, 6)))
+        self.Rref, self.rref = np.empty((K, 3, 3)), np.empty((K, 3))
+        self.Rref[0], self.rref[0] = np.eye(3), 0.0
+        for k in range(1, K):
+            self.Rref[k] = self.Rref[k - 1] @ Rs[0, k - 1]
+            self.rref[k] = self.rref[k - 1] + self.Rref[k - 1] @ rs[0, k - 1]
+
+    def shoot(self, R, r, P, grid=False):
+        """Ends (R, r) (B, K, 3, 3), (B, K, 3) of the K segments of B shots from the
+        starts R, r (same shapes) under P (B, 6) = (N, M); grid=True (B = 1): the
+        strains at the grid points instead."""
+        K, refine, hc, xc0, Cc = self.K, self.refine, self.hc, self.xc0, self.Cc
+        B = len(P)
+        R, r = R.reshape(B * K, 3, 3).copy(), r.reshape(B * K, 3).copy()
+        Nf, Mm = np.repeat(P[:, :3], K, axis=0), np.repeat(P[:, 3:], K, axis=0)
+        seg = np.tile(np.arange(K), B)
+        out = np.empty((self.N, 6))
+        for c in range(int(self.nc.max())):
+            live = c < self.nc[seg]                          # segments may differ by a grid cell
+            cell = np.minimum(self.c0[seg] + c, self.M - 1)
+            if grid and c % refine == 0:
+                j = self.jb[seg[live]] + c // refine
+                out[j] = _shot_strains(R[live], r[live], Nf[live], Mm[live], self.x0[j], self.Cg[j])
+            # midpoint rule; the mid-cell frame by a first-order predictor (its O(h^2)
+            # error changes the midpoint strains at the order of the rule itself)
+            xs = _shot_strains(R, r, Nf, Mm, xc0[cell], Cc[cell])
+            Rm = R + 0.5 * hc * R @ skew(xs[:, 3:])
+            xm = _shot_strains(Rm, r + 0.5 * hc * np.einsum("bij,bj->bi", R, xs[:, :3]), Nf, Mm,
+                               xc0[cell], Cc[cell])
+            Rc, dc = _se3_exp_lean(hc * xm[:, 3:], hc * xm[:, :3])
+            r = np.where(live[:, None], r + np.einsum("bij,bj->bi", R, dc), r)
+            R = np.where(live[:, None, None], R @ Rc, R)
+        return out if grid else (R.reshape(B, K, 3, 3), r.reshape(B, K, 3))
+
+    def starts(self, Z):
+        """Segment starts (B, K, 3, 3), (B, K, 3) of the unknowns Z (B, 6 K)."""
+        B, K = len(Z), self.K
+        u = Z[:, 6:].reshape(B, K - 1, 6)
+        R = np.broadcast_to(self.Rref, (B, K, 3, 3)).copy()
+        r = np.broadcast_to(self.rref, (B, K, 3)).copy()
+        R[:, 1:] = R[:, 1:] @ rotation_exp(u[..., :3])
+        r[:, 1:] += u[..., 3:]
+        return R, r
+
+    def residual(self, Z):
+        """(B, 6 K) conditions: each segment ends at the next one's start, the last at
+        R(L) = I, |r(L)| = b and N || r(L)."""
+        R0, r0 = self.starts(Z)
+        R1, r1 = self.shoot(R0, r0, Z[:, :6])
+        Rt = np.swapaxes(R0[:, 1:], -1, -2)
+        joins = np.concatenate([rotation_log(Rt @ R1[:, :-1]),
+                                np.einsum("bkij,bkj->bki", Rt, r1[:, :-1] - r0[:, 1:])], axis=2)
+        Re, re = R1[:, -1], r1[:, -1]
+        close = np.concatenate([rotation_log(Re), np.cross(re, Z[:, :3]) / self.b,
+                                (np.linalg.norm(re, axis=1) - self.b)[:, None]], axis=1)
+        return np.concatenate([joins.reshape(len(Z), -1), close], axis=1)
 
 
 def _closed_step(J, F, C, c, mu=0.0):
@@ -433,21 +451,32 @@ def closed_rest_state(g, L, box_length=None, space="spectral", refine=8, mode="c
         raise InputError(f"rest state mode {mode!r}: allowed {', '.join(MODES)}")
     N = g["K"].shape[0]
     b = float(L if box_length is None else box_length)
-    ds = L / N
     S = SolverStatics(g, L, space) if statics is None else statics
-    x0 = np.concatenate([g["Gamma0"], g["Omega0"]], axis=1)
     # closed: the continuum's closed minimiser (shooting, 6 unknowns), then
     # Gauss-Newton on the solver's statics with the closure as an equality constraint
     x = _shooting_minimiser(g, L, b).ravel()
-    # Levenberg-Marquardt on the constrained problem: a step is kept when it lowers
-    # the merit |F|^2 + (w |c|)^2 (w: the closure counts as much as the statics).
-    # The damping follows the gain ratio rho (actual / predicted decrease; Nielsen's
-    # update: mu *= max(1/3, 1 - (2 rho - 1)^3) on success, doubling factors on
-    # failure): near the soft family the undamped step overshoots along the curved
-    # valley, and the rate of convergence is set by how small a damping still works,
-    # so mu is found adaptively rather than reset to 0 after every kept step
-    # (which costs two rejected solves per iteration)
-    w = 1e3 / ds
+    x, c, C, it = _constrained_gauss_newton(S, x, L, b, refine, maxiter)
+    x = _close_to_round_off(x, c, C, L, b, refine)
+    if mode == "equilibrium":
+        x, it2 = _equilibrium_from(S, x, tol, maxiter)
+        it += it2
+    return _rest_state(x.reshape(N, 6), g, L, b, refine, S, space, mode, it)
+
+
+def _constrained_gauss_newton(S, x, L, b, refine, maxiter):
+    """Levenberg-Marquardt on the solver's statics with the closure as an equality
+    constraint, from x (N 6): a step is kept when it lowers the merit |F|^2 + (w |c|)^2
+    (w: the closure counts as much as the statics). Returns x, the closure defect c and
+    its Jacobian C at x, and the iterations.
+
+    The damping follows the gain ratio rho (actual / predicted decrease; Nielsen's
+    update: mu *= max(1/3, 1 - (2 rho - 1)^3) on success, doubling factors on
+    failure): near the soft family the undamped step overshoots along the curved
+    valley, and the rate of convergence is set by how small a damping still works,
+    so mu is found adaptively rather than reset to 0 after every kept step
+    (which costs two rejected solves per iteration)."""
+    N = len(x) // 6
+    w = 1e3 / (L / N)
 
     def merit(F, c):
         return float(F @ F + (w * c) @ (w * c))
@@ -492,34 +521,40 @@ def closed_rest_state(g, L, box_length=None, space="spectral", refine=8, mode="c
         if not np.max(np.abs(c)) < 1e-8 * max(1.0, b):
             raise InputError(f"closed rest state: Gauss-Newton did not converge in {maxiter} iterations "
                              f"(last step {np.max(np.abs(dx)):.3g}, closure defect {np.max(np.abs(c)):.3g})")
-    # the last digits of the closure: minimum-norm Newton steps on c alone (quadratic; a
-    # step of the closure's size moves the statics residual far below its discretisation error)
+    return x, c, C, it
+
+
+def _close_to_round_off(x, c, C, L, b, refine):
+    """The last digits of the closure: minimum-norm Newton steps on c alone (quadratic; a
+    step of the closure's size moves the statics residual far below its discretisation error)."""
+    N = len(x) // 6
     for _ in range(8):
         if np.max(np.abs(c)) < 1e-12 * max(1.0, b):
-            break
+            return x
         x = x + np.linalg.lstsq(C, -c, rcond=None)[0]
         c, C = closure_jacobian(x.reshape(N, 6), L, b, refine)
-    else:
-        raise InputError(f"closed rest state: the closure did not converge (defect {np.max(np.abs(c)):.3g})")
-    if mode == "equilibrium":
-        x, it2 = _equilibrium_from(S, x, tol, maxiter)
-        it += it2
-    x = x.reshape(N, 6)
+    raise InputError(f"closed rest state: the closure did not converge (defect {np.max(np.abs(c)):.3g})")
+
+
+def _rest_state(x, g, L, b, refine, S, space, mode, iterations) -> ClosedRest:
+    """The ClosedRest of the grid strains x (N, 6): stresses, the helix axis, tension and
+    torque along it, residuals, closure, energy."""
+    N = len(x)
     n, m = stress(x, g)
     R, d = monodromy(x, L, refine)
     axis0 = d / np.linalg.norm(d)
     Rs = _frames_on_grid(x, L, refine)     # director frames at the grid points, to project on the axis
     a_body = np.einsum("jki,k->ji", Rs, axis0)
     cd = closure_defect(x, L, b, refine)
-    dx0 = x - x0
+    dx0 = x - np.concatenate([g["Gamma0"], g["Omega0"]], axis=1)
     return ClosedRest(Gamma=x[:, :3].copy(), Omega=x[:, 3:].copy(), n=n, m=m, axis0=axis0,
                       tension=float(np.mean(np.sum(n * a_body, axis=1))),
                       torque=float(np.mean(np.sum(m * a_body, axis=1))),
                       statics_residual=float(np.max(np.abs(S.residual(x)))),
                       closure_rotation_rad=float(np.linalg.norm(cd[:3])),
                       closure_length_error=float(abs(cd[3])),
-                      energy=float(0.5 * ds * np.einsum("ja,jab,jb->", dx0, g["K"], dx0)), space=space,
-                      mode=mode, iterations=it)
+                      energy=float(0.5 * (L / N) * np.einsum("ja,jab,jb->", dx0, g["K"], dx0)),
+                      space=space, mode=mode, iterations=iterations)
 
 
 def _frames_on_grid(x, L, refine):

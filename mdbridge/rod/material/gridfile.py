@@ -1,5 +1,6 @@
 """Files for rodsim: the grid material file (`format = "dnarod-material/1"`),
-the t = 0 state as an initial-condition file, and the scene that uses both.
+the t = 0 state as an initial-condition file (also of workflows/steps/prestrain.py), and
+the scene that uses both (made with the scene editor, mdbridge/rod/scene.py).
 
 Material file (per grid point, dimensionless): K (N, 6, 6) on (Gamma1..3,
 Omega1..3), I (N, 3, 3), rho (N), Gamma0 (N, 3), Omega0 (N, 3); read by rodsim
@@ -9,6 +10,9 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
+
+from dna_models.units import Units
+from mdbridge.rod.scene import new_scene
 
 MATERIAL_FORMAT = "dnarod-material/1"
 
@@ -38,29 +42,14 @@ def write_initial_file(path, s, Gamma, Omega, gamma=None, omega=None) -> Path:
     return path
 
 
-def scene_text(length, points, material_file, initial_file, space="spectral", t_end=637.2, frames=601,
-               comment=""):
-    """A scene TOML running the grid material from the given initial state."""
-    head = "".join(f"# {line}\n" for line in comment.splitlines())
-    return f"""{head}[rod]
-length = {float(length)!r}
-points = {int(points)}
-
-[material]
-material_file = "{material_file}"
-
-[initial]
-kind = "file"
-path = "{initial_file}"
-
-[solver]
-space = "{space}"
-time = "dop853"
-rtol = 1e-10
-atol = 1e-10
-
-[output]
-t_end = {float(t_end)!r}
-frames = {int(frames)}
-fields = ["internal", "energy", "centerline", "directors"]
-"""
+def grid_scene(length, points, material_file, initial_file, space="spectral", t_end_ps=600.0,
+               frames=None, units: Units | None = None) -> dict:
+    """A scene (mdbridge.rod.scene) running the grid material from the given initial
+    state for t_end_ps (600 ps, the paper's MD) with `frames` output frames (default one
+    per ps); write it with mdbridge.rod.scene.write_scene."""
+    u = units or Units.paper()
+    frames = int(t_end_ps) + 1 if frames is None else frames
+    return new_scene({"length": float(length), "points": int(points)}, {"kind": "file", "path": str(initial_file)},
+                     t_end=u.time_to_rod(t_end_ps), frames=frames, space=space,
+                     fields=("internal", "energy", "centerline", "directors"),
+                     material={"material_file": str(material_file)})

@@ -98,7 +98,7 @@ def paper_steps(sequence: str, closed: bool = True, units=None, mass: str = "pap
     u = Units.paper() if units is None else units
     seq = validate(sequence)
     n = len(seq) if closed else len(seq) - 1
-    tw = 360.0 / _bp_per_turn_paper()
+    tw = 360.0 / u.bp_per_turn_paper
     p = np.tile([0.0, 0.0, u.rise_A, 0.0, 0.0, tw], (n, 1))
     K = np.diag(list(u.C_star) + list(u.D_star))
     F = step_stiffness(np.broadcast_to(K, (n, 6, 6)), p, PAPER_TEMPERATURE_K, u.rise_A, u)
@@ -106,13 +106,8 @@ def paper_steps(sequence: str, closed: bool = True, units=None, mass: str = "pap
     return StepMaterial(sequence=seq, closed=closed, step_params=p, stiffness=F,
                         temperature_K=PAPER_TEMPERATURE_K, mass=m, inertia=I,
                         source="paper Sec 2.1-2.2 (uniform; dna_models/data/dna_elastic_constants.toml), "
-                               f"twist 360/{_bp_per_turn_paper():.6g} deg, rise {u.rise_A} A; "
+                               f"twist 360/{u.bp_per_turn_paper:.6g} deg, rise {u.rise_A} A; "
                                f"mass and inertia: {_MASS_SOURCE[mass]}").validate()
-
-
-def _bp_per_turn_paper():
-    with open(DATA / "dna_elastic_constants.toml", "rb") as f:
-        return float(tomllib.load(f)["b_dna"]["bp_per_turn_paper"])
 
 
 _MASS_SOURCE = {"paper": "paper Sec 2.1", "atoms": "all-atom B-DNA templates (no counterions)"}

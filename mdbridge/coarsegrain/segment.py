@@ -1,4 +1,7 @@
-"""The rod's dimensionless material from an m-step segment ensemble (uniform rod).
+"""One m-step segment as a piece of uniform rod: its dimensionless material from the
+segment's ensemble (the coarse-graining's params.json, params.py). The per-step,
+sequence-dependent map with the exact strains and the Jacobian stiffness is
+mdbridge/rod/material/steps_to_rod.py; this one is its uniform, small-strain form.
 
 A segment of mean length L with stiffness M = kT <dq dq^T>^-1 (q in A and rad) is a
 rod piece with strain Gamma - Gamma0 = dq_translation / L and curvature/twist
@@ -32,8 +35,7 @@ def segment_rod_material(mean, cov, temperature_K: float, n_eff=None, units: Uni
     # K = L M in SI: translations in m, angles in rad, L in m
     s = np.array([1 / ANGSTROM] * 3 + [1.0] * 3)                      # per A -> per m
     K = (L_A * ANGSTROM) * kT * M * s[:, None] * s[None, :]
-    S = np.array([1.0] * 3 + [1.0 / u.ell_m] * 3)
-    K_star = S[:, None] * K * S[None, :] / u.C
+    K_star = u.stiffness_to_rod(K)
     Gamma0 = mean[:3] / L_A
     Omega0 = mean[3:] * DEG / L_A * u.ell_A
     return {"K_SI": K, "K_star": K_star, "Gamma0_star": Gamma0, "Omega0_star": Omega0,
