@@ -73,6 +73,86 @@ class RK4 final : public TimeIntegrator {
   std::vector<double> k2_, k3_, k4_, tmp_;
 };
 
+// -------------------------------------------------------- Langevin
+// O(dt/2) H(dt) O(dt/2). The step index counts from the start of the run
+// (restored with the checkpoint), so the random numbers of every step are
+// those of an uninterrupted run.
+class Langevin final : public TimeIntegrator {
+ public:
+  Langevin(OdeSystem s, IntegratorOptions o) : TimeIntegrator(std::move(s), o) {
+    if (!sys_.ou) throw InputError("solver.time = \"langevin\": the system has no friction-and-noise step");
+    const std::size_t n = sys_.n;
+    ya_.resize(n);
+    yb_.resize(n);
+    k2_.resize(n);
+    k3_.resize(n);
+    k4_.resize(n);
+    tmp_.resize(n);
+    fb_.resize(n);
+    h_ = opt_.dt;
+  }
+  std::string name() const override { return "langevin"; }
+  bool adaptive() const override { return false; }
+  int order() const override { return 2; }  // weak order of the splitting; the H part is RK4
+
+  // Never shortened: the OU coefficients are those of dt (the scene makes
+  // output times multiples of dt; a last frame between steps is dense output).
+  void step(double) override {
+    check_steps();
+    const double h = opt_.dt;
+    const std::size_t n = sys_.n;
+    ya_ = y_;
+    sys_.ou(steps_, 0, ya_.data());
+    eval(t_, ya_.data(), f_.data());  // k1, the Hermite slope at the start of H
+    const double* k1 = f_.data();
+    for (std::size_t i = 0; i < n; ++i) tmp_[i] = ya_[i] + 0.5 * h * k1[i];
+    eval(t_ + 0.5 * h, tmp_.data(), k2_.data());
+    for (std::size_t i = 0; i < n; ++i) tmp_[i] = ya_[i] + 0.5 * h * k2_[i];
+    eval(t_ + 0.5 * h, tmp_.data(), k3_.data());
+    for (std::size_t i = 0; i < n; ++i) tmp_[i] = ya_[i] + h * k3_[i];
+    eval(t_ + h, tmp_.data(), k4_.data());
+    for (std::size_t i = 0; i < n; ++i)
+      yb_[i] = ya_[i] + h / 6.0 * (k1[i] + 2.0 * (k2_[i] + k3_[i]) + k4_[i]);
+    y_prev_.swap(y_);
+    y_ = yb_;
+    sys_.ou(steps_, 1, y_.data());
+    t_prev_ = t_;
+    ++steps_;
+    t_ = origin_ + static_cast<double>(steps_) * h;  // not accumulated: frame times stay on steps
+    fb_ready_ = false;
+  }
+
+  void dense(double t, double* out) const override {
+    const double h = t_ - t_prev_;
+    // Step ends (to rounding of the frame times): the state after the kicks.
+    if (h <= 0.0 || std::abs(t - t_) <= 1e-9 * h) {
+      std::copy(y_.begin(), y_.end(), out);
+      return;
+    }
+    if (std::abs(t - t_prev_) <= 1e-9 * h) {
+      std::copy(y_prev_.begin(), y_prev_.end(), out);
+      return;
+    }
+    if (!fb_ready_) {  // f at the end of H: only for steps that hold an output time
+      auto* self = const_cast<Langevin*>(this);
+      self->eval(t_, yb_.data(), self->fb_.data());
+      self->fb_ready_ = true;
+    }
+    const double th = (t - t_prev_) / h;
+    for (std::size_t i = 0; i < sys_.n; ++i) {
+      const double y0 = ya_[i], y1 = yb_[i];
+      out[i] = (1.0 - th) * y0 + th * y1 +
+               th * (th - 1.0) * ((1.0 - 2.0 * th) * (y1 - y0) + (th - 1.0) * h * f_[i] + th * h * fb_[i]);
+    }
+  }
+
+ private:
+  void restarted() override { origin_ = t_ - static_cast<double>(steps_) * opt_.dt; }
+  std::vector<double> ya_, yb_, k2_, k3_, k4_, tmp_, fb_;  // ya_, yb_: the H part's ends
+  bool fb_ready_ = false;
+  double origin_ = 0.0;  // the time of step 0
+};
+
 // ---------------------------------------------------- RK4 step doubling
 class RK4Doubling final : public TimeIntegrator {
  public:
@@ -453,6 +533,7 @@ void TimeIntegrator::reset(double t0, const double* y0) {
   eval(t_, y_.data(), f_.data());
   y_prev_ = y_;
   f_prev_ = f_;
+  restarted();
 }
 
 IntegratorState TimeIntegrator::save_state() const {
@@ -482,6 +563,7 @@ void TimeIntegrator::restore_state(const IntegratorState& s) {
   steps_ = s.steps;
   rejected_ = s.rejected;
   rhs_evals_ = s.rhs_evaluations;
+  restarted();
 }
 
 bool TimeIntegrator::clamp(double& h, double t_stop) const {
@@ -524,11 +606,14 @@ std::unique_ptr<TimeIntegrator> make_time_integrator(TimeMethod kind, OdeSystem 
       return std::make_unique<Dopri5>(std::move(system), options);
     case TimeMethod::dop853:
       return std::make_unique<Dop853>(std::move(system), options);
+    case TimeMethod::langevin:
+      return std::make_unique<Langevin>(std::move(system), options);
     case TimeMethod::automatic:
       break;
   }
   throw InputError("solver.time = \"" + to_string(kind) +
-                   "\" is not a time integrator; allowed: \"rk4\", \"rk4-doubling\", \"dopri5\", \"dop853\"");
+                   "\" is not a time integrator; allowed: \"rk4\", \"rk4-doubling\", \"dopri5\", \"dop853\", "
+                   "\"langevin\"");
 }
 
 }  // namespace rodcore

@@ -13,6 +13,12 @@
 //                  Hairer's dopri5.f).
 //   "dop853"       Dormand-Prince 8(5,3) with Hairer's error estimator and
 //                  7th-order dense output (3 extra stages per output step).
+//   "langevin"     the Langevin splitting O(dt/2) H(dt) O(dt/2) of the thermal
+//                  rod (docs/thermal.md): O the system's exact Ornstein-
+//                  Uhlenbeck step `ou` (friction and noise), H one classic RK4
+//                  step of f (the conservative rod), fixed step dt. Dense
+//                  output: the cubic Hermite of the H part between the two O
+//                  kicks (the state at a step's end is the one after them).
 // Tableaux: Hairer, Norsett & Wanner, Solving ODEs I (2nd ed. 1993), II.5 and
 // II.10. Error norm (all adaptive schemes): RMS over components of
 // err_i / (atol + rtol max(|y_i(t)|, |y_i(t+h)|)).
@@ -32,6 +38,10 @@ namespace rodcore {
 struct OdeSystem {
   std::size_t n = 0;
   std::function<void(double t, const double* y, double* dydt)> f;
+  // "langevin" only: the exact friction-and-noise step over dt/2 on y, in
+  // place; `step` is the index of the step (the random numbers' counter),
+  // half = 0 before the H step, 1 after it.
+  std::function<void(long step, int half, double* y)> ou;
 };
 
 struct IntegratorOptions {
@@ -91,6 +101,8 @@ class TimeIntegrator {
   // Controller memory beyond dt_next (e.g. the PI controller's last error).
   virtual std::vector<double> controller_memory() const { return {}; }
   virtual void set_controller_memory(const std::vector<double>&) {}
+  // Called at the end of reset() and restore_state().
+  virtual void restarted() {}
   // Cubic Hermite interpolation on [t_prev, t] from y, f at both ends.
   void hermite(double t, double* out) const;
 
@@ -102,7 +114,7 @@ class TimeIntegrator {
   long steps_ = 0, rejected_ = 0, rhs_evals_ = 0;
 };
 
-// kind = rk4 | rk4_doubling | dopri5 | dop853; throws InputError otherwise
+// kind = rk4 | rk4_doubling | dopri5 | dop853 | langevin (needs system.ou); throws InputError otherwise
 // (automatic is resolved by Simulation before).
 std::unique_ptr<TimeIntegrator> make_time_integrator(TimeMethod kind, OdeSystem system,
                                                      const IntegratorOptions& options);
