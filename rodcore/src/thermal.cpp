@@ -220,11 +220,11 @@ ThermalSampleReport add_thermal_sample(std::vector<double>& y, double L, const M
     err = holonomy_error(now, ref);
     const double next = size_of(err);
     ++it;
-    if (!(next < gap)) {  // stagnated (round-off) or diverged
-      gap = next;
-      break;
-    }
+    // Stagnated (round-off), diverged, or converging too slowly to reach
+    // round-off (the chord steps of a good linearisation gain ~10x each).
+    const bool slow = next > 0.5 * gap;
     gap = next;
+    if (slow) break;
   }
   if (gap <= 1e-9) {
     rep.closure_exact = true;
