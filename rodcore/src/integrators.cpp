@@ -74,7 +74,12 @@ class RK4 final : public TimeIntegrator {
 };
 
 // -------------------------------------------------------- Langevin
-// O(dt/2) H(dt) O(dt/2). The step index counts from the start of the run
+// One step: the exact OU step over dt, then one RK4 step of the conservative
+// rod. This is the Strang splitting O(dt/2) H(dt) O(dt/2) with the trailing
+// and leading half steps of consecutive steps merged (two exact OU steps of
+// dt/2 compose to one of dt), observed after H instead of between the half
+// steps: the same chain of operations, one noise draw per step instead of two
+// (docs/thermal.md). The step index counts from the start of the run
 // (restored with the checkpoint), so the random numbers of every step are
 // those of an uninterrupted run.
 class Langevin final : public TimeIntegrator {
@@ -83,7 +88,6 @@ class Langevin final : public TimeIntegrator {
     if (!sys_.ou) throw InputError("solver.time = \"langevin\": the system has no friction-and-noise step");
     const std::size_t n = sys_.n;
     ya_.resize(n);
-    yb_.resize(n);
     k2_.resize(n);
     k3_.resize(n);
     k4_.resize(n);
@@ -96,13 +100,13 @@ class Langevin final : public TimeIntegrator {
   int order() const override { return 2; }  // weak order of the splitting; the H part is RK4
 
   // Never shortened: the OU coefficients are those of dt (the scene makes
-  // output times multiples of dt; a last frame between steps is dense output).
+  // output times multiples of dt; other times are dense output).
   void step(double) override {
     check_steps();
     const double h = opt_.dt;
     const std::size_t n = sys_.n;
     ya_ = y_;
-    sys_.ou(steps_, 0, ya_.data());
+    sys_.ou(steps_, ya_.data());
     eval(t_, ya_.data(), f_.data());  // k1, the Hermite slope at the start of H
     const double* k1 = f_.data();
     for (std::size_t i = 0; i < n; ++i) tmp_[i] = ya_[i] + 0.5 * h * k1[i];
@@ -111,11 +115,8 @@ class Langevin final : public TimeIntegrator {
     eval(t_ + 0.5 * h, tmp_.data(), k3_.data());
     for (std::size_t i = 0; i < n; ++i) tmp_[i] = ya_[i] + h * k3_[i];
     eval(t_ + h, tmp_.data(), k4_.data());
-    for (std::size_t i = 0; i < n; ++i)
-      yb_[i] = ya_[i] + h / 6.0 * (k1[i] + 2.0 * (k2_[i] + k3_[i]) + k4_[i]);
     y_prev_.swap(y_);
-    y_ = yb_;
-    sys_.ou(steps_, 1, y_.data());
+    for (std::size_t i = 0; i < n; ++i) y_[i] = ya_[i] + h / 6.0 * (k1[i] + 2.0 * (k2_[i] + k3_[i]) + k4_[i]);
     t_prev_ = t_;
     ++steps_;
     t_ = origin_ + static_cast<double>(steps_) * h;  // not accumulated: frame times stay on steps
@@ -124,7 +125,7 @@ class Langevin final : public TimeIntegrator {
 
   void dense(double t, double* out) const override {
     const double h = t_ - t_prev_;
-    // Step ends (to rounding of the frame times): the state after the kicks.
+    // Step ends (to rounding of the frame times): the states of the chain.
     if (h <= 0.0 || std::abs(t - t_) <= 1e-9 * h) {
       std::copy(y_.begin(), y_.end(), out);
       return;
@@ -135,12 +136,12 @@ class Langevin final : public TimeIntegrator {
     }
     if (!fb_ready_) {  // f at the end of H: only for steps that hold an output time
       auto* self = const_cast<Langevin*>(this);
-      self->eval(t_, yb_.data(), self->fb_.data());
+      self->eval(t_, y_.data(), self->fb_.data());
       self->fb_ready_ = true;
     }
-    const double th = (t - t_prev_) / h;
+    const double th = (t - t_prev_) / h;  // between the OU kick and the end: the H part's Hermite cubic
     for (std::size_t i = 0; i < sys_.n; ++i) {
-      const double y0 = ya_[i], y1 = yb_[i];
+      const double y0 = ya_[i], y1 = y_[i];
       out[i] = (1.0 - th) * y0 + th * y1 +
                th * (th - 1.0) * ((1.0 - 2.0 * th) * (y1 - y0) + (th - 1.0) * h * f_[i] + th * h * fb_[i]);
     }
@@ -148,7 +149,7 @@ class Langevin final : public TimeIntegrator {
 
  private:
   void restarted() override { origin_ = t_ - static_cast<double>(steps_) * opt_.dt; }
-  std::vector<double> ya_, yb_, k2_, k3_, k4_, tmp_, fb_;  // ya_, yb_: the H part's ends
+  std::vector<double> ya_, k2_, k3_, k4_, tmp_, fb_;  // ya_: after the OU kick (the start of H)
   bool fb_ready_ = false;
   double origin_ = 0.0;  // the time of step 0
 };

@@ -154,10 +154,10 @@ struct Simulation::Impl {
     if (bath) {
       const LangevinBath* b = bath.get();
       const std::size_t at_anchor = 12 * N;
-      sys.ou = [b, recon, at_anchor](long step, int half, double* y) {
-        b->apply(step, half, y);
+      sys.ou = [b, recon, at_anchor](long step, double* y) {
+        b->apply(step, y);
         // The anchor's quaternion back on the unit sphere (the RK4 part keeps it there only to O(dt^5)).
-        if (recon && half == 1) {
+        if (recon) {
           const Quat q =
               quat_normalized({y[at_anchor], y[at_anchor + 1], y[at_anchor + 2], y[at_anchor + 3]});
           for (int k = 0; k < 4; ++k) y[at_anchor + k] = q[k];
@@ -370,10 +370,9 @@ void Simulation::Impl::start(const Simulation& self) {
                                 : " or fewer rod.points"));
   }
   if (sc.solver.time == TimeMethod::langevin)
-    bath =
-        std::make_unique<LangevinBath>(rhs->material_field(), sc.rod.length / static_cast<double>(N),
-                                       sc.thermal.kT, sc.thermal.friction_translational,
-                                       sc.thermal.friction_rotational, 0.5 * sc.solver.dt, sc.thermal.seed);
+    bath = std::make_unique<LangevinBath>(rhs->material_field(), sc.rod.length / static_cast<double>(N),
+                                          sc.thermal.kT, sc.thermal.friction_translational,
+                                          sc.thermal.friction_rotational, sc.solver.dt, sc.thermal.seed);
 
   planar_run = planar;
   if (resume)

@@ -8,8 +8,8 @@
 #include <limits>
 
 #include "rodcore/error.hpp"
+#include "rodcore/gaussian.hpp"
 #include "rodcore/guards.hpp"
-#include "rodcore/philox.hpp"
 #include "rodcore/reconstruction.hpp"
 
 namespace rodcore {
@@ -22,12 +22,7 @@ using V3 = Eigen::Vector3d;
 
 // What a Philox counter is used for (its second word, with the block number):
 // the streams of one seed never share a counter.
-enum Stream : std::uint32_t {
-  kStrainSample = 1,
-  kVelocitySample = 2,
-  kBathFirstHalf = 3,
-  kBathSecondHalf = 4
-};
+enum Stream : std::uint32_t { kStrainSample = 1, kVelocitySample = 2, kBath = 3 };
 
 std::array<std::uint32_t, 2> key_of(unsigned long long seed) {
   return {static_cast<std::uint32_t>(seed), static_cast<std::uint32_t>(seed >> 32)};
@@ -36,10 +31,9 @@ std::array<std::uint32_t, 2> key_of(unsigned long long seed) {
 // Six standard normal numbers for grid point i of a stream at a step.
 void normals6(std::array<std::uint32_t, 2> key, Stream stream, unsigned long long step, std::size_t i,
               double z[6]) {
-  const auto lo = static_cast<std::uint32_t>(step), hi = static_cast<std::uint32_t>(step >> 32);
-  const auto a = philox_normals({static_cast<std::uint32_t>(i), stream << 8, lo, hi}, key);
-  const auto b = philox_normals({static_cast<std::uint32_t>(i), (stream << 8) | 1u, lo, hi}, key);
-  z[0] = a[0], z[1] = a[1], z[2] = a[2], z[3] = a[3], z[4] = b[0], z[5] = b[1];
+  GaussianStream g(key, static_cast<std::uint32_t>(i), stream << 8, static_cast<std::uint32_t>(step),
+                   static_cast<std::uint32_t>(step >> 32));
+  g.six(z);
 }
 
 Mat6 K_matrix(const MaterialField& mf, std::size_t i) {
@@ -357,9 +351,9 @@ LangevinBath::LangevinBath(const MaterialField& mf, double h, double kT,
   }
 }
 
-void LangevinBath::apply(long step, int half, double* y) const {
+void LangevinBath::apply(long step, double* y) const {
   const std::size_t N = N_;
-  const Stream stream = half == 0 ? kBathFirstHalf : kBathSecondHalf;
+  const Stream stream = kBath;
   for (std::size_t i = 0; i < N; ++i) {
     const double* k = coef_.data() + (per_point_ ? 24 * i : 0);
     double z[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};

@@ -13,12 +13,12 @@
 //                  Hairer's dopri5.f).
 //   "dop853"       Dormand-Prince 8(5,3) with Hairer's error estimator and
 //                  7th-order dense output (3 extra stages per output step).
-//   "langevin"     the Langevin splitting O(dt/2) H(dt) O(dt/2) of the thermal
-//                  rod (docs/thermal.md): O the system's exact Ornstein-
-//                  Uhlenbeck step `ou` (friction and noise), H one classic RK4
-//                  step of f (the conservative rod), fixed step dt. Dense
-//                  output: the cubic Hermite of the H part between the two O
-//                  kicks (the state at a step's end is the one after them).
+//   "langevin"     the Langevin splitting of the thermal rod (docs/thermal.md):
+//                  per step the system's exact Ornstein-Uhlenbeck step `ou`
+//                  over dt (friction and noise), then one classic RK4 step of
+//                  f (the conservative rod) -- the Strang splitting O(dt/2)
+//                  H(dt) O(dt/2) with consecutive half steps merged; fixed
+//                  step dt. Dense output: the cubic Hermite of the H part.
 // Tableaux: Hairer, Norsett & Wanner, Solving ODEs I (2nd ed. 1993), II.5 and
 // II.10. Error norm (all adaptive schemes): RMS over components of
 // err_i / (atol + rtol max(|y_i(t)|, |y_i(t+h)|)).
@@ -38,10 +38,9 @@ namespace rodcore {
 struct OdeSystem {
   std::size_t n = 0;
   std::function<void(double t, const double* y, double* dydt)> f;
-  // "langevin" only: the exact friction-and-noise step over dt/2 on y, in
-  // place; `step` is the index of the step (the random numbers' counter),
-  // half = 0 before the H step, 1 after it.
-  std::function<void(long step, int half, double* y)> ou;
+  // "langevin" only: the exact friction-and-noise step over dt on y, in
+  // place; `step` is the index of the step (the random numbers' counter).
+  std::function<void(long step, double* y)> ou;
 };
 
 struct IntegratorOptions {

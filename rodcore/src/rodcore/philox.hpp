@@ -8,12 +8,11 @@
 // point) are a pure function of them. So a thermal run is reproducible,
 // independent of threads and of the order points are visited, and a
 // checkpoint needs only the step index to resume bit for bit (docs/thermal.md).
+// Normal numbers from it: gaussian.hpp.
 // Tested against the published known-answer vectors (tests/cpp/test_physics_thermal.cpp).
 #pragma once
 #include <array>
-#include <cmath>
 #include <cstdint>
-#include <numbers>
 
 namespace rodcore {
 
@@ -34,28 +33,6 @@ inline Philox4x32 philox4x32_10(Philox4x32 ctr, std::array<std::uint32_t, 2> key
     ctr = {hi1 ^ ctr[1] ^ key[0], lo1, hi0 ^ ctr[3] ^ key[1], lo0};
   }
   return ctr;
-}
-
-// A uniform number in (0, 1) from 32 random bits: (x + 1/2) 2^-32, never 0 or 1.
-inline double uniform_open01(std::uint32_t x) { return (static_cast<double>(x) + 0.5) * 0x1p-32; }
-
-// Two independent standard normal numbers from two uniform ones (Box-Muller).
-// With 32-bit uniforms the largest |value| is sqrt(-2 ln 2^-33) = 6.8: the
-// tail beyond it has probability 1e-11, far below any statistics a run makes.
-inline void box_muller(std::uint32_t a, std::uint32_t b, double& z0, double& z1) {
-  const double r = std::sqrt(-2.0 * std::log(uniform_open01(a)));
-  const double phi = 2.0 * std::numbers::pi * uniform_open01(b);
-  z0 = r * std::cos(phi);
-  z1 = r * std::sin(phi);
-}
-
-// Four standard normal numbers from one counter.
-inline std::array<double, 4> philox_normals(const Philox4x32& ctr, std::array<std::uint32_t, 2> key) {
-  const Philox4x32 x = philox4x32_10(ctr, key);
-  std::array<double, 4> z;
-  box_muller(x[0], x[1], z[0], z[1]);
-  box_muller(x[2], x[3], z[2], z[3]);
-  return z;
 }
 
 }  // namespace rodcore

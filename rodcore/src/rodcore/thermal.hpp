@@ -68,9 +68,9 @@ class LangevinBath {
   // friction_translational: [along d3, across], friction_rotational: [about d3, across].
   LangevinBath(const MaterialField& mf, double h, double kT, std::array<double, 2> friction_translational,
                std::array<double, 2> friction_rotational, double tau, unsigned long long seed);
-  // One OU step on the velocity rows (0..5) of the 12 N state y; `step` and
-  // `half` (0, 1) select the random numbers (philox.hpp counter).
-  void apply(long step, int half, double* y) const;
+  // One OU step on the velocity rows (0..5) of the 12 N state y; `step`
+  // selects the random numbers (philox.hpp counter).
+  void apply(long step, double* y) const;
 
  private:
   std::size_t N_;
