@@ -16,7 +16,6 @@ Needs the Python module rodcore on PYTHONPATH (build/python).
 from __future__ import annotations
 
 import argparse
-import json
 import statistics
 import sys
 from pathlib import Path
@@ -31,7 +30,8 @@ from mdbridge.jsonio import write_json  # noqa: E402
 def scene(N: int, method: str, steps: int) -> dict:
     L = N * 3.38 / 5.0                      # one point per base pair (rise 3.38 A, l = 5 A)
     dt = 0.02
-    sc = {"rod": {"length": L, "points": N, "Gamma0": [0, 0, 1.0], "Omega0": [0, 0, 2 * 3.141592653589793 / 10.5 * N / L]},
+    twist = 2 * 3.141592653589793 / 10.5 * N / L  # 10.5 bp per turn
+    sc = {"rod": {"length": L, "points": N, "Gamma0": [0, 0, 1.0], "Omega0": [0, 0, twist]},
           "solver": {"time": method, "dt": dt, "space": "spectral"},
           "output": {"t_end": steps * dt, "frames": 2}}
     if method == "langevin":

@@ -33,14 +33,7 @@ double error_norm(const std::vector<double>& err, const std::vector<double>& y0,
 // ---------------------------------------------------------------- RK4
 class RK4 final : public TimeIntegrator {
  public:
-  RK4(OdeSystem s, IntegratorOptions o) : TimeIntegrator(std::move(s), o) {
-    const std::size_t n = sys_.n;
-    k2_.resize(n);
-    k3_.resize(n);
-    k4_.resize(n);
-    tmp_.resize(n);
-    h_ = opt_.dt;
-  }
+  RK4(OdeSystem s, IntegratorOptions o) : TimeIntegrator(std::move(s), o) { h_ = opt_.dt; }
   std::string name() const override { return "rk4"; }
   bool adaptive() const override { return false; }
   int order() const override { return 4; }
@@ -49,28 +42,15 @@ class RK4 final : public TimeIntegrator {
     check_steps();
     double h = opt_.dt;
     clamp(h, t_stop);
-    const std::size_t n = sys_.n;
-    const double* y = y_.data();
-    const double* k1 = f_.data();
-    for (std::size_t i = 0; i < n; ++i) tmp_[i] = y[i] + 0.5 * h * k1[i];
-    eval(t_ + 0.5 * h, tmp_.data(), k2_.data());
-    for (std::size_t i = 0; i < n; ++i) tmp_[i] = y[i] + 0.5 * h * k2_[i];
-    eval(t_ + 0.5 * h, tmp_.data(), k3_.data());
-    for (std::size_t i = 0; i < n; ++i) tmp_[i] = y[i] + h * k3_[i];
-    eval(t_ + h, tmp_.data(), k4_.data());
+    rk4_step(t_, y_.data(), f_.data(), h, y_prev_.data());
     y_prev_.swap(y_);
     f_prev_.swap(f_);
-    for (std::size_t i = 0; i < n; ++i)
-      y_[i] = y_prev_[i] + h / 6.0 * (f_prev_[i] + 2.0 * (k2_[i] + k3_[i]) + k4_[i]);
     t_prev_ = t_;
     t_ = (t_stop - (t_ + h) <= 0.0) ? t_stop : t_ + h;
     eval(t_, y_.data(), f_.data());  // first stage of the next step and Hermite slope
     ++steps_;
   }
   void dense(double t, double* out) const override { hermite(t, out); }
-
- private:
-  std::vector<double> k2_, k3_, k4_, tmp_;
 };
 
 // -------------------------------------------------------- Langevin
@@ -86,13 +66,8 @@ class Langevin final : public TimeIntegrator {
  public:
   Langevin(OdeSystem s, IntegratorOptions o) : TimeIntegrator(std::move(s), o) {
     if (!sys_.ou) throw InputError("solver.time = \"langevin\": the system has no friction-and-noise step");
-    const std::size_t n = sys_.n;
-    ya_.resize(n);
-    k2_.resize(n);
-    k3_.resize(n);
-    k4_.resize(n);
-    tmp_.resize(n);
-    fb_.resize(n);
+    ya_.resize(sys_.n);
+    fb_.resize(sys_.n);
     h_ = opt_.dt;
   }
   std::string name() const override { return "langevin"; }
@@ -104,19 +79,11 @@ class Langevin final : public TimeIntegrator {
   void step(double) override {
     check_steps();
     const double h = opt_.dt;
-    const std::size_t n = sys_.n;
     ya_ = y_;
     sys_.ou(steps_, ya_.data());
     eval(t_, ya_.data(), f_.data());  // k1, the Hermite slope at the start of H
-    const double* k1 = f_.data();
-    for (std::size_t i = 0; i < n; ++i) tmp_[i] = ya_[i] + 0.5 * h * k1[i];
-    eval(t_ + 0.5 * h, tmp_.data(), k2_.data());
-    for (std::size_t i = 0; i < n; ++i) tmp_[i] = ya_[i] + 0.5 * h * k2_[i];
-    eval(t_ + 0.5 * h, tmp_.data(), k3_.data());
-    for (std::size_t i = 0; i < n; ++i) tmp_[i] = ya_[i] + h * k3_[i];
-    eval(t_ + h, tmp_.data(), k4_.data());
     y_prev_.swap(y_);
-    for (std::size_t i = 0; i < n; ++i) y_[i] = ya_[i] + h / 6.0 * (k1[i] + 2.0 * (k2_[i] + k3_[i]) + k4_[i]);
+    rk4_step(t_, ya_.data(), f_.data(), h, y_.data());
     t_prev_ = t_;
     ++steps_;
     t_ = origin_ + static_cast<double>(steps_) * h;  // not accumulated: frame times stay on steps
@@ -149,7 +116,7 @@ class Langevin final : public TimeIntegrator {
 
  private:
   void restarted() override { origin_ = t_ - static_cast<double>(steps_) * opt_.dt; }
-  std::vector<double> ya_, k2_, k3_, k4_, tmp_, fb_;  // ya_: after the OU kick (the start of H)
+  std::vector<double> ya_, fb_;  // ya_: after the OU kick (the start of H)
   bool fb_ready_ = false;
   double origin_ = 0.0;  // the time of step 0
 };
@@ -160,10 +127,6 @@ class RK4Doubling final : public TimeIntegrator {
   RK4Doubling(OdeSystem s, IntegratorOptions o) : TimeIntegrator(std::move(s), o) {
     const std::size_t n = sys_.n;
     k1_.resize(n);
-    k2_.resize(n);
-    k3_.resize(n);
-    k4_.resize(n);
-    tmp_.resize(n);
     ybig_.resize(n);
     yhalf_.resize(n);
     ysmall_.resize(n);
@@ -210,24 +173,13 @@ class RK4Doubling final : public TimeIntegrator {
   void dense(double t, double* out) const override { hermite(t, out); }
 
  private:
-  // y1 = RK4 step of size h from (t, y0) with f0 = f(t, y0) given.
-  void rk4_step(double t, const double* y0, const double* f0, double h, double* y1) {
-    const std::size_t n = sys_.n;
-    for (std::size_t i = 0; i < n; ++i) tmp_[i] = y0[i] + 0.5 * h * f0[i];
-    eval(t + 0.5 * h, tmp_.data(), k2_.data());
-    for (std::size_t i = 0; i < n; ++i) tmp_[i] = y0[i] + 0.5 * h * k2_[i];
-    eval(t + 0.5 * h, tmp_.data(), k3_.data());
-    for (std::size_t i = 0; i < n; ++i) tmp_[i] = y0[i] + h * k3_[i];
-    eval(t + h, tmp_.data(), k4_.data());
-    for (std::size_t i = 0; i < n; ++i) y1[i] = y0[i] + h / 6.0 * (f0[i] + 2.0 * (k2_[i] + k3_[i]) + k4_[i]);
-  }
   [[noreturn]] void underflow(double h) const {
     throw NumericalError(name() + ": step size underflow at t = " + message_number(t_) +
                          " (dt = " + message_number(h) + " < solver.dt_min = " + message_number(opt_.dt_min) +
                          "). The solution is not smooth enough to resolve: increase rod.points, "
                          "loosen rtol/atol, or look for a blow-up in the initial fields.");
   }
-  std::vector<double> k1_, k2_, k3_, k4_, tmp_, ybig_, yhalf_, ysmall_, err_;
+  std::vector<double> k1_, ybig_, yhalf_, ysmall_, err_;
 };
 
 // ------------------------------------------------ embedded pairs (Hairer)
@@ -565,6 +517,24 @@ void TimeIntegrator::restore_state(const IntegratorState& s) {
   rejected_ = s.rejected;
   rhs_evals_ = s.rhs_evaluations;
   restarted();
+}
+
+void TimeIntegrator::rk4_step(double t, const double* y0, const double* f0, double h, double* y1) {
+  const std::size_t n = sys_.n;
+  if (rk_tmp_.size() != n) {
+    rk_k2_.resize(n);
+    rk_k3_.resize(n);
+    rk_k4_.resize(n);
+    rk_tmp_.resize(n);
+  }
+  for (std::size_t i = 0; i < n; ++i) rk_tmp_[i] = y0[i] + 0.5 * h * f0[i];
+  eval(t + 0.5 * h, rk_tmp_.data(), rk_k2_.data());
+  for (std::size_t i = 0; i < n; ++i) rk_tmp_[i] = y0[i] + 0.5 * h * rk_k2_[i];
+  eval(t + 0.5 * h, rk_tmp_.data(), rk_k3_.data());
+  for (std::size_t i = 0; i < n; ++i) rk_tmp_[i] = y0[i] + h * rk_k3_[i];
+  eval(t + h, rk_tmp_.data(), rk_k4_.data());
+  for (std::size_t i = 0; i < n; ++i)
+    y1[i] = y0[i] + h / 6.0 * (f0[i] + 2.0 * (rk_k2_[i] + rk_k3_[i]) + rk_k4_[i]);
 }
 
 bool TimeIntegrator::clamp(double& h, double t_stop) const {

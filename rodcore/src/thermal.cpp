@@ -36,19 +36,15 @@ void normals6(std::array<std::uint32_t, 2> key, Stream stream, unsigned long lon
   g.six(z);
 }
 
+// K (6 x 6) or I (3 x 3) of point i as an Eigen matrix.
 Mat6 K_matrix(const MaterialField& mf, std::size_t i) {
-  double K[36];
-  mf.K_at(i, K);
-  Mat6 M;
-  for (int k = 0; k < 36; ++k) M(k / 6, k % 6) = K[k];
+  Eigen::Matrix<double, 6, 6, Eigen::RowMajor> M;
+  mf.K_at(i, M.data());
   return M;
 }
-
 Mat3 I_matrix(const MaterialField& mf, std::size_t i) {
-  double I[9];
-  mf.I_at(i, I);
-  Mat3 M;
-  for (int k = 0; k < 9; ++k) M(k / 3, k % 3) = I[k];
+  Eigen::Matrix<double, 3, 3, Eigen::RowMajor> M;
+  mf.I_at(i, M.data());
   return M;
 }
 

@@ -100,6 +100,9 @@ class TimeIntegrator {
   // Controller memory beyond dt_next (e.g. the PI controller's last error).
   virtual std::vector<double> controller_memory() const { return {}; }
   virtual void set_controller_memory(const std::vector<double>&) {}
+  // One classic RK4 step of size h from (t, y0) with f0 = f(t, y0) given,
+  // into y1 (not y0): the stage arithmetic of rk4, rk4-doubling and langevin.
+  void rk4_step(double t, const double* y0, const double* f0, double h, double* y1);
   // Called at the end of reset() and restore_state().
   virtual void restarted() {}
   // Cubic Hermite interpolation on [t_prev, t] from y, f at both ends.
@@ -110,6 +113,7 @@ class TimeIntegrator {
   std::vector<double> y_, f_;            // at t_
   std::vector<double> y_prev_, f_prev_;  // at t_prev_
   double t_ = 0.0, t_prev_ = 0.0, h_ = 0.0;
+  std::vector<double> rk_k2_, rk_k3_, rk_k4_, rk_tmp_;  // rk4_step's stages
   long steps_ = 0, rejected_ = 0, rhs_evals_ = 0;
 };
 
