@@ -145,6 +145,18 @@ class Units:
         """k_B T in the rod's energy unit."""
         return BOLTZMANN * temperature_K / self.energy_scale_J
 
+    @property
+    def friction_translational_scale_Pa_s(self) -> float:
+        """One rod unit of translational friction per length, C tau / l^2 [Pa s = N s / m^2]:
+        rho dgamma/dt = ... - zeta gamma becomes dimensionless with zeta* = zeta l^2 / (C tau)."""
+        return self.C * self.tau_s / self.ell_m**2
+
+    @property
+    def friction_rotational_scale_N_s(self) -> float:
+        """One rod unit of rotational friction per length, C tau [N s = N m s / m]:
+        I domega/dt = ... - zeta_r omega becomes dimensionless with zeta_r* = zeta_r / (C tau)."""
+        return self.C * self.tau_s
+
     def stiffness_to_rod(self, K_SI):
         """(..., 6, 6) stiffness per unit length on (Gamma [1], Omega [rad/m]) in SI
         (N, N m, N m^2 blocks) -> dimensionless K* = S K S / C with
@@ -191,6 +203,12 @@ inline constexpr double rise_A = {u.rise_A!r};
 inline constexpr std::array<double, 3> C_star = {arr(u.C_star)};
 inline constexpr std::array<double, 3> D_star = {arr(u.D_star)};
 inline constexpr std::array<double, 3> I_star = {arr(u.I_star)};
+// The thermal rod (docs/thermal.md): kT = kB_J_per_K T / energy_scale_J;
+// a friction per length in SI divided by its scale is the rod's.
+inline constexpr double kB_J_per_K = {BOLTZMANN!r};
+inline constexpr double energy_scale_J = {u.energy_scale_J!r};    // C l
+inline constexpr double friction_translational_scale_Pa_s = {u.friction_translational_scale_Pa_s!r};  // C tau / l^2
+inline constexpr double friction_rotational_scale_N_s = {u.friction_rotational_scale_N_s!r};  // C tau
 }}  // namespace rodcore::dna_units
 """
 

@@ -16,7 +16,7 @@ ProgressBar::~ProgressBar() { finish(); }
 
 bool ProgressBar::stderr_is_terminal() { return isatty(STDERR_FILENO) == 1; }
 
-void ProgressBar::update(double t, double t_end) {
+void ProgressBar::update(double t, double t_end, const std::function<std::string()>& note) {
   if (!enabled_) return;
   auto now = std::chrono::steady_clock::now();
   if (drawn_ && now - last_ < std::chrono::milliseconds(100) && t < t_end) return;
@@ -29,7 +29,9 @@ void ProgressBar::update(double t, double t_end) {
   bar.append(width - filled, '.');
   char eta[32] = "";
   if (f > 0.0 && f < 1.0) std::snprintf(eta, sizeof eta, "  ETA %.0f s", elapsed * (1.0 - f) / f);
-  std::fprintf(out_, "\r[%s] %5.1f%%  t = %.4g / %.4g%s   ", bar.c_str(), 100.0 * f, t, t_end, eta);
+  const std::string extra = note ? "  " + note() : std::string();
+  std::fprintf(out_, "\r[%s] %5.1f%%  t = %.4g / %.4g%s%s   ", bar.c_str(), 100.0 * f, t, t_end,
+               extra.c_str(), eta);
   std::fflush(out_);
   drawn_ = true;
 }
@@ -41,8 +43,21 @@ void ProgressBar::finish() {
   drawn_ = false;
 }
 
+void ProgressObserver::frame(const Simulation&, const Frame& f) {
+  if (f.kinetic_kT) kinetic_kT_ = *f.kinetic_kT;
+}
+
 void ProgressObserver::stepped(const Simulation& sim) {
-  bar_.update(sim.integrator_time(), sim.scene().output.t_end);
+  const Thermal& th = sim.scene().thermal;
+  if (!kinetic_kT_) {
+    bar_.update(sim.integrator_time(), sim.scene().output.t_end);
+    return;
+  }
+  bar_.update(sim.integrator_time(), sim.scene().output.t_end, [&] {
+    char text[80];
+    std::snprintf(text, sizeof text, "kinetic kT %.4g at the last frame (kT %.4g)", *kinetic_kT_, th.kT);
+    return std::string(text);
+  });
 }
 
 }  // namespace rodcore

@@ -3,6 +3,9 @@
 #pragma once
 #include <chrono>
 #include <cstdio>
+#include <functional>
+#include <optional>
+#include <string>
 
 #include "rodcore/observer.hpp"
 
@@ -12,8 +15,10 @@ class ProgressBar {
  public:
   explicit ProgressBar(bool enabled, std::FILE* out = stderr);
   ~ProgressBar();
-  void update(double t, double t_end);  // redraws at most 10 times a second
-  void finish();                        // erases the bar
+  // Redraws at most 10 times a second; `note` (e.g. the kinetic temperature)
+  // is asked for only when it does.
+  void update(double t, double t_end, const std::function<std::string()>& note = {});
+  void finish();  // erases the bar
   static bool stderr_is_terminal();
 
  private:
@@ -23,14 +28,17 @@ class ProgressBar {
   std::chrono::steady_clock::time_point start_, last_;
 };
 
-// The bar as an observer of a run: redrawn after every step.
+// The bar as an observer of a run: redrawn after every step; a thermal scene
+// also shows the kinetic temperature 2 KE / (6 N) of its last frame against kT.
 class ProgressObserver : public Observer {
  public:
   explicit ProgressObserver(ProgressBar& bar) : bar_(bar) {}
+  void frame(const Simulation& sim, const Frame& frame) override;
   void stepped(const Simulation& sim) override;
 
  private:
   ProgressBar& bar_;
+  std::optional<double> kinetic_kT_;
 };
 
 }  // namespace rodcore

@@ -152,7 +152,10 @@ int run(const std::string& scene_path, const std::string& out_path, const std::v
                   out_path.c_str(), out->frames_written(), scene.output.t_end, sum.steps, sum.rejected,
                   sum.rhs_evaluations, sum.wall_seconds, sum.energy_drift, sum.method.c_str(),
                   sum.reduced ? ", reduced planar system" : "");
-    std::cout << line << std::endl;
+    std::cout << line;
+    if (scene.thermal.on)  // the bath exchanges energy: its kinetic temperature is the figure
+      std::cout << "; kinetic kT " << sim.kinetic_kT() << " at t_end (kT " << scene.thermal.kT << ")";
+    std::cout << std::endl;
   }
   return 0;
 }

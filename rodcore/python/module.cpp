@@ -236,6 +236,7 @@ py::dict summary_dict(const RunSummary& sum) {
   summary["reduced"] = sum.reduced;
   summary["reduce_note"] = sum.reduce_note;
   summary["method_note"] = sum.method_note;
+  if (!sum.thermal_note.empty()) summary["thermal_note"] = sum.thermal_note;
   return summary;
 }
 
@@ -253,7 +254,7 @@ py::dict run(const py::object& scene, const py::object& initial, const std::vect
   const std::vector<double> s = sim.grid();
   const std::size_t N = s.size();
 
-  std::vector<double> time, energy, centerline, directors;
+  std::vector<double> time, energy, kinetic, centerline, directors;
   std::vector<double> fields[kFields];
   std::map<std::string, std::vector<double>> parts;
   if (!output.is_none())
@@ -267,6 +268,7 @@ py::dict run(const py::object& scene, const py::object& initial, const std::vect
         for (std::size_t i = 0; i < N; ++i)
           for (int c = 0; c < 3; ++c) fields[f].push_back(component(fr.y, N, static_cast<Field>(f), c)[i]);
     if (sc.output.energy && fr.energy) energy.push_back(*fr.energy);
+    if (fr.kinetic_kT) kinetic.push_back(*fr.kinetic_kT);
     if (sc.output.energy_parts)
       for (const auto& [k, v] : fr.energy_parts) parts[k].push_back(v);
     if (sc.output.centerline && fr.centerline)
@@ -293,6 +295,7 @@ py::dict run(const py::object& scene, const py::object& initial, const std::vect
     out["fields"] = f;
   }
   if (sc.output.energy) out["energy"] = array(energy, {T});
+  if (sc.thermal.on) out["kinetic_kT"] = array(kinetic, {T});
   if (sc.output.energy_parts) {
     py::dict p;
     for (const auto& [k, v] : parts) p[py::str(k)] = array(v, {T});
@@ -366,6 +369,7 @@ py::dict frame_dict(const Frame& fr) {
   if (fr.end_to_end)
     d["end_to_end"] = array(std::vector<double>(fr.end_to_end->begin(), fr.end_to_end->end()), {3});
   if (fr.end_rotation) d["end_rotation"] = *fr.end_rotation;
+  if (fr.kinetic_kT) d["kinetic_kT"] = *fr.kinetic_kT;
   if (fr.end_rotation) d["max_director_norm_error"] = fr.max_director_norm_error;
   return d;
 }
@@ -521,7 +525,8 @@ output:  optional path: also write the HDF5 file rodsim would write.
 Returns a dict: time (T), s (N), fields {gamma, omega, Gamma, Omega: (T, N, 3)},
 energy (T), energy_parts {name: (T)}, centerline (T, N, 3), directors
 (T, N, 3, 3) [t][i][xyz][k] = component xyz of d_k -- each only if the scene's
-output.fields asks -- and summary, scene (resolved TOML), scales.
+output.fields asks --, kinetic_kT (T) for a scene with [thermal], and
+summary, scene (resolved TOML), scales.
 Raises rodcore.InputError (a ValueError) for bad input and
 rodcore.NumericalError (a FloatingPointError) for bad numbers.
 The GIL is released while integrating.)");
@@ -582,6 +587,9 @@ the output file say how to convert.)")
           "energy", [](const PySimulation& p) { return p.sim->energy(); },
           "Total energy of the state (Appendix A).")
       .def("energy_parts", [](const PySimulation& p) { return p.sim->energy_parts(); })
+      .def_property_readonly(
+          "kinetic_kT", [](const PySimulation& p) { return p.sim->kinetic_kT(); },
+          "2 KE / (6 N) of the state now: the kinetic temperature in energy units (docs/thermal.md).")
       .def("rhs", &PySimulation::rhs, py::arg("state"),
            "d(state)/dt of Eqs (11)-(14) for this rod and material: state as a dict of (N, 3) arrays "
            "(returns the same) or 12 N values (returns 12 N values).")

@@ -117,6 +117,48 @@ std::vector<std::unique_ptr<Observer>> make_guards(const Scene& sc, const std::v
   return out;
 }
 
+std::pair<std::string, std::string> thermal_settings_problem(const Scene& sc) {
+  const Thermal& t = sc.thermal;
+  const bool langevin =
+      sc.solver.time == TimeMethod::langevin || (sc.solver.time == TimeMethod::automatic && t.has_friction());
+  if (t.on) {
+    if (!(t.kT >= 0.0) || !std::isfinite(t.kT))
+      return {"thermal.kT", "found " + num(t.kT) + "; allowed: a number >= 0 (finite)"};
+    for (double z : {t.friction_translational[0], t.friction_translational[1], t.friction_rotational[0],
+                     t.friction_rotational[1]})
+      if (!(z >= 0.0) || !std::isfinite(z))
+        return {"thermal.friction_translational",
+                "the frictions must be numbers >= 0 (finite); found " + num(z)};
+  }
+  if (sc.solver.time == TimeMethod::langevin && !t.on)
+    return {"solver.time",
+            "\"langevin\" is the Langevin rod of a [thermal] section: add [thermal] with kT or "
+            "temperature_K and the frictions (docs/thermal.md)"};
+  if (t.on && t.has_friction() && !langevin)
+    return {"solver.time", std::string("\"")
+                               .append(to_string(sc.solver.time))
+                               .append("\" cannot carry the friction and noise of [thermal] "
+                                       "(thermal.friction_translational / friction_rotational > 0); use "
+                                       "\"langevin\" or \"auto\" (with no friction a thermal sample runs "
+                                       "with any integrator)")};
+  if (langevin && std::isfinite(sc.checks.max_energy_drift))
+    return {"checks.max_energy_drift",
+            "the Langevin rod exchanges energy with its bath, so its energy is not conserved; remove "
+            "checks.max_energy_drift from this scene"};
+  if (langevin && sc.output.frames > 1 && sc.output.t_end > 0.0) {
+    const double interval = sc.output.t_end / static_cast<double>(sc.output.frames - 1);
+    const double n = interval / sc.solver.dt;
+    if (!(std::round(n) >= 1.0) || std::abs(n - std::round(n)) > 1e-9 * n)
+      return {"solver.dt",
+              "the Langevin rod steps with a fixed solver.dt = " + num(sc.solver.dt) +
+                  ", which must divide the output interval output.t_end / (output.frames - 1) = " +
+                  message_number(interval, 12) +
+                  " (every frame is a step's state, never an interpolation); e.g. solver.dt = " +
+                  message_number(interval / std::max(1.0, std::ceil(n)), 12)};
+  }
+  return {};
+}
+
 void validate_run_settings(const Scene& sc) {
   if (sc.rod.points <= 0 || !(sc.rod.length > 0.0) || !std::isfinite(sc.rod.length))
     throw InputError(sc.source + ": rod.points and rod.length must be positive (got points = " +
@@ -129,6 +171,8 @@ void validate_run_settings(const Scene& sc) {
        {invalid_choice("solver.space", sc.solver.space), invalid_choice("solver.time", sc.solver.time),
         invalid_choice("solver.reduce", sc.solver.reduce), invalid_choice("initial.kind", sc.initial.kind)})
     if (!bad.empty()) throw InputError(sc.source + ": " + bad);
+  if (const auto [key, problem] = thermal_settings_problem(sc); !key.empty())
+    throw InputError(sc.source + ": " + key + ": " + problem);
 }
 
 void check_initial_finite(const Scene& sc, const std::vector<double>& y, const std::vector<double>& s) {

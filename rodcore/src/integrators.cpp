@@ -33,14 +33,7 @@ double error_norm(const std::vector<double>& err, const std::vector<double>& y0,
 // ---------------------------------------------------------------- RK4
 class RK4 final : public TimeIntegrator {
  public:
-  RK4(OdeSystem s, IntegratorOptions o) : TimeIntegrator(std::move(s), o) {
-    const std::size_t n = sys_.n;
-    k2_.resize(n);
-    k3_.resize(n);
-    k4_.resize(n);
-    tmp_.resize(n);
-    h_ = opt_.dt;
-  }
+  RK4(OdeSystem s, IntegratorOptions o) : TimeIntegrator(std::move(s), o) { h_ = opt_.dt; }
   std::string name() const override { return "rk4"; }
   bool adaptive() const override { return false; }
   int order() const override { return 4; }
@@ -49,28 +42,83 @@ class RK4 final : public TimeIntegrator {
     check_steps();
     double h = opt_.dt;
     clamp(h, t_stop);
-    const std::size_t n = sys_.n;
-    const double* y = y_.data();
-    const double* k1 = f_.data();
-    for (std::size_t i = 0; i < n; ++i) tmp_[i] = y[i] + 0.5 * h * k1[i];
-    eval(t_ + 0.5 * h, tmp_.data(), k2_.data());
-    for (std::size_t i = 0; i < n; ++i) tmp_[i] = y[i] + 0.5 * h * k2_[i];
-    eval(t_ + 0.5 * h, tmp_.data(), k3_.data());
-    for (std::size_t i = 0; i < n; ++i) tmp_[i] = y[i] + h * k3_[i];
-    eval(t_ + h, tmp_.data(), k4_.data());
+    rk4_step(t_, y_.data(), f_.data(), h, y_prev_.data());
     y_prev_.swap(y_);
     f_prev_.swap(f_);
-    for (std::size_t i = 0; i < n; ++i)
-      y_[i] = y_prev_[i] + h / 6.0 * (f_prev_[i] + 2.0 * (k2_[i] + k3_[i]) + k4_[i]);
     t_prev_ = t_;
     t_ = (t_stop - (t_ + h) <= 0.0) ? t_stop : t_ + h;
     eval(t_, y_.data(), f_.data());  // first stage of the next step and Hermite slope
     ++steps_;
   }
   void dense(double t, double* out) const override { hermite(t, out); }
+};
+
+// -------------------------------------------------------- Langevin
+// One step: the exact OU step over dt, then one RK4 step of the conservative
+// rod. This is the Strang splitting O(dt/2) H(dt) O(dt/2) with the trailing
+// and leading half steps of consecutive steps merged (two exact OU steps of
+// dt/2 compose to one of dt), observed after H instead of between the half
+// steps: the same chain of operations, one noise draw per step instead of two
+// (docs/thermal.md). The step index counts from the start of the run
+// (restored with the checkpoint), so the random numbers of every step are
+// those of an uninterrupted run.
+class Langevin final : public TimeIntegrator {
+ public:
+  Langevin(OdeSystem s, IntegratorOptions o) : TimeIntegrator(std::move(s), o) {
+    if (!sys_.ou) throw InputError("solver.time = \"langevin\": the system has no friction-and-noise step");
+    ya_.resize(sys_.n);
+    fb_.resize(sys_.n);
+    h_ = opt_.dt;
+  }
+  std::string name() const override { return "langevin"; }
+  bool adaptive() const override { return false; }
+  int order() const override { return 2; }  // weak order of the splitting; the H part is RK4
+
+  // Never shortened: the OU coefficients are those of dt (the scene makes
+  // output times multiples of dt; other times are dense output).
+  void step(double) override {
+    check_steps();
+    const double h = opt_.dt;
+    ya_ = y_;
+    sys_.ou(steps_, ya_.data());
+    eval(t_, ya_.data(), f_.data());  // k1, the Hermite slope at the start of H
+    y_prev_.swap(y_);
+    rk4_step(t_, ya_.data(), f_.data(), h, y_.data());
+    t_prev_ = t_;
+    ++steps_;
+    t_ = origin_ + static_cast<double>(steps_) * h;  // not accumulated: frame times stay on steps
+    fb_ready_ = false;
+  }
+
+  void dense(double t, double* out) const override {
+    const double h = t_ - t_prev_;
+    // Step ends (to rounding of the frame times): the states of the chain.
+    if (h <= 0.0 || std::abs(t - t_) <= 1e-9 * h) {
+      std::copy(y_.begin(), y_.end(), out);
+      return;
+    }
+    if (std::abs(t - t_prev_) <= 1e-9 * h) {
+      std::copy(y_prev_.begin(), y_prev_.end(), out);
+      return;
+    }
+    if (!fb_ready_) {  // f at the end of H: only for steps that hold an output time
+      auto* self = const_cast<Langevin*>(this);
+      self->eval(t_, y_.data(), self->fb_.data());
+      self->fb_ready_ = true;
+    }
+    const double th = (t - t_prev_) / h;  // between the OU kick and the end: the H part's Hermite cubic
+    for (std::size_t i = 0; i < sys_.n; ++i) {
+      const double y0 = ya_[i], y1 = y_[i];
+      out[i] = (1.0 - th) * y0 + th * y1 +
+               th * (th - 1.0) * ((1.0 - 2.0 * th) * (y1 - y0) + (th - 1.0) * h * f_[i] + th * h * fb_[i]);
+    }
+  }
 
  private:
-  std::vector<double> k2_, k3_, k4_, tmp_;
+  void restarted() override { origin_ = t_ - static_cast<double>(steps_) * opt_.dt; }
+  std::vector<double> ya_, fb_;  // ya_: after the OU kick (the start of H)
+  bool fb_ready_ = false;
+  double origin_ = 0.0;  // the time of step 0
 };
 
 // ---------------------------------------------------- RK4 step doubling
@@ -79,10 +127,6 @@ class RK4Doubling final : public TimeIntegrator {
   RK4Doubling(OdeSystem s, IntegratorOptions o) : TimeIntegrator(std::move(s), o) {
     const std::size_t n = sys_.n;
     k1_.resize(n);
-    k2_.resize(n);
-    k3_.resize(n);
-    k4_.resize(n);
-    tmp_.resize(n);
     ybig_.resize(n);
     yhalf_.resize(n);
     ysmall_.resize(n);
@@ -129,24 +173,13 @@ class RK4Doubling final : public TimeIntegrator {
   void dense(double t, double* out) const override { hermite(t, out); }
 
  private:
-  // y1 = RK4 step of size h from (t, y0) with f0 = f(t, y0) given.
-  void rk4_step(double t, const double* y0, const double* f0, double h, double* y1) {
-    const std::size_t n = sys_.n;
-    for (std::size_t i = 0; i < n; ++i) tmp_[i] = y0[i] + 0.5 * h * f0[i];
-    eval(t + 0.5 * h, tmp_.data(), k2_.data());
-    for (std::size_t i = 0; i < n; ++i) tmp_[i] = y0[i] + 0.5 * h * k2_[i];
-    eval(t + 0.5 * h, tmp_.data(), k3_.data());
-    for (std::size_t i = 0; i < n; ++i) tmp_[i] = y0[i] + h * k3_[i];
-    eval(t + h, tmp_.data(), k4_.data());
-    for (std::size_t i = 0; i < n; ++i) y1[i] = y0[i] + h / 6.0 * (f0[i] + 2.0 * (k2_[i] + k3_[i]) + k4_[i]);
-  }
   [[noreturn]] void underflow(double h) const {
     throw NumericalError(name() + ": step size underflow at t = " + message_number(t_) +
                          " (dt = " + message_number(h) + " < solver.dt_min = " + message_number(opt_.dt_min) +
                          "). The solution is not smooth enough to resolve: increase rod.points, "
                          "loosen rtol/atol, or look for a blow-up in the initial fields.");
   }
-  std::vector<double> k1_, k2_, k3_, k4_, tmp_, ybig_, yhalf_, ysmall_, err_;
+  std::vector<double> k1_, ybig_, yhalf_, ysmall_, err_;
 };
 
 // ------------------------------------------------ embedded pairs (Hairer)
@@ -453,6 +486,7 @@ void TimeIntegrator::reset(double t0, const double* y0) {
   eval(t_, y_.data(), f_.data());
   y_prev_ = y_;
   f_prev_ = f_;
+  restarted();
 }
 
 IntegratorState TimeIntegrator::save_state() const {
@@ -482,6 +516,25 @@ void TimeIntegrator::restore_state(const IntegratorState& s) {
   steps_ = s.steps;
   rejected_ = s.rejected;
   rhs_evals_ = s.rhs_evaluations;
+  restarted();
+}
+
+void TimeIntegrator::rk4_step(double t, const double* y0, const double* f0, double h, double* y1) {
+  const std::size_t n = sys_.n;
+  if (rk_tmp_.size() != n) {
+    rk_k2_.resize(n);
+    rk_k3_.resize(n);
+    rk_k4_.resize(n);
+    rk_tmp_.resize(n);
+  }
+  for (std::size_t i = 0; i < n; ++i) rk_tmp_[i] = y0[i] + 0.5 * h * f0[i];
+  eval(t + 0.5 * h, rk_tmp_.data(), rk_k2_.data());
+  for (std::size_t i = 0; i < n; ++i) rk_tmp_[i] = y0[i] + 0.5 * h * rk_k2_[i];
+  eval(t + 0.5 * h, rk_tmp_.data(), rk_k3_.data());
+  for (std::size_t i = 0; i < n; ++i) rk_tmp_[i] = y0[i] + h * rk_k3_[i];
+  eval(t + h, rk_tmp_.data(), rk_k4_.data());
+  for (std::size_t i = 0; i < n; ++i)
+    y1[i] = y0[i] + h / 6.0 * (f0[i] + 2.0 * (rk_k2_[i] + rk_k3_[i]) + rk_k4_[i]);
 }
 
 bool TimeIntegrator::clamp(double& h, double t_stop) const {
@@ -524,11 +577,14 @@ std::unique_ptr<TimeIntegrator> make_time_integrator(TimeMethod kind, OdeSystem 
       return std::make_unique<Dopri5>(std::move(system), options);
     case TimeMethod::dop853:
       return std::make_unique<Dop853>(std::move(system), options);
+    case TimeMethod::langevin:
+      return std::make_unique<Langevin>(std::move(system), options);
     case TimeMethod::automatic:
       break;
   }
   throw InputError("solver.time = \"" + to_string(kind) +
-                   "\" is not a time integrator; allowed: \"rk4\", \"rk4-doubling\", \"dopri5\", \"dop853\"");
+                   "\" is not a time integrator; allowed: \"rk4\", \"rk4-doubling\", \"dopri5\", \"dop853\", "
+                   "\"langevin\"");
 }
 
 }  // namespace rodcore

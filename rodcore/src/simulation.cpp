@@ -17,6 +17,7 @@
 #include "rodcore/reduced_planar.hpp"
 #include "rodcore/rhs.hpp"
 #include "rodcore/stability.hpp"
+#include "rodcore/thermal.hpp"
 
 namespace rodcore {
 namespace {
@@ -67,7 +68,10 @@ void resolve_method(Scene& sc, const std::vector<double>& y0, std::string& note)
     }
   }
   std::string why_time = "solver.time = \"" + to_string(sc.solver.time) + "\" as given";
-  if (sc.solver.time == TimeMethod::automatic) {
+  if (sc.solver.time == TimeMethod::automatic && sc.thermal.has_friction()) {
+    sc.solver.time = TimeMethod::langevin;
+    why_time = "langevin (auto: [thermal] sets a friction)";
+  } else if (sc.solver.time == TimeMethod::automatic) {
     sc.solver.time = TimeMethod::dop853;
     why_time = "dop853 (auto: the fastest at errors <= 1e-6 in the benchmarks)";
   }
@@ -95,6 +99,8 @@ struct Simulation::Impl {
   Scene given;              // the scene as given ("auto" kept): what checkpoints record
   std::string method_note;  // how the method was chosen
   std::vector<std::shared_ptr<Observer>> observers;  // the scene's checks first
+  std::string thermal_note;                          // what the thermal sample did
+  std::unique_ptr<LangevinBath> bath;                // solver.time = "langevin"
 
   // ---- the run, set up by start() on the first step_to()/run()
   bool started = false;
@@ -144,6 +150,20 @@ struct Simulation::Impl {
     const std::size_t nrows = rows.size();
     const bool recon = reconstruct;
     sys.n = nrows * N + (recon ? 7 : 0);
+    sys.ou = nullptr;
+    if (bath) {
+      const LangevinBath* b = bath.get();
+      const std::size_t at_anchor = 12 * N;
+      sys.ou = [b, recon, at_anchor](long step, double* y) {
+        b->apply(step, y);
+        // The anchor's quaternion back on the unit sphere (the RK4 part keeps it there only to O(dt^5)).
+        if (recon) {
+          const Quat q =
+              quat_normalized({y[at_anchor], y[at_anchor + 1], y[at_anchor + 2], y[at_anchor + 3]});
+          for (int k = 0; k < 4; ++k) y[at_anchor + k] = q[k];
+        }
+      };
+    }
     // Rows of omega and gamma in the integrated state (-1: identically zero).
     std::array<int, 6> at{-1, -1, -1, -1, -1, -1};
     for (std::size_t k = 0; k < nrows; ++k)
@@ -211,6 +231,21 @@ Simulation::Simulation(const Scene& scene, InitialState initial) : impl_(std::ma
 
   d.state = std::move(initial.y);
   check_initial_finite(sc, d.state, d.s);
+  if (sc.thermal.on) {
+    if (sc.thermal.sample_initial) {
+      d.thermal_note =
+          add_thermal_sample(d.state, sc.rod.length, d.rhs->material_field(), sc.thermal.kT, sc.thermal.seed)
+              .note;
+    } else {
+      d.thermal_note = "no thermal sample (thermal.sample_initial = false)";
+    }
+    if (sc.solver.time == TimeMethod::langevin)
+      d.thermal_note +=
+          "; Langevin rod at kT = " + num(sc.thermal.kT) + ", friction translational [along, across] = [" +
+          num(sc.thermal.friction_translational[0]) + ", " + num(sc.thermal.friction_translational[1]) +
+          "], rotational [about, across] = [" + num(sc.thermal.friction_rotational[0]) + ", " +
+          num(sc.thermal.friction_rotational[1]) + "] per length";
+  }
   d.y0 = d.state;
   if (d.reconstruct) {
     d.y0.insert(d.y0.end(), initial.q0.begin(), initial.q0.end());
@@ -218,6 +253,8 @@ Simulation::Simulation(const Scene& scene, InitialState initial) : impl_(std::ma
   }
   if (sc.solver.reduce == Reduction::off) {
     d.reduce_note = "full system (solver.reduce = \"off\")";
+  } else if (sc.thermal.on) {
+    d.reduce_note = "full system: a thermal rod is not planar";
   } else if (!planar_reduction_allowed(sc.rod)) {
     d.reduce_note = "full system: the intrinsic shape is not uniform Gamma0 = (0, 0, G03), Omega0 = 0";
   } else if (d.rhs->material_field().kind == MaterialKind::per_point) {
@@ -279,6 +316,12 @@ double Simulation::integrator_time() const { return impl_->integ ? impl_->integ-
 int Simulation::frames_delivered() const { return impl_->started ? impl_->j : 0; }
 double Simulation::frame_time(int index) const { return impl_->frame_time(index); }
 
+double Simulation::kinetic_kT() const {
+  const Impl& d = *impl_;
+  return rodcore::kinetic_kT(d.state.data(), d.N, d.scene.rod.length / static_cast<double>(d.N),
+                             d.rhs->material_field());
+}
+
 double Simulation::energy() const {
   const Impl& d = *impl_;
   return rodcore::energy_parts(d.state.data(), d.N, d.scene.rod.length / static_cast<double>(d.N),
@@ -309,7 +352,7 @@ void Simulation::Impl::start(const Simulation& self) {
   // (c_max the largest characteristic speed over the points, material.hpp; it
   // leaves out the lower-order terms, which raised the true radius by up to
   // 1.6x on the DNA rod).
-  if (sc.solver.time == TimeMethod::rk4) {
+  if (sc.solver.time == TimeMethod::rk4 || sc.solver.time == TimeMethod::langevin) {
     const bool uniform = sc.rod.Gamma0_s.empty() && sc.rod.Omega0_s.empty() &&
                          rhs->material_field().kind != MaterialKind::per_point;
     const double lambda = uniform ? linear_spectral_radius(*rhs) : wave_speed() * op->max_wavenumber();
@@ -322,8 +365,14 @@ void Simulation::Impl::start(const Simulation& self) {
                                     : " (estimate: 2.8 / (max wave speed " + num(wave_speed()) +
                                           " x max wavenumber " + num(op->max_wavenumber()) + "), ") +
                            op->name() + "); use solver.dt <= " + num(dt_cfl * (1.0 - 5e-6)) +
-                           ", fewer rod.points, or an adaptive solver.time");
+                           (sc.solver.time == TimeMethod::rk4
+                                ? ", fewer rod.points, or an adaptive solver.time"
+                                : " or fewer rod.points"));
   }
+  if (sc.solver.time == TimeMethod::langevin)
+    bath = std::make_unique<LangevinBath>(rhs->material_field(), sc.rod.length / static_cast<double>(N),
+                                          sc.thermal.kT, sc.thermal.friction_translational,
+                                          sc.thermal.friction_rotational, sc.solver.dt, sc.thermal.seed);
 
   planar_run = planar;
   if (resume)
@@ -332,6 +381,7 @@ void Simulation::Impl::start(const Simulation& self) {
                      : std::optional<Planar>(resume->reduced == "omega2" ? Planar::omega2 : Planar::omega1);
   summary.reduce_note = reduce_note;
   summary.method_note = method_note;
+  summary.thermal_note = thermal_note;
   if (resume && planar_run != planar)
     summary.reduce_note = planar_run
                               ? "reduced planar system (as in the checkpoint)"
@@ -412,6 +462,8 @@ void Simulation::Impl::deliver(const Simulation& self, int index, double tf, con
     if (!centerline.empty()) fr.centerline = centerline.data();
     if (!directors.empty()) fr.directors = directors.data();
   }
+  if (sc.thermal.on)
+    fr.kinetic_kT = rodcore::kinetic_kT(y, N, sc.rod.length / static_cast<double>(N), rhs->material_field());
   for (auto& o : observers) o->frame(self, fr);
 }
 

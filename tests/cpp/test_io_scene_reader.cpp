@@ -430,3 +430,63 @@ TEST(IoSceneReader, ResolvedSceneReadsBackIdentically) {
   Scene c = read_scene_string(scene_to_toml(read_scene_string(kMinimal)));
   EXPECT_TRUE(std::isinf(c.checks.max_energy_drift));
 }
+
+TEST(IoSceneReader, ThermalSectionErrorsNameTheKey) {
+  auto expect = [](const std::string& text, const std::string& want) {
+    const std::string m = error_of(kMinimal + text);
+    EXPECT_NE(m.find(want), std::string::npos) << m;
+  };
+  expect("[thermal]\nkT = -1\n",
+         "scene.toml:5: thermal.kT: found -1; allowed: a number (energy in the material's "
+         "units) >= 0");
+  expect("[thermal]\ntemperature_K = -300\n",
+         "thermal.temperature_K: found -300; allowed: a number [K] >= 0");
+  expect("[thermal]\nkT = 1e-3\ntemperature_K = 300\n",
+         "thermal.temperature_K: give either thermal.kT (energy in the material's units) or "
+         "thermal.temperature_K (DNA units), not both");
+  expect("[thermal]\nfriction_translational = 1.0\n",
+         "thermal.friction_translational: a friction needs a temperature: give thermal.kT");
+  expect("[thermal]\nseed = 3\n", "thermal.kT: [thermal] needs thermal.kT");
+  expect("[thermal]\nkT = 1e-3\nfriction_rotational = [1.0]\n",
+         "thermal.friction_rotational: found an array of 1 value(s); allowed: a number >= 0 (about the axis, "
+         "across alike), an array [about the axis, across]");
+  expect("[thermal]\nkT = 1e-3\nfriction_translational = \"oil\"\n",
+         "thermal.friction_translational: found \"oil\"; allowed: one of \"water\"");
+  expect("[thermal]\nkT = 1e-3\nviscosity_mPa_s = 1.0\n",
+         "thermal.viscosity_mPa_s: is used only by a \"water\"");
+  // noise with an integrator that cannot carry it; langevin without [thermal]; energy drift
+  expect("[solver]\ntime = \"dop853\"\n[thermal]\nkT = 1e-3\nfriction_translational = 1.0\n",
+         "scene.toml:5: solver.time: \"dop853\" cannot carry the friction and noise of [thermal]");
+  expect("[solver]\ntime = \"langevin\"\n",
+         "solver.time: \"langevin\" is the Langevin rod of a [thermal] section");
+  expect("[checks]\nmax_energy_drift = 1e-6\n[thermal]\nkT = 1e-3\nfriction_translational = 1.0\n",
+         "checks.max_energy_drift: the Langevin rod exchanges energy with its bath");
+  expect("[solver]\ndt = 0.3\n[thermal]\nkT = 1e-3\nfriction_translational = 1.0\n",
+         "solver.dt: the Langevin rod steps with a fixed solver.dt = 0.3, which must divide the output "
+         "interval");
+  // "water" needs a rod at least 4 radii long (6 rod lengths = 3 nm)
+  expect("[thermal]\nkT = 1e-3\nfriction_translational = \"water\"\nradius_nm = 1.0\n",
+         "thermal.friction_translational: the \"water\" friction needs a rod at least 4 radii long");
+  // the key in the wrong section is placed
+  expect("[solver]\nseed = 3\n", "seed belongs in [thermal]");
+}
+
+TEST(IoSceneReader, ThermalSectionResolvesAndReadsBack) {
+  const Scene plain = read_scene_string(kMinimal, "scene.toml", ".", {});
+  EXPECT_FALSE(plain.thermal.on);
+  EXPECT_EQ(scene_to_toml(plain).find("[thermal]"), std::string::npos);  // a cold scene is as before
+  const Scene sc = read_scene_string(
+      "[rod]\nlength = 30.0\npoints = 16\n[solver]\ndt = 0.05\n[thermal]\ntemperature_K = 300\n"
+      "friction_translational = \"water\"\nfriction_rotational = [2.0, 1.0]\nseed = 9\n",
+      "scene.toml", ".", {});
+  EXPECT_TRUE(sc.thermal.on);
+  EXPECT_NEAR(sc.thermal.kT, 0.009123, 1e-6);  // k_B 300 K / (C l), notes-science.md
+  EXPECT_TRUE(sc.thermal.translational_water);
+  EXPECT_GT(sc.thermal.friction_translational[1], sc.thermal.friction_translational[0]);
+  EXPECT_EQ(sc.thermal.friction_rotational[0], 2.0);
+  EXPECT_EQ(sc.thermal.seed, 9u);
+  const Scene again = read_scene_string(scene_to_toml(sc), "resolved.toml", ".", {});
+  auto body = [](const std::string& t) { return t.substr(t.find('\n')); };  // without the "from" line
+  EXPECT_EQ(body(scene_to_toml(again)), body(scene_to_toml(sc)));
+  EXPECT_EQ(again.thermal.friction_translational, sc.thermal.friction_translational);
+}

@@ -11,6 +11,7 @@
 #include <csignal>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <string>
 #include <thread>
 #include <vector>
@@ -45,13 +46,20 @@ Scene scene_for(const std::string& time) {
   Scene sc = rodtest::twisted_wave_scene(24, "p", "plus", 0.5);
   sc.solver.time = *from_string<TimeMethod>(time);
   sc.solver.rtol = sc.solver.atol = 1e-11;
-  sc.solver.dt = time == "rk4" ? 0.01 : 0.05;
+  sc.solver.dt = time == "rk4" || time == "langevin" ? 0.01 : 0.05;
   sc.output.t_end = 2.6;
   sc.output.frames = 14;
   sc.output.energy = true;
   sc.output.centerline = true;
   sc.output.directors = true;
   sc.checks.max_energy_drift = 1e-3;
+  if (time == "langevin") {  // the thermal rod: its random numbers resume with the step index
+    sc.thermal.on = true;
+    sc.thermal.kT = 1e-3;
+    sc.thermal.friction_translational = {0.5, 1.0};
+    sc.thermal.friction_rotational = {2.0, 1.0};
+    sc.checks.max_energy_drift = std::numeric_limits<double>::infinity();  // a bath exchanges energy
+  }
   return sc;
 }
 
@@ -121,7 +129,8 @@ TEST_P(CheckpointResume, ResumedRunIsBitwiseTheUninterruptedRun) {
 }
 
 INSTANTIATE_TEST_SUITE_P(EveryIntegrator, CheckpointResume,
-                         ::testing::Values("rk4", "rk4-doubling", "dopri5", "dop853"), [](const auto& info) {
+                         ::testing::Values("rk4", "rk4-doubling", "dopri5", "dop853", "langevin"),
+                         [](const auto& info) {
                            std::string n = info.param;
                            for (auto& ch : n)
                              if (ch == '-') ch = '_';

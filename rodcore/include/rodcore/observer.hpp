@@ -54,6 +54,9 @@ struct Frame {
   // along d3 and end_rotation = its total twist mod 2 pi.
   std::optional<Vec3> end_to_end;
   std::optional<double> end_rotation;
+  // A thermal scene ([thermal]): 2 KE / (6 N), the kinetic temperature in
+  // energy units (docs/thermal.md).
+  std::optional<double> kinetic_kT;
 };
 
 // The integrated state right after an accepted step. `y` holds `rows.size()`
@@ -81,6 +84,7 @@ struct RunSummary {
   bool reduced = false;       // the reduced planar system was used (to the end)
   std::string reduce_note;    // why the run is reduced or not (solver.reduce)
   std::string method_note;    // how solver.space / solver.time were chosen ("auto" or as given)
+  std::string thermal_note;   // a thermal scene: what its sample did ("" otherwise)
 };
 
 class Observer {

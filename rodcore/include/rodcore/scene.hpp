@@ -44,15 +44,18 @@ struct ChoiceNames<SpaceMethod> {
       {{SpaceMethod::automatic, "auto"}, {SpaceMethod::fd4, "fd4"}, {SpaceMethod::spectral, "spectral"}}};
 };
 
-// solver.time: the time integrator (integrators.hpp). automatic: dop853.
-enum class TimeMethod { automatic, rk4, rk4_doubling, dopri5, dop853 };
+// solver.time: the time integrator (integrators.hpp). automatic: dop853, or
+// langevin when [thermal] sets a friction. langevin: the Langevin splitting of
+// the thermal rod (thermal.hpp, docs/thermal.md), fixed step solver.dt.
+enum class TimeMethod { automatic, rk4, rk4_doubling, dopri5, dop853, langevin };
 template <>
 struct ChoiceNames<TimeMethod> {
-  static constexpr std::array<Spelling<TimeMethod>, 5> all{{{TimeMethod::automatic, "auto"},
+  static constexpr std::array<Spelling<TimeMethod>, 6> all{{{TimeMethod::automatic, "auto"},
                                                             {TimeMethod::rk4, "rk4"},
                                                             {TimeMethod::rk4_doubling, "rk4-doubling"},
                                                             {TimeMethod::dopri5, "dopri5"},
-                                                            {TimeMethod::dop853, "dop853"}}};
+                                                            {TimeMethod::dop853, "dop853"},
+                                                            {TimeMethod::langevin, "langevin"}}};
 };
 
 // solver.reduce: automatic: the reduced planar system when the scene allows
@@ -206,6 +209,29 @@ struct Checks {
   bool stop_on_fold = true;  // Gamma3 <= 0 somewhere
 };
 
+// [thermal]: the rod at a temperature (docs/thermal.md). Off unless the
+// scene has the section; a scene without it runs bit for bit as before.
+// Energies in the scene's material units (the rod's energy unit C l for the
+// paper's DNA), frictions per unit length in rod units, resolved by the
+// scene reader (a "water" friction from viscosity_mPa_s and radius_nm,
+// thermal.hpp).
+struct Thermal {
+  bool on = false;                                                  // the scene has [thermal]
+  double kT = 0.0;                                                  // k_B T, >= 0
+  double temperature_K = std::numeric_limits<double>::quiet_NaN();  // when the scene gives it
+  unsigned long long seed = 1;                                      // key of the random numbers (philox.hpp)
+  bool sample_initial = true;                                       // add a Boltzmann sample to [initial]
+  std::array<double, 2> friction_translational{0.0, 0.0};           // [along d3, across] per length
+  std::array<double, 2> friction_rotational{0.0, 0.0};              // [about d3, across] per length
+  bool translational_water = false, rotational_water = false;       // given as "water"
+  double viscosity_mPa_s = 0.89;                                    // for "water"
+  double radius_nm = 1.0;                                           // for "water"
+  bool has_friction() const {
+    return friction_translational[0] > 0.0 || friction_translational[1] > 0.0 ||
+           friction_rotational[0] > 0.0 || friction_rotational[1] > 0.0;
+  }
+};
+
 struct Scene {
   std::string source;  // where it came from (file path or "<dict>"), for messages
   Rod rod;
@@ -214,6 +240,7 @@ struct Scene {
   SolverOptions solver;
   OutputOptions output;
   Checks checks;
+  Thermal thermal;
 };
 
 }  // namespace rodcore

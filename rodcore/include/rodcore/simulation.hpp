@@ -43,7 +43,8 @@ class Simulation {
  public:
   // The initial state made from scene.initial (its kind; scene layer). A
   // scene built in code may leave rod.length/points to the kind (dna_planar).
-  // Throws InputError.
+  // With [thermal] sample_initial, an equilibrium sample is added to it (both
+  // constructors; thermal.hpp). Throws InputError.
   explicit Simulation(const Scene& scene);
   // The initial state given; scene.initial is then only recorded (e.g. in the
   // output file). Throws InputError (sizes, non-finite values, settings).
@@ -107,6 +108,9 @@ class Simulation {
   // Diagnostics of the state now (Appendix A), computed on demand.
   double energy() const;
   std::map<std::string, double> energy_parts() const;
+  // 2 KE / (6 N) of the state now: the kinetic temperature in energy units
+  // (docs/thermal.md).
+  double kinetic_kT() const;
   // The right-hand side of Eqs (11)-(14) for this scene's rod and material:
   // dydt = f(y), both 12 N values in the layout of state.hpp.
   void rhs(const double* y, double* dydt) const;

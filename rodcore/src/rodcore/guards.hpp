@@ -12,6 +12,7 @@
 #pragma once
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "rodcore/observer.hpp"
@@ -24,6 +25,11 @@ std::vector<std::unique_ptr<Observer>> make_guards(const Scene& scene, const std
 // The run settings a Simulation needs before anything else (rod size,
 // output times, enum values that are one of their table's). Throws InputError.
 void validate_run_settings(const Scene& scene);
+
+// The thermal settings that span sections (docs/thermal.md): the dotted key
+// and what is wrong with it, or two empty strings. The scene reader reports it
+// at the key's line; validate_run_settings() for a scene built in code.
+std::pair<std::string, std::string> thermal_settings_problem(const Scene& scene);
 
 // Throws InputError naming the first non-finite initial value (component, point, s).
 void check_initial_finite(const Scene& scene, const std::vector<double>& y, const std::vector<double>& s);

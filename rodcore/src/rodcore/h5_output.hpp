@@ -5,6 +5,7 @@
 //   fields/<name>        (T x N x 3)    gamma, omega, Gamma, Omega (internal frame)
 //   energy               (T)            when output.fields has "energy"
 //   energy_parts/<name>  (T)            when "energy_parts"
+//   kinetic_kT           (T)            a thermal scene: 2 KE / (6 N) (docs/thermal.md)
 //   centerline           (T x N x 3)    when "centerline" (lab frame)
 //   directors            (T x N x 3 x 3) when "directors"; [t][i][xyz][k] = component xyz of d_k
 // Datasets are chunked with unlimited T; each frame is written and flushed
@@ -65,10 +66,11 @@ class H5Output {
 
   std::string path_;
   OutputOptions want_;
+  bool thermal_ = false;  // the scene has [thermal]: kinetic_kT
   std::size_t N_;
   hid_t file_ = H5I_INVALID_HID;
   std::vector<hid_t> fields_;  // 4 datasets or empty
-  hid_t time_ = H5I_INVALID_HID, energy_ = H5I_INVALID_HID;
+  hid_t time_ = H5I_INVALID_HID, energy_ = H5I_INVALID_HID, kinetic_kT_ = H5I_INVALID_HID;
   hid_t centerline_ = H5I_INVALID_HID, directors_ = H5I_INVALID_HID;
   std::vector<std::pair<std::string, hid_t>> energy_parts_;
   std::vector<double> row_;  // N x 3 scratch

@@ -13,6 +13,12 @@
 //                  Hairer's dopri5.f).
 //   "dop853"       Dormand-Prince 8(5,3) with Hairer's error estimator and
 //                  7th-order dense output (3 extra stages per output step).
+//   "langevin"     the Langevin splitting of the thermal rod (docs/thermal.md):
+//                  per step the system's exact Ornstein-Uhlenbeck step `ou`
+//                  over dt (friction and noise), then one classic RK4 step of
+//                  f (the conservative rod) -- the Strang splitting O(dt/2)
+//                  H(dt) O(dt/2) with consecutive half steps merged; fixed
+//                  step dt. Dense output: the cubic Hermite of the H part.
 // Tableaux: Hairer, Norsett & Wanner, Solving ODEs I (2nd ed. 1993), II.5 and
 // II.10. Error norm (all adaptive schemes): RMS over components of
 // err_i / (atol + rtol max(|y_i(t)|, |y_i(t+h)|)).
@@ -32,6 +38,9 @@ namespace rodcore {
 struct OdeSystem {
   std::size_t n = 0;
   std::function<void(double t, const double* y, double* dydt)> f;
+  // "langevin" only: the exact friction-and-noise step over dt on y, in
+  // place; `step` is the index of the step (the random numbers' counter).
+  std::function<void(long step, double* y)> ou;
 };
 
 struct IntegratorOptions {
@@ -91,6 +100,11 @@ class TimeIntegrator {
   // Controller memory beyond dt_next (e.g. the PI controller's last error).
   virtual std::vector<double> controller_memory() const { return {}; }
   virtual void set_controller_memory(const std::vector<double>&) {}
+  // One classic RK4 step of size h from (t, y0) with f0 = f(t, y0) given,
+  // into y1 (not y0): the stage arithmetic of rk4, rk4-doubling and langevin.
+  void rk4_step(double t, const double* y0, const double* f0, double h, double* y1);
+  // Called at the end of reset() and restore_state().
+  virtual void restarted() {}
   // Cubic Hermite interpolation on [t_prev, t] from y, f at both ends.
   void hermite(double t, double* out) const;
 
@@ -99,10 +113,11 @@ class TimeIntegrator {
   std::vector<double> y_, f_;            // at t_
   std::vector<double> y_prev_, f_prev_;  // at t_prev_
   double t_ = 0.0, t_prev_ = 0.0, h_ = 0.0;
+  std::vector<double> rk_k2_, rk_k3_, rk_k4_, rk_tmp_;  // rk4_step's stages
   long steps_ = 0, rejected_ = 0, rhs_evals_ = 0;
 };
 
-// kind = rk4 | rk4_doubling | dopri5 | dop853; throws InputError otherwise
+// kind = rk4 | rk4_doubling | dopri5 | dop853 | langevin (needs system.ou); throws InputError otherwise
 // (automatic is resolved by Simulation before).
 std::unique_ptr<TimeIntegrator> make_time_integrator(TimeMethod kind, OdeSystem system,
                                                      const IntegratorOptions& options);

@@ -59,6 +59,7 @@ class Section {
   // The node of key k (or nullptr), for a message; does not make it known.
   const toml::node* node(const std::string& k) const { return tab_ ? tab_->get(k) : nullptr; }
   bool has(const std::string& k) const { return tab_ && tab_->contains(k); }
+  bool present() const { return tab_ != nullptr; }  // the file has this [section]
   [[noreturn]] void fail(const std::string& k, const toml::node* n, const std::string& msg) const {
     ctx_->fail(key(k), n, msg);
   }

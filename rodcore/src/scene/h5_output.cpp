@@ -9,6 +9,7 @@
 #include "rodcore/dna_units.hpp"
 #include "rodcore/error.hpp"
 #include "rodcore/scene_reader.hpp"
+#include "rodcore/scene_section.hpp"
 #include "rodcore/state.hpp"
 
 #ifndef DNAROD_GIT_REVISION
@@ -114,6 +115,20 @@ void write_scene_attributes(hid_t f, const Scene& sc) {
   attr(f, "solver.reduce", to_string(sc.solver.reduce));
   attr(f, "output.t_end", sc.output.t_end);
   attr_int(f, "output.frames", sc.output.frames);
+  if (sc.thermal.on) {  // docs/thermal.md; absent from a scene without [thermal]
+    const Thermal& t = sc.thermal;
+    attr(f, "kT", t.kT);
+    if (!std::isnan(t.temperature_K)) attr(f, "temperature_K", t.temperature_K);
+    attr_int(f, "thermal.seed", static_cast<long long>(t.seed));
+    attr_int(f, "thermal.sample_initial", t.sample_initial);
+    attr_doubles(f, "thermal.friction_translational", t.friction_translational.data(), 2);
+    attr_doubles(f, "thermal.friction_rotational", t.friction_rotational.data(), 2);
+    attr(f, "thermal.friction_model",
+         std::string(t.translational_water || t.rotational_water
+                         ? "water: viscosity " + toml_num(t.viscosity_mPa_s) + " mPa s, radius " +
+                               toml_num(t.radius_nm) + " nm (docs/thermal.md)"
+                         : "given"));
+  }
   attr(f, "initial.kind", to_string(sc.initial.kind));
   for (const auto& [k, v] : sc.initial.numbers) attr(f, "initial." + k, v);
   for (const auto& [k, v] : sc.initial.strings) attr(f, "initial." + k, v);
@@ -134,7 +149,7 @@ void write_scene_attributes(hid_t f, const Scene& sc) {
 }  // namespace
 
 H5Output::H5Output(const std::string& path, const Scene& scene, const std::vector<double>& s)
-    : path_(path), want_(scene.output), N_(s.size()), row_(9 * s.size()) {
+    : path_(path), want_(scene.output), thermal_(scene.thermal.on), N_(s.size()), row_(9 * s.size()) {
   h5::QuietErrors quiet;
   // No file locking: a second process (h5py) may read the frames while we write.
   auto fapl = h5::plist(H5Pcreate(H5P_FILE_ACCESS));
@@ -151,6 +166,7 @@ H5Output::H5Output(const std::string& path, const Scene& scene, const std::vecto
       for (const char* name : kFieldNames)
         fields_.push_back(extendible(std::string("fields/") + name, {N_, 3}));
     if (want_.energy) energy_ = extendible("energy", {});
+    if (thermal_) kinetic_kT_ = extendible("kinetic_kT", {});
     if (want_.centerline) centerline_ = extendible("centerline", {N_, 3});
     if (want_.directors) directors_ = extendible("directors", {N_, 3, 3});
     H5Fflush(file_, H5F_SCOPE_GLOBAL);
@@ -162,7 +178,7 @@ H5Output::H5Output(const std::string& path, const Scene& scene, const std::vecto
 }
 
 H5Output::H5Output(const std::string& path, const Scene& scene, const std::vector<double>& s, Resume resume)
-    : path_(path), want_(scene.output), N_(s.size()), row_(9 * s.size()) {
+    : path_(path), want_(scene.output), thermal_(scene.thermal.on), N_(s.size()), row_(9 * s.size()) {
   h5::QuietErrors quiet;
   const std::string p = partial_path();
   if (!std::filesystem::exists(p))
@@ -188,6 +204,7 @@ H5Output::H5Output(const std::string& path, const Scene& scene, const std::vecto
       for (const char* name : kFieldNames)
         fields_.push_back(reopen(std::string("fields/") + name, resume.frames));
     if (want_.energy) energy_ = reopen("energy", resume.frames);
+    if (thermal_) kinetic_kT_ = reopen("kinetic_kT", resume.frames);
     if (want_.energy_parts) {
       auto g = h5::group(H5Gopen2(file_, "energy_parts", H5P_DEFAULT));
       H5G_info_t info{};
@@ -208,7 +225,7 @@ H5Output::H5Output(const std::string& path, const Scene& scene, const std::vecto
   } catch (...) {
     for (hid_t d : fields_) H5Dclose(d);
     for (auto& [n, d] : energy_parts_) H5Dclose(d);
-    for (hid_t d : {time_, energy_, centerline_, directors_})
+    for (hid_t d : {time_, energy_, kinetic_kT_, centerline_, directors_})
       if (d >= 0) H5Dclose(d);
     H5Fclose(file_);
     file_ = H5I_INVALID_HID;
@@ -243,7 +260,7 @@ H5Output::~H5Output() {
   if (file_ >= 0) {
     for (hid_t d : fields_) H5Dclose(d);
     for (auto& [n, d] : energy_parts_) H5Dclose(d);
-    for (hid_t d : {time_, energy_, centerline_, directors_})
+    for (hid_t d : {time_, energy_, kinetic_kT_, centerline_, directors_})
       if (d >= 0) H5Dclose(d);
     H5Fclose(file_);
   }
@@ -313,6 +330,11 @@ void H5Output::write_frame(const Frame& fr) {
       append(d, &it->second);
     }
   }
+  if (thermal_) {
+    if (!fr.kinetic_kT) throw Error("H5Output: a thermal scene's frame has no kinetic_kT");
+    double k = *fr.kinetic_kT;
+    append(kinetic_kT_, &k);
+  }
   if (want_.centerline) {
     if (!fr.centerline) throw Error("H5Output: the scene asks for the centerline but the frame has none");
     append(centerline_, fr.centerline);
@@ -330,11 +352,11 @@ void H5Output::write_frame(const Frame& fr) {
 void H5Output::close_and_rename() {
   for (hid_t d : fields_) H5Dclose(d);
   for (auto& [n, d] : energy_parts_) H5Dclose(d);
-  for (hid_t d : {time_, energy_, centerline_, directors_})
+  for (hid_t d : {time_, energy_, kinetic_kT_, centerline_, directors_})
     if (d >= 0) H5Dclose(d);
   fields_.clear();
   energy_parts_.clear();
-  time_ = energy_ = centerline_ = directors_ = H5I_INVALID_HID;
+  time_ = energy_ = kinetic_kT_ = centerline_ = directors_ = H5I_INVALID_HID;
   H5Fclose(file_);
   file_ = H5I_INVALID_HID;
   std::error_code ec;
@@ -353,6 +375,7 @@ void H5Output::finish(const RunSummary& sum) {
   attr_int(file_, "summary.reduced", sum.reduced);
   attr(file_, "summary.reduce_note", sum.reduce_note);
   attr(file_, "summary.method_note", sum.method_note);
+  if (!sum.thermal_note.empty()) attr(file_, "summary.thermal_note", sum.thermal_note);
   attr_int(file_, "complete", 1);
   close_and_rename();
 }

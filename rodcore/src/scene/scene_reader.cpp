@@ -17,13 +17,16 @@
 #include <map>
 #include <set>
 #include <sstream>
+#include <tuple>
 
 #include "rodcore/error.hpp"
+#include "rodcore/guards.hpp"
 #include "rodcore/h5_initial.hpp"
 #include "rodcore/initial_conditions.hpp"
 #include "rodcore/material.hpp"
 #include "rodcore/scene_section.hpp"
 #include "rodcore/scene_sections.hpp"
+#include "rodcore/solvent.hpp"
 
 namespace fs = std::filesystem;
 
@@ -190,6 +193,31 @@ void check_across_sections(SceneDraft& d, Section& rod, Section& mat, Section& i
   }
 }
 
+// [thermal] against the rest, once the rod's length is known: the "water"
+// frictions, then the settings that span sections (thermal_settings_problem).
+template <class SectionOf>
+void check_thermal(Scene& sc, SectionOf& section) {
+  Thermal& t = sc.thermal;
+  Section& th = section("thermal");
+  for (auto [water, key, dst] :
+       {std::tuple{t.translational_water, "friction_translational", &t.friction_translational},
+        std::tuple{t.rotational_water, "friction_rotational", &t.friction_rotational}}) {
+    if (!water) continue;
+    try {
+      const WaterFriction w = water_friction_rod(t.viscosity_mPa_s, t.radius_nm, sc.rod.length);
+      *dst = std::string(key) == "friction_translational" ? w.translational : w.rotational;
+    } catch (const InputError& e) {
+      th.fail(key, th.node(key), e.what());
+    }
+  }
+  const auto [key, problem] = thermal_settings_problem(sc);
+  if (key.empty()) return;
+  const auto dot = key.find('.');
+  Section& s = section(key.substr(0, dot));
+  const std::string k = key.substr(dot + 1);
+  s.fail(k, s.node(k), problem);
+}
+
 Scene build_scene(toml::table& table, Context& ctx) {
   check_sections(table, ctx);
   SceneDraft draft;
@@ -208,6 +236,7 @@ Scene build_scene(toml::table& table, Context& ctx) {
                          [&](const Section& s) { return s.name() == name; });
   };
   check_across_sections(draft, section("rod"), section("material"), section("initial"));
+  check_thermal(draft.scene, section);
   return std::move(draft.scene);
 }
 

@@ -8,6 +8,7 @@
 
 #include "rodcore/initial_conditions.hpp"
 #include "rodcore/material.hpp"
+#include "rodcore/solvent.hpp"
 
 namespace rodcore {
 namespace {
@@ -238,6 +239,96 @@ std::string write_checks(const Scene& sc) {
          "\nstop_on_fold = " + (c.stop_on_fold ? "true" : "false") + "\n";
 }
 
+// ---- [thermal]: the rod at a temperature (docs/thermal.md). A "water"
+// friction needs the rod's length: it is resolved with the checks across
+// sections (scene_reader.cpp).
+
+// A friction: one number (both directions), [along, across] or "water".
+void friction(Section& th, const std::string& k, const std::string& pair, std::array<double, 2>& dst,
+              bool& water) {
+  const toml::node* n = th.get(k);
+  if (!n) return;
+  const std::string allowed = "a number >= 0 (" + pair + " alike), an array [" + pair +
+                              "] of 2 numbers >= 0 (rod units, per length), or \"water\"";
+  const Range r{0.0, kInf, false, true};
+  if (n->is_string()) {
+    th.string_of(k, *n, {"water"});
+    water = true;
+  } else if (auto a = n->as_array(); a && a->size() == 2) {
+    for (std::size_t c = 0; c < 2; ++c)
+      dst[c] = th.number_of(k + "[" + std::to_string(c) + "]", *a->get(c), r, "a number");
+  } else if (n->is_number()) {
+    dst[0] = dst[1] = th.number_of(k, *n, r, "a number");
+  } else {
+    th.fail(k, n, "found " + describe(*n) + "; allowed: " + allowed);
+  }
+}
+
+void read_thermal(Section& th, SceneDraft& d) {
+  Thermal& t = d.scene.thermal;
+  t.on = th.present();
+  const Range energy{0.0, kInf, false, true};
+  const toml::node* kT = th.get("kT");
+  const toml::node* T = th.get("temperature_K");
+  if (kT) t.kT = th.number_of("kT", *kT, energy, "a number (energy in the material's units)");
+  if (T) {
+    t.temperature_K = th.number_of("temperature_K", *T, energy, "a number [K]");
+    t.kT = kT_rod_of_kelvin(t.temperature_K);
+  }
+  if (kT && T)
+    th.fail("temperature_K", T,
+            "give either thermal.kT (energy in the material's units) or thermal.temperature_K (DNA units), "
+            "not both");
+  th.integer("seed", t.seed, Range{0, 9.2e18});
+  th.boolean("sample_initial", t.sample_initial);
+  friction(th, "friction_translational", "along, across", t.friction_translational, t.translational_water);
+  friction(th, "friction_rotational", "about the axis, across", t.friction_rotational, t.rotational_water);
+  th.number("viscosity_mPa_s", t.viscosity_mPa_s, positive());
+  th.number("radius_nm", t.radius_nm, positive());
+  if (!t.on) return;
+  const bool water = t.translational_water || t.rotational_water;
+  for (const char* k : {"viscosity_mPa_s", "radius_nm"})
+    if (th.has(k) && !water)
+      th.fail(k, th.node(k),
+              "is used only by a \"water\" friction (thermal.friction_translational or "
+              "thermal.friction_rotational = \"water\")");
+  if (!kT && !T) {
+    const bool friction_given = th.has("friction_translational") || th.has("friction_rotational");
+    const char* k = th.has("friction_translational") ? "friction_translational" : "friction_rotational";
+    if (friction_given)
+      th.fail(k, th.node(k),
+              "a friction needs a temperature: give thermal.kT (energy in the material's units) or "
+              "thermal.temperature_K (DNA units); 0 makes a damped rod without noise");
+    th.fail("kT", nullptr,
+            "[thermal] needs thermal.kT (energy in the material's units) or thermal.temperature_K (DNA "
+            "units)");
+  }
+}
+
+std::string write_thermal(const Scene& sc) {
+  const Thermal& t = sc.thermal;
+  if (!t.on) return "";
+  std::string o = std::isnan(t.temperature_K)
+                      ? "kT = " + toml_num(t.kT) + "\n"
+                      : "temperature_K = " + toml_num(t.temperature_K) + "  # kT = " + toml_num(t.kT) + "\n";
+  o += "seed = " + std::to_string(t.seed) + "\nsample_initial = " + (t.sample_initial ? "true" : "false") +
+       "\n";
+  auto pair = [](const std::array<double, 2>& z) {
+    return "[" + toml_num(z[0]) + ", " + toml_num(z[1]) + "]";
+  };
+  o += "friction_translational = " +
+       (t.translational_water ? "\"water\"  # [along, across] = " + pair(t.friction_translational)
+                              : pair(t.friction_translational)) +
+       "\n";
+  o += "friction_rotational = " +
+       (t.rotational_water ? "\"water\"  # [about the axis, across] = " + pair(t.friction_rotational)
+                           : pair(t.friction_rotational)) +
+       "\n";
+  if (t.translational_water || t.rotational_water)
+    o += "viscosity_mPa_s = " + toml_num(t.viscosity_mPa_s) + "\nradius_nm = " + toml_num(t.radius_nm) + "\n";
+  return o;
+}
+
 }  // namespace
 
 const std::vector<SectionReader>& scene_sections() {
@@ -248,6 +339,7 @@ const std::vector<SectionReader>& scene_sections() {
       {"solver", read_solver, write_solver},
       {"output", read_output, write_output},
       {"checks", read_checks, write_checks},
+      {"thermal", read_thermal, write_thermal},
   };
   return sections;
 }

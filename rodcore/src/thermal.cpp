@@ -1,0 +1,368 @@
+#include "rodcore/thermal.hpp"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Dense>
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "rodcore/error.hpp"
+#include "rodcore/gaussian.hpp"
+#include "rodcore/guards.hpp"
+#include "rodcore/reconstruction.hpp"
+
+namespace rodcore {
+namespace {
+
+using Mat3 = Eigen::Matrix3d;
+using Mat6 = Eigen::Matrix<double, 6, 6>;
+using Vec6 = Eigen::Matrix<double, 6, 1>;
+using V3 = Eigen::Vector3d;
+
+// What a Philox counter is used for (its second word, with the block number):
+// the streams of one seed never share a counter.
+enum Stream : std::uint32_t { kStrainSample = 1, kVelocitySample = 2, kBath = 3 };
+
+std::array<std::uint32_t, 2> key_of(unsigned long long seed) {
+  return {static_cast<std::uint32_t>(seed), static_cast<std::uint32_t>(seed >> 32)};
+}
+
+// Six standard normal numbers for grid point i of a stream at a step.
+void normals6(std::array<std::uint32_t, 2> key, Stream stream, unsigned long long step, std::size_t i,
+              double z[6]) {
+  GaussianStream g(key, static_cast<std::uint32_t>(i), stream << 8, static_cast<std::uint32_t>(step),
+                   static_cast<std::uint32_t>(step >> 32));
+  g.six(z);
+}
+
+// K (6 x 6) or I (3 x 3) of point i as an Eigen matrix.
+Mat6 K_matrix(const MaterialField& mf, std::size_t i) {
+  Eigen::Matrix<double, 6, 6, Eigen::RowMajor> M;
+  mf.K_at(i, M.data());
+  return M;
+}
+Mat3 I_matrix(const MaterialField& mf, std::size_t i) {
+  Eigen::Matrix<double, 3, 3, Eigen::RowMajor> M;
+  mf.I_at(i, M.data());
+  return M;
+}
+
+Mat3 cross_matrix(const V3& r) {
+  Mat3 X;
+  X << 0.0, -r(2), r(1), r(2), 0.0, -r(0), -r(1), r(0), 0.0;
+  return X;
+}
+
+// Frames of a state: directors R_i (columns d_k) and centerline r_i, from
+// the frame (identity, 0) at s = 0; and the holonomy g(0)^-1 g(L).
+struct Frames {
+  std::vector<Mat3> R;
+  std::vector<V3> r;
+  Quat q_end;
+  V3 r_end;
+};
+
+Frames frames_of(Reconstructor& rec, const std::vector<double>& y, std::size_t N) {
+  std::vector<double> cl(3 * N), dir(9 * N);
+  const auto end = rec.sweep(y.data(), Quat{1.0, 0.0, 0.0, 0.0}, Vec3{0.0, 0.0, 0.0}, cl.data(), dir.data());
+  Frames f;
+  f.R.resize(N);
+  f.r.resize(N);
+  for (std::size_t i = 0; i < N; ++i) {
+    for (int a = 0; a < 3; ++a)
+      for (int k = 0; k < 3; ++k) f.R[i](a, k) = dir[9 * i + 3 * a + k];
+    f.r[i] = V3(cl[3 * i], cl[3 * i + 1], cl[3 * i + 2]);
+  }
+  f.q_end = quat_normalized(end.q);
+  f.r_end = V3(end.r[0], end.r[1], end.r[2]);
+  return f;
+}
+
+// Rotation vector of a unit quaternion (the short way round).
+V3 rotation_vector(const Quat& q) {
+  const double w = q[0] < 0.0 ? -q[0] : q[0];
+  const double sgn = q[0] < 0.0 ? -1.0 : 1.0;
+  const V3 v(sgn * q[1], sgn * q[2], sgn * q[3]);
+  const double s = v.norm();
+  if (s == 0.0) return V3::Zero();
+  return (2.0 * std::atan2(s, w) / s) * v;
+}
+
+// The holonomy of `now` relative to `ref` as a twist (rotation vector,
+// translation) in the lab frame: g_now = exp(twist) g_ref to first order.
+Vec6 holonomy_error(const Frames& now, const Frames& ref) {
+  const Quat qc{ref.q_end[0], -ref.q_end[1], -ref.q_end[2], -ref.q_end[3]};
+  const Quat dq = quat_mul(now.q_end, qc);
+  double Rm[3][3];
+  quat_to_matrix(dq, Rm);
+  Mat3 R;
+  for (int a = 0; a < 3; ++a)
+    for (int b = 0; b < 3; ++b) R(a, b) = Rm[a][b];
+  Vec6 e;
+  e.head<3>() = rotation_vector(dq);
+  e.tail<3>() = now.r_end - R * ref.r_end;
+  return e;
+}
+
+// B_i: the change of the holonomy twist (rotation, translation) per unit
+// strain change (Gamma, Omega) at point i, from the variation of a product
+// integral: d(g(L)) g(L)^-1 = int Ad_g(s) d(Omega, Gamma) ds, Ad_(R, r)
+// (w, v) = (R w, R v + r x R w).
+Mat6 closure_row_block(const Mat3& R, const V3& r) {
+  Mat6 B = Mat6::Zero();
+  B.block<3, 3>(0, 3) = R;
+  B.block<3, 3>(3, 0) = R;
+  B.block<3, 3>(3, 3) = cross_matrix(r) * R;
+  return B;
+}
+
+std::string num(double x) { return message_number(x, 3); }
+
+}  // namespace
+
+double kinetic_kT(const double* y, std::size_t N, double h, const MaterialField& mf) {
+  double twice_ke = 0.0;
+  double I[9];
+  mf.I_at(0, I);
+  const bool per_point = mf.kind == MaterialKind::per_point;
+  for (std::size_t i = 0; i < N; ++i) {
+    if (per_point) mf.I_at(i, I);
+    const double g[3] = {y[i], y[N + i], y[2 * N + i]};
+    const double w[3] = {y[3 * N + i], y[4 * N + i], y[5 * N + i]};
+    double kr = 0.0;
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) kr += I[r * 3 + c] * (w[r] * w[c]);
+    twice_ke += mf.rho_at(i) * (g[0] * g[0] + g[1] * g[1] + g[2] * g[2]) + kr;
+  }
+  return h * twice_ke / (6.0 * static_cast<double>(N));
+}
+
+ThermalSampleReport add_thermal_sample(std::vector<double>& y, double L, const MaterialField& mf, double kT,
+                                       unsigned long long seed) {
+  const std::size_t N = mf.N;
+  if (y.size() != 12 * N) throw Error("add_thermal_sample: the state must hold 12 N values");
+  ThermalSampleReport rep;
+  if (!(kT > 0.0)) {
+    rep.note = "no thermal sample (kT = 0)";
+    return rep;
+  }
+  const double h = L / static_cast<double>(N);
+  const auto key = key_of(seed);
+  Reconstructor rec(N, L);
+  const Frames ref = frames_of(rec, y, N);
+
+  // ---- strains: e_i = (kT / h)^1/2 U_i^-1 xi, K_i = U_i^T U_i
+  const bool per_point = mf.kind == MaterialKind::per_point;
+  std::vector<Mat6> Kinv(per_point ? N : 1);
+  std::vector<Eigen::LLT<Mat6>> chol(per_point ? N : 1);
+  for (std::size_t p = 0; p < Kinv.size(); ++p) {
+    chol[p].compute(K_matrix(mf, p));
+    Kinv[p] = chol[p].solve(Mat6::Identity());
+  }
+  std::vector<Vec6> e(N);  // (dGamma, dOmega) at each point
+  const double sd = std::sqrt(kT / h);
+  for (std::size_t i = 0; i < N; ++i) {
+    double z[6];
+    normals6(key, kStrainSample, 0, i, z);
+    const Vec6 xi = Eigen::Map<const Vec6>(z);
+    e[i] = sd * chol[per_point ? i : 0].matrixU().solve(xi);
+  }
+
+  // ---- closure: condition on the holonomy (projection in the metric K / h)
+  std::vector<Mat6> B(N);
+  Mat6 S = Mat6::Zero();
+  for (std::size_t i = 0; i < N; ++i) {
+    B[i] = h * closure_row_block(ref.R[i], ref.r[i]);
+    S += B[i] * Kinv[per_point ? i : 0] * B[i].transpose();
+  }
+  const Eigen::LDLT<Mat6> S_ldlt(S);
+  auto correct = [&](const Vec6& defect) {  // remove the part of e that changes the holonomy by `defect`
+    const Vec6 lambda = S_ldlt.solve(defect);
+    for (std::size_t i = 0; i < N; ++i) e[i] -= Kinv[per_point ? i : 0] * (B[i].transpose() * lambda);
+  };
+  Vec6 linear = Vec6::Zero();
+  for (std::size_t i = 0; i < N; ++i) linear += B[i] * e[i];
+  correct(linear);
+  std::vector<double> trial = y;
+  auto apply = [&](std::vector<double>& out) {
+    out = y;
+    for (std::size_t i = 0; i < N; ++i)
+      for (int r = 0; r < 6; ++r) out[(6 + r) * N + i] += e[i](r);
+  };
+  // Chord-Newton on the holonomy of the reconstruction (the same six
+  // directions): exact closure where the linearisation is good enough to
+  // converge; else the linear-order sample is kept and the gap reported.
+  const std::vector<Vec6> e_linear = e;
+  const double scale = std::max(1.0, L);
+  apply(trial);
+  Frames now = frames_of(rec, trial, N);
+  Vec6 err = holonomy_error(now, ref);
+  auto size_of = [&](const Vec6& d) { return std::max(d.head<3>().norm(), d.tail<3>().norm() / scale); };
+  const double linear_gap = size_of(err);
+  double gap = linear_gap;
+  int it = 0;
+  const double tol = 1e-12;
+  while (gap > tol && it < 50) {
+    correct(err);
+    apply(trial);
+    now = frames_of(rec, trial, N);
+    err = holonomy_error(now, ref);
+    const double next = size_of(err);
+    ++it;
+    // Stagnated (round-off), diverged, or converging too slowly to reach
+    // round-off (the chord steps of a good linearisation gain ~10x each).
+    const bool slow = next > 0.5 * gap;
+    gap = next;
+    if (slow) break;
+  }
+  if (gap <= 1e-9) {
+    rep.closure_exact = true;
+    rep.closure_iterations = it;
+    rep.closure_residual = gap;
+  } else {
+    e = e_linear;
+    apply(trial);
+    now = frames_of(rec, trial, N);
+    rep.closure_residual = linear_gap;
+  }
+  y = trial;
+
+  // ---- velocities, then zero momenta (frames of the sampled configuration)
+  std::vector<V3> gam(N), om(N);
+  std::vector<Mat3> Im(per_point ? N : 1);
+  std::vector<Eigen::LLT<Mat3>> Ichol(per_point ? N : 1);
+  for (std::size_t p = 0; p < Im.size(); ++p) {
+    Im[p] = I_matrix(mf, p);
+    Ichol[p].compute(Im[p]);
+  }
+  for (std::size_t i = 0; i < N; ++i) {
+    double z[6];
+    normals6(key, kVelocitySample, 0, i, z);
+    gam[i] = std::sqrt(kT / (mf.rho_at(i) * h)) * V3(z[0], z[1], z[2]);
+    om[i] = sd * Ichol[per_point ? i : 0].matrixU().solve(V3(z[3], z[4], z[5]));
+  }
+  const Vec6 hol = holonomy_error(ref, Frames{{}, {}, Quat{1.0, 0.0, 0.0, 0.0}, V3::Zero()});
+  const bool closed = hol.head<3>().norm() < 1e-6 && hol.tail<3>().norm() < 1e-6 * scale;
+  std::vector<V3> axes;
+  if (closed) {
+    axes = {V3::UnitX(), V3::UnitY(), V3::UnitZ()};
+  } else {
+    axes = {hol.head<3>().norm() > 1e-6 ? hol.head<3>().normalized() : hol.tail<3>().normalized()};
+  }
+  V3 centre = V3::Zero();
+  double mass = 0.0;
+  for (std::size_t i = 0; i < N; ++i) {
+    centre += mf.rho_at(i) * now.r[i];
+    mass += mf.rho_at(i);
+  }
+  centre /= mass;
+  // The rigid motions whose momenta the dynamics conserves: translations
+  // gamma_i = R_i^T e_a, and rotations about u, gamma_i = R_i^T (u x r_i),
+  // omega_i = R_i^T u.
+  const int m = 3 + static_cast<int>(axes.size());
+  std::vector<std::vector<V3>> fg(m, std::vector<V3>(N)), fw(m, std::vector<V3>(N, V3::Zero()));
+  for (int a = 0; a < 3; ++a)
+    for (std::size_t i = 0; i < N; ++i) fg[a][i] = now.R[i].transpose() * V3::Unit(a);
+  for (std::size_t k = 0; k < axes.size(); ++k)
+    for (std::size_t i = 0; i < N; ++i) {
+      fg[3 + k][i] = now.R[i].transpose() * axes[k].cross(now.r[i] - centre);
+      fw[3 + k][i] = now.R[i].transpose() * axes[k];
+    }
+  auto mass_dot = [&](const std::vector<V3>& ag, const std::vector<V3>& aw, const std::vector<V3>& bg,
+                      const std::vector<V3>& bw) {
+    double s = 0.0;
+    for (std::size_t i = 0; i < N; ++i)
+      s += mf.rho_at(i) * ag[i].dot(bg[i]) + aw[i].dot(Im[per_point ? i : 0] * bw[i]);
+    return h * s;
+  };
+  Eigen::MatrixXd G(m, m);
+  Eigen::VectorXd a(m);
+  for (int k = 0; k < m; ++k) {
+    a(k) = mass_dot(fg[k], fw[k], gam, om);
+    for (int l = 0; l < m; ++l) G(k, l) = mass_dot(fg[k], fw[k], fg[l], fw[l]);
+  }
+  const Eigen::VectorXd c = G.ldlt().solve(a);
+  for (int k = 0; k < m; ++k)
+    for (std::size_t i = 0; i < N; ++i) {
+      gam[i] -= c(k) * fg[k][i];
+      om[i] -= c(k) * fw[k][i];
+    }
+  for (std::size_t i = 0; i < N; ++i)
+    for (int r = 0; r < 3; ++r) {
+      y[r * N + i] += gam[i](r);
+      y[(3 + r) * N + i] += om[i](r);
+    }
+  rep.momentum_constraints = m;
+  rep.note = "Boltzmann sample at kT = " + num(kT) + " (seed " + std::to_string(seed) + "): closure " +
+             (rep.closure_exact ? "exact to " + num(rep.closure_residual) + " after " +
+                                      std::to_string(rep.closure_iterations) + " Newton steps"
+                                : "at linear order only (nonlinear gap " + num(rep.closure_residual) +
+                                      ": kT too large for the linearisation)") +
+             "; zero linear momentum and angular momentum " +
+             (closed ? "(closed ring: all three components)" : "about the axis");
+  return rep;
+}
+
+LangevinBath::LangevinBath(const MaterialField& mf, double h, double kT,
+                           std::array<double, 2> friction_translational,
+                           std::array<double, 2> friction_rotational, double tau, unsigned long long seed)
+    : N_(mf.N), per_point_(mf.kind == MaterialKind::per_point), noise_(kT > 0.0), key_(key_of(seed)) {
+  for (double z : {friction_translational[0], friction_translational[1], friction_rotational[0],
+                   friction_rotational[1], kT, tau})
+    if (!(z >= 0.0) || !std::isfinite(z))
+      throw InputError("Langevin bath: frictions, kT and the step must be finite and >= 0");
+  const std::size_t points = per_point_ ? N_ : 1;
+  coef_.assign(24 * points, 0.0);
+  const double zt[3] = {friction_translational[1], friction_translational[1], friction_translational[0]};
+  const Mat3 Zr = V3(friction_rotational[1], friction_rotational[1], friction_rotational[0]).asDiagonal();
+  for (std::size_t p = 0; p < points; ++p) {
+    double* k = coef_.data() + 24 * p;
+    const double rho = mf.rho_at(p);
+    for (int a = 0; a < 3; ++a) {
+      const double c = std::exp(-zt[a] * tau / rho);
+      k[a] = c;
+      k[3 + a] = std::sqrt(kT * (1.0 - c * c) / (rho * h));
+    }
+    // I = V diag(l) V^T; M = I^-1/2 Z I^-1/2 = Q diag(mu) Q^T.
+    const Eigen::SelfAdjointEigenSolver<Mat3> ei(I_matrix(mf, p));
+    const Mat3 Ih =
+        ei.eigenvectors() * ei.eigenvalues().cwiseSqrt().asDiagonal() * ei.eigenvectors().transpose();
+    const Mat3 Imh = ei.eigenvectors() * ei.eigenvalues().cwiseSqrt().cwiseInverse().asDiagonal() *
+                     ei.eigenvectors().transpose();
+    const Eigen::SelfAdjointEigenSolver<Mat3> em(Imh * Zr * Imh);
+    const V3 c = (-tau * em.eigenvalues().array()).exp().matrix();
+    const V3 s = (1.0 - c.array().square()).sqrt().matrix();
+    const Mat3& Q = em.eigenvectors();
+    // No rotational friction: omega untouched, exactly (a frictionless
+    // Langevin step is then the RK4 step bit for bit).
+    const bool still = friction_rotational[0] == 0.0 && friction_rotational[1] == 0.0;
+    const Mat3 Bm = still ? Mat3::Identity() : Mat3(Imh * Q * c.asDiagonal() * Q.transpose() * Ih);
+    const Mat3 Sm = std::sqrt(kT / h) * Imh * Q * s.asDiagonal();
+    for (int r = 0; r < 3; ++r)
+      for (int col = 0; col < 3; ++col) {
+        k[6 + 3 * r + col] = Bm(r, col);
+        k[15 + 3 * r + col] = Sm(r, col);
+      }
+  }
+}
+
+void LangevinBath::apply(long step, double* y) const {
+  const std::size_t N = N_;
+  const Stream stream = kBath;
+  for (std::size_t i = 0; i < N; ++i) {
+    const double* k = coef_.data() + (per_point_ ? 24 * i : 0);
+    double z[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+    if (noise_) normals6(key_, stream, static_cast<unsigned long long>(step), i, z);
+    for (int a = 0; a < 3; ++a) y[a * N + i] = k[a] * y[a * N + i] + k[3 + a] * z[a];
+    const double w[3] = {y[3 * N + i], y[4 * N + i], y[5 * N + i]};
+    for (int r = 0; r < 3; ++r) {
+      const double* Br = k + 6 + 3 * r;
+      const double* Sr = k + 15 + 3 * r;
+      y[(3 + r) * N + i] =
+          Br[0] * w[0] + Br[1] * w[1] + Br[2] * w[2] + (Sr[0] * z[3] + Sr[1] * z[4] + Sr[2] * z[5]);
+    }
+  }
+}
+
+}  // namespace rodcore
