@@ -26,8 +26,8 @@ import pytest
 ROOT = Path(__file__).resolve().parents[2]
 
 MD_SHORT = {"--equilibrate-ps 20": "--equilibrate-ps 2", "--ps 600": "--ps 2"}
-TINY = {"--config workflows/config/headline.yaml --out out/headline":
-        "--config workflows/config/tiny.yaml --out {tiny_out}"}
+TINY = {"--config workflows/config/headline.yaml -o out/headline":
+        "--config workflows/config/tiny.yaml -o {tiny_out}"}
 WALL = re.compile(r"\d+(\.\d+)? s wall")       # the one printed figure that is a timing
 
 
