@@ -96,7 +96,8 @@ def build_inputs(outdir: Path, structure, rod: RodInitial, box: BoxPlan, *, sequ
                  temperature_K: float = defaults.TEMPERATURE_K, seed: int = 0,
                  settings: MdSettings | None = None, minimize: bool = False, gmx: str | None = None,
                  threads: int = 1, protocol: str = "paper", equilibrate_ps: float = defaults.EQUILIBRATE_PS,
-                 axial_pressure: bool = False, meta: dict | None = None, progress=None) -> dict:
+                 axial_pressure: bool = False, meta: dict | None = None, progress=None,
+                 description: str = "periodic duplex") -> dict:
     """Write every MD input into OUTDIR and return the content of build.json.
     gmx: as find_gmx (the given path, else $DNAROD_GMX, else the project's build, else PATH).
 
@@ -129,7 +130,7 @@ def build_inputs(outdir: Path, structure, rod: RodInitial, box: BoxPlan, *, sequ
         equilibrate_ps=equilibrate_ps, axis=box.axis, axial_pressure=axial_pressure, threads=threads,
         progress=progress)
     v_rod = _write_conf(outdir, g, x_nm, v_th, box_nm, rod, shift,
-                        f"dnarod periodic duplex {n} bp, {forcefield}, T={temperature_K} K, seed={seed}")
+                        f"dnarod {description} {n} bp, {forcefield}, T={temperature_K} K, seed={seed}")
     contact, frames_t0, links = _t0_checks(outdir, top, x_nm, box_nm, rod, shift, box.box_A)
     _grompp_check(outdir, gmx)                                                              # 6
 
