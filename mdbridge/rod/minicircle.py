@@ -168,12 +168,13 @@ def relaxation_topology(run: RodRun, Lk: int, contact: bool, writhe_points: int 
     run.require("time", "centerline", "directors")
     u = run.units()
     x = np.asarray(run.centerline, float)
-    t_ps = np.asarray(u.time_to_ps(np.asarray(run.time, float)))
+    time = np.asarray(run.time, float)
+    t_ps = np.asarray(u.time_to_ps(time))
     open_frames = [f for f in range(len(x)) if not is_closed(x[f])]
     if open_frames:
         f = open_frames[0]
         gap = u.length_to_A(float(np.linalg.norm(x[f, -1] - x[f, 0])))
-        keep = run.until(float(run.time[f - 1])) if f >= 3 else None
+        keep = run.until(float(time[f - 1])) if f >= 3 else None
         top = rod_topology(keep, writhe_points) if keep is not None else {}
         top["failure"] = (f"the ring opened at frame {f} (t = {t_ps[f]:.1f} ps; last-to-first gap {gap:.1f} A): "
                           "the semi-discrete rod keeps its closure only to its discretisation error "

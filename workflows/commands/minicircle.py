@@ -68,6 +68,8 @@ def add_arguments(p):
                    help="thermal velocities of the all-atom ring (300)")
     p.add_argument("--minimize", action="store_true", help="restrained minimisation of the all-atom ring")
     p.add_argument("--gmx", default=None, metavar="PATH", help="the gmx executable (as build-md)")
+    p.add_argument("--threads", type=int, default=1, metavar="N",
+                   help="mdrun threads of the minimisation (1: a ring of a few thousand atoms)")
     add_output(p, metavar="DIR", help="output folder")
 
 
@@ -126,6 +128,8 @@ def run(args):
     ppb = args.points_per_bp if args.points_per_bp is not None else (1 if args.params == "paper" else 2)
     if ppb < 1:
         raise InputError(f"--points-per-bp {ppb}: must be >= 1")
+    if args.threads < 1:
+        raise InputError(f"--threads {args.threads}: must be >= 1")
     if args.md_temperature_K < 0:
         raise InputError(f"--md-temperature-K {args.md_temperature_K}: must be >= 0")
     gmx = None
@@ -171,6 +175,7 @@ def run(args):
         frame = -1 if choice.relax_ps > 0 else 0
         info["atoms"] = build_ring_md(run_, seq, out / "atoms", Lk=mc.Lk, frame=frame,
                                       temperature_K=args.md_temperature_K, minimize=args.minimize, gmx=gmx,
+                                      threads=args.threads,
                                       seed=choice.seed, meta={"minicircle": str(out / "minicircle.json")},
                                       say=lambda s: print(f"minicircle: {s}", file=sys.stderr))
         write_json(out / "minicircle.json", info)

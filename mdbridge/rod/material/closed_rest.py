@@ -158,9 +158,10 @@ def _right_jacobian_se3(u, terms=14):
     return J
 
 
-def holonomy_jacobian(x, L, refine=16):
+def holonomy_jacobian(x, L, refine=16, B=None):
     """The holonomy (R_T (3, 3), d_T (3,)) of the grid strains x (N, 6), as monodromy, and
     the body twist of a change of x, dzeta (6, 6N) (rotation rows first), analytic.
+    B: the cell matrix cell_matrix(N, L, refine), if the caller keeps it.
 
     T = T_1 ... T_M with T_c = exp(h xi_c), xi_c = (Omega, Gamma) of the interpolant
     at cell c. A change d xi_c moves T to T exp(Ad_{S_c^-1} h J_r(h xi_c) d xi_c),
@@ -168,7 +169,7 @@ def holonomy_jacobian(x, L, refine=16):
     N = x.shape[0]
     M = refine * N
     h = L / M
-    B = _cell_matrix(N, L, refine)                        # (M, N)
+    B = _cell_matrix(N, L, refine) if B is None else B  # (M, N)
     xm = B @ x                                            # (M, 6) = (Gamma, Omega)
     xi = np.concatenate([xm[:, 3:], xm[:, :3]], axis=1)   # (Omega, Gamma): rotation first
     Rc, dc = step_exp(h * xi[:, :3], h * xi[:, 3:])

@@ -33,7 +33,7 @@ from mdbridge.geometry.rotations import rotation_log
 from mdbridge.geometry.topology import ribbon_topology
 
 from .closed_rest import holonomy_jacobian
-from .composition import cell_matrix, compose_stretches
+from .composition import cell_matrix, compose_cells, compose_stretches
 
 REFINE = 16     # midpoint cells per grid cell of the holonomy (closed_rest.py; error O((h/16)^2))
 
@@ -68,11 +68,17 @@ def planar_ring(g, L, Lk: int):
     return np.concatenate([np.asarray(g["Gamma0"], float), Omega], axis=1)
 
 
-def ring_defect(x, L, refine=REFINE):
+def ring_defect(x, L, refine=REFINE, B=None, jacobian=True):
     """(6,): rotation vector of the holonomy (rad) and its translation (rod units), and the
-    Jacobian (6, 6N) of both with respect to x (N, 6)."""
+    Jacobian (6, 6N) of both with respect to x (N, 6) (None unless asked for). B: the cell
+    matrix (composition.cell_matrix), if the caller keeps it."""
     from mdbridge.geometry.se3 import inverse_left_jacobian
-    RT, dT, dzeta = holonomy_jacobian(x, L, refine)
+    N = x.shape[0]
+    B = cell_matrix(N, L, refine) if B is None else B
+    if not jacobian:
+        RT, dT = compose_cells(B @ x, L / (refine * N))
+        return np.concatenate([rotation_log(RT), dT]), None
+    RT, dT, dzeta = holonomy_jacobian(x, L, refine, B)
     phi = rotation_log(RT)
     C = np.concatenate([inverse_left_jacobian(-phi) @ dzeta[:3], RT @ dzeta[3:]])
     return np.concatenate([phi, dT]), C
@@ -83,6 +89,7 @@ def close_ring(x, g, L, refine=REFINE, tol=1e-12, maxiter=30):
     steps (module docstring), each halved until the defect falls. Returns (x, iterations)."""
     N = x.shape[0]
     h = L / N
+    B = cell_matrix(N, L, refine)
     Winv = np.linalg.inv(np.asarray(g["K"], float) * h)           # (N, 6, 6)
     scale = np.array([L / (2 * np.pi)] * 3 + [1.0] * 3)           # rotation counted as arc length
 
@@ -90,22 +97,23 @@ def close_ring(x, g, L, refine=REFINE, tol=1e-12, maxiter=30):
         return float(np.linalg.norm(c * scale))
 
     x = np.asarray(x, float).copy()
-    c, C = ring_defect(x, L, refine)
+    c, _ = ring_defect(x, L, refine, B, jacobian=False)
     for it in range(maxiter + 1):
         if size(c) < tol * L:
             return x, it
         if it == maxiter:
             break
+        _, C = ring_defect(x, L, refine, B)
         Cb = C.reshape(6, N, 6)
         WCt = np.einsum("jab,kjb->jak", Winv, Cb).reshape(6 * N, 6)   # W^-1 C^T
         dx = -(WCt @ np.linalg.solve(C @ WCt, c)).reshape(N, 6)
         for lam in 0.5 ** np.arange(12):
-            cn, Cn = ring_defect(x + lam * dx, L, refine)
+            cn, _ = ring_defect(x + lam * dx, L, refine, B, jacobian=False)
             if size(cn) < size(c):
                 break
         else:
             break
-        x, c, C = x + lam * dx, cn, Cn
+        x, c = x + lam * dx, cn
     raise InputError(f"minicircle: the ring did not close (holonomy defect {size(c):.3g} l after "
                      f"{maxiter} Newton steps); the intrinsic shape is too far from a circle")
 
@@ -146,7 +154,7 @@ def ring_state(g, L, Lk: int, refine=REFINE) -> RingState:
     Its Lk is measured on the composed frames (mdbridge.geometry.topology) and must be Lk."""
     N = g["K"].shape[0]
     x, steps = close_ring(planar_ring(g, L, Lk), g, L, refine)
-    c, _ = ring_defect(x, L, refine)
+    c, _ = ring_defect(x, L, refine, jacobian=False)
     R, r = grid_frames(x, L, refine)
     top = ribbon_topology(r, R[:, :, 0], None, 1)
     if top["Lk"] != Lk:
