@@ -38,6 +38,7 @@ from .gromacs.rod import rod_initial_from_run
 from .topology import md_topology
 
 STRAND_ATOMS = ("C1'", "P")
+RING_LB_NM = 2.0    # pdb2gmx -lb (nm): spans the closing step of a ring, not the ring (see inputs._topology)
 
 
 def strand_polygons(structure, atom: str):
@@ -87,7 +88,7 @@ def build_ring_md(run: RodRun, sequence: str, output, *, Lk: int, frame: int = -
     info = build_inputs(output, structure, rod, box, sequence=sequence, forcefield=forcefield,
                         electrostatics=electrostatics, temperature_K=temperature_K, seed=seed,
                         settings=settings, minimize=minimize, gmx=gmx, threads=threads, protocol=protocol,
-                        equilibrate_ps=equilibrate_ps, description="minicircle",
+                        equilibrate_ps=equilibrate_ps, description="minicircle", lb_nm=RING_LB_NM,
                         meta={"ring": True, "rod_frame": frame, "rod_Lk": Lk, "strands_Lk_built": strands_Lk,
                               "O3P_links_built_A": [float(links.min()), float(links.max())], **(meta or {})})
     gro_Lk = int(md_topology(output)["Lk"][0])
