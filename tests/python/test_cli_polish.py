@@ -68,8 +68,8 @@ def _subparsers():
 def test_one_spelling_of_the_output_option():
     """Every subcommand that writes files takes -o/--output and lists no other spelling;
     --out, used before by some, still works."""
-    writers = {"build-dna", "build-md", "coarse-grain", "compare", "dna-rod", "modes", "paper-figures",
-               "rod-to-atoms", "topology"}
+    writers = {"build-dna", "build-md", "coarse-grain", "compare", "dna-rod", "minicircle", "modes",
+               "paper-figures", "rod-to-atoms", "topology"}
     for name, p in _subparsers().items():
         helptext = p.format_help()
         shown = set(re.findall(r"(?<![\w-])(--out\w*|-o)(?![\w-])", helptext))

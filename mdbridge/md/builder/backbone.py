@@ -243,5 +243,5 @@ def check_links(x, links: BackboneLinks, box=None, *, where: str = "the built du
 def check_structure_links(structure, *, where: str = "the built duplex") -> np.ndarray:
     """check_links on a builder Structure (mdbridge/md/builder/structure.py)."""
     n_bp = len(np.unique(structure.resids)) // 2
-    links = duplex_links(structure.names, structure.resids, n_bp, periodic=structure.box is not None)
+    links = duplex_links(structure.names, structure.resids, n_bp, periodic=structure.closed)
     return check_links(structure.coords, links, structure.box, where=where)

@@ -43,7 +43,7 @@ class StrandLinks:
     shortest: AtomPair
     longest: AtomPair
     worst: AtomPair  # largest |d - 1.60 A|
-    junction: AtomPair | None  # the link through the box (periodic only)
+    junction: AtomPair | None  # the last -> first link (through the box, or closing a ring)
 
 
 @dataclass(frozen=True)
@@ -73,7 +73,8 @@ class ChemistryReport:
             lines.append(f"  strand {s.strand}: {s.n_links} O3'-P links, "
                          f"shortest {s.shortest}, longest {s.longest}")
             if s.junction is not None:
-                lines.append(f"    junction through the box: {s.junction}")
+                lines.append(f"    junction {'through the box' if self.periodic else 'closing the ring'}: "
+                             f"{s.junction}")
         nb = self.closest_nonbonded
         none = f"none within {SEARCH_RADIUS} A"
         lines.append("  closest non-bonded heavy atoms (not 1-2 or 1-3 bonded): "
@@ -92,7 +93,7 @@ def _links(s: Structure, strand: str) -> StrandLinks:
     o3 = [s.index(r, "O3'") for r in resids]
     p = [s.index(r, "P") for r in resids]
     pairs = list(zip(o3[:-1], p[1:]))
-    junction_pair = (o3[-1], p[0]) if s.box is not None and len(resids) > 1 else None
+    junction_pair = (o3[-1], p[0]) if s.closed and len(resids) > 1 else None
     if junction_pair is not None:
         pairs.append(junction_pair)
     if not pairs:

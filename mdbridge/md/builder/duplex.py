@@ -95,7 +95,7 @@ def base_frames(origins, R, base_pair_params=None):
 
 
 def build_duplex(sequence, origins, R, *, periodic_box=None, hydrogens=False,
-                 base_pair_params=None, close_backbone=False) -> Structure:
+                 base_pair_params=None, close_backbone=False, ring=False) -> Structure:
     """Build the all-atom duplex of `sequence` (strand I, 5'->3') on base-pair
     frames origins (n, 3) in A and R (n, 3, 3) (columns = x, y, z axes in the lab).
 
@@ -103,6 +103,9 @@ def build_duplex(sequence, origins, R, *, periodic_box=None, hydrogens=False,
     periodic along z) or (a, b, c) with 0 for non-periodic directions. The
     structure is then one period: strand I's last O3' bonds to its first P in
     the next image (and strand II likewise); coordinates stay whole.
+    ring: a duplex closed in space (a minicircle: the frames go once round a closed
+    curve, base pair n followed by base pair 1): strand I's last O3' bonds to its first
+    P, strand II likewise, with no box (periodic_box must be None).
     hydrogens: False gives heavy atoms only (the GROMACS route: pdb2gmx -ignh
     adds hydrogens); True adds CHARMM27 hydrogens from templates.
     base_pair_params: optional (n, 6) shear..opening (see base_frames).
@@ -115,6 +118,8 @@ def build_duplex(sequence, origins, R, *, periodic_box=None, hydrogens=False,
     n = len(seq)
     origins, R = _check_frames(origins, R, n)
     box = _box(periodic_box)
+    if ring and box is not None:
+        raise InputError("build_duplex: a ring is closed in space; give periodic_box=None with ring=True")
     o_I, R_I, o_II, R_II = base_frames(origins, R, base_pair_params)
 
     # (base, strand, resid, base-frame origin, base-frame axes) in output order:
@@ -146,17 +151,17 @@ def build_duplex(sequence, origins, R, *, periodic_box=None, hydrogens=False,
     for first, last in ((1, n), (n + 1, 2 * n)):
         for r in range(first, last):
             bonds.append(np.array([[atom(r, "O3'"), atom(r + 1, "P")]]))
-        if box is not None:
+        if box is not None or ring:
             bonds.append(np.array([[atom(last, "O3'"), atom(first, "P")]]))
 
     xyz = np.concatenate(coords)
     all_names, all_resids = np.concatenate(names), np.concatenate(resids)
     if close_backbone:
         from .backbone import close_links, duplex_links
-        xyz = close_links(xyz, duplex_links(all_names, all_resids, n, periodic=box is not None), box)
+        xyz = close_links(xyz, duplex_links(all_names, all_resids, n, periodic=box is not None or ring), box)
     return Structure(names=all_names, resnames=np.concatenate(resnames),
                      resids=all_resids, strands=np.concatenate(strands),
                      elements=np.concatenate(elements), coords=xyz,
-                     bonds=np.concatenate(bonds).astype(int), box=box,
+                     bonds=np.concatenate(bonds).astype(int), box=box, ring=bool(ring),
                      base_origins=np.array([r[3] for r in sorted(residues, key=lambda r: r[2])]),
                      base_R=np.array([r[4] for r in sorted(residues, key=lambda r: r[2])]))

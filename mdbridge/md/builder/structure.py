@@ -24,6 +24,8 @@ class Structure:
               was placed with (row resid - 1): x_atom = o + R x_template
     box       None (not periodic) or (3,) orthorhombic box edges in A, 0 for a
               non-periodic direction (e.g. (0, 0, L) for a helix periodic along z)
+    ring      True: a duplex closed in space (a minicircle), each strand's last O3'
+              bonded to its first P with no box
     """
 
     names: np.ndarray
@@ -36,6 +38,13 @@ class Structure:
     box: np.ndarray | None = None
     base_origins: np.ndarray | None = None
     base_R: np.ndarray | None = None
+    ring: bool = False
+
+    @property
+    def closed(self) -> bool:
+        """Each strand's last residue is bonded to its first: through the box (periodic)
+        or in space (a ring)."""
+        return self.box is not None or self.ring
 
     @property
     def n_atoms(self) -> int:

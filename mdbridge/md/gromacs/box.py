@@ -1,4 +1,5 @@
-"""The periodic box: exact helix closure along the axis, the rod's own motion across it.
+"""The periodic box: exact helix closure along the axis, the rod's own motion across it;
+and the box of a ring closed in space (`plan_ring_box`).
 
 Along the helix axis the box is the closure length L (n_bp rises for an
 integer number of turns), so strand ends meet their own image. Across it we
@@ -22,7 +23,7 @@ DUPLEX_DIAMETER_A = 20.0   # B-DNA: phosphates at ~9-10 A from the axis
 @dataclass
 class BoxPlan:
     box_A: list            # (3,) orthorhombic edges
-    axis: int              # 0, 1, 2 = x, y, z: the helix axis
+    axis: int | None       # 0, 1, 2 = x, y, z: the helix axis (None: a ring closed in space)
     shift_A: list          # (3,) added to every coordinate (rod origins too)
     closure_length_A: float
     centerline_range_A: list   # (3,) max - min of the rod centerline over the run
@@ -80,3 +81,24 @@ def plan_box(centerline_A, origins0_A, closure_length_A: float, *, rod_run_ps: f
                    closure_length_A=float(closure_length_A), centerline_range_A=rng.tolist(),
                    max_transverse_excursion_A=excursion, rod_run_ps=float(rod_run_ps),
                    diameter_A=diameter_A, cutoff_A=cutoff_A, margin_A=margin_A)
+
+
+def plan_ring_box(centerline_A, origins0_A, *, rod_run_ps: float, cutoff_A: float = 10.0,
+                  diameter_A: float = DUPLEX_DIAMETER_A, margin_A: float = 10.0) -> BoxPlan:
+    """Box of a ring closed in space (a minicircle; periodic-molecules = no): on every
+    edge the range of the rod centreline over the run (T, N, 3) and of the base-pair
+    origins (n_bp, 3), plus the duplex diameter, twice the cut-off (no atom interacts
+    with an image of the ring) and a margin; the ring centred in it."""
+    c = np.asarray(centerline_A, dtype=float)
+    if c.ndim != 3 or c.shape[-1] != 3 or not np.all(np.isfinite(c)):
+        raise InputError(f"rod centerline: need a finite (T, N, 3) array, got shape {c.shape}")
+    o0 = np.asarray(origins0_A, dtype=float)
+    lo = np.minimum(c.min(axis=(0, 1)), o0.min(axis=0))
+    hi = np.maximum(c.max(axis=(0, 1)), o0.max(axis=0))
+    rng = hi - lo
+    box = rng + diameter_A + 2.0 * cutoff_A + margin_A
+    disp = c - c[:1]
+    return BoxPlan(box_A=box.tolist(), axis=None, shift_A=(0.5 * box - 0.5 * (lo + hi)).tolist(),
+                   closure_length_A=0.0, centerline_range_A=rng.tolist(),
+                   max_transverse_excursion_A=float(np.sqrt((disp ** 2).sum(axis=-1)).max()),
+                   rod_run_ps=float(rod_run_ps), diameter_A=diameter_A, cutoff_A=cutoff_A, margin_A=margin_A)

@@ -96,7 +96,8 @@ def build_inputs(outdir: Path, structure, rod: RodInitial, box: BoxPlan, *, sequ
                  temperature_K: float = defaults.TEMPERATURE_K, seed: int = 0,
                  settings: MdSettings | None = None, minimize: bool = False, gmx: str | None = None,
                  threads: int = 1, protocol: str = "paper", equilibrate_ps: float = defaults.EQUILIBRATE_PS,
-                 axial_pressure: bool = False, meta: dict | None = None, progress=None) -> dict:
+                 axial_pressure: bool = False, meta: dict | None = None, progress=None,
+                 description: str = "periodic duplex", lb_nm: float | None = None) -> dict:
     """Write every MD input into OUTDIR and return the content of build.json.
     gmx: as find_gmx (the given path, else $DNAROD_GMX, else the project's build, else PATH).
 
@@ -117,7 +118,7 @@ def build_inputs(outdir: Path, structure, rod: RodInitial, box: BoxPlan, *, sequ
     shift = np.asarray(box.shift_A, float)
     box_nm = np.asarray(box.box_A, float) / NM
 
-    top = _topology(outdir, gmx, structure, shift, box_nm, forcefield, electrostatics)     # 1-3
+    top = _topology(outdir, gmx, structure, shift, box_nm, forcefield, electrostatics, lb_nm)     # 1-3
     g = top.gro
     (outdir / "em.mdp").write_text(render_em(settings))
     (outdir / "md.mdp").write_text(render_md(settings))
@@ -129,7 +130,7 @@ def build_inputs(outdir: Path, structure, rod: RodInitial, box: BoxPlan, *, sequ
         equilibrate_ps=equilibrate_ps, axis=box.axis, axial_pressure=axial_pressure, threads=threads,
         progress=progress)
     v_rod = _write_conf(outdir, g, x_nm, v_th, box_nm, rod, shift,
-                        f"dnarod periodic duplex {n} bp, {forcefield}, T={temperature_K} K, seed={seed}")
+                        f"dnarod {description} {n} bp, {forcefield}, T={temperature_K} K, seed={seed}")
     contact, frames_t0, links = _t0_checks(outdir, top, x_nm, box_nm, rod, shift, box.box_A)
     _grompp_check(outdir, gmx)                                                              # 6
 
@@ -181,12 +182,17 @@ class _Topology:
     masses: np.ndarray
 
 
-def _topology(outdir: Path, gmx, structure, shift, box_nm, forcefield, electrostatics) -> _Topology:
+def _topology(outdir: Path, gmx, structure, shift, box_nm, forcefield, electrostatics, lb_nm=None) -> _Topology:
     """Steps 1-3: the duplex moved into the box, pdb2gmx with ring closure, the junction
-    check, the electrostatics variant and the base restraints."""
+    check, the electrostatics variant and the base restraints. lb_nm: pdb2gmx's -lb; by
+    default larger than any distance in the structure (the periodic duplex's ends are a
+    box apart); a ring closed in space needs it only across its closing step (ring.py:
+    2 nm closes it, 0.3 nm does not), and pdb2gmx's time grows with -lb (a 336-bp strand:
+    6 min at 68 nm, 80 s at 0.3 nm, on the loaded 2 cores)."""
     pdb = outdir / "duplex_in.pdb"
     write_pdb2gmx_input(pdb, structure_chains(structure, shift), forcefield)
-    lb_nm = float(np.max(box_nm)) * 2.0 + 1.0   # larger than any distance in the structure
+    if lb_nm is None:
+        lb_nm = float(np.max(box_nm)) * 2.0 + 1.0
     top = run_pdb2gmx(gmx, pdb, outdir, forcefield, lb_nm=lb_nm)
     mols = [parse_itp(p) for p in top["itps"]]
     junctions = [junction_report(m) for m in mols]

@@ -31,6 +31,9 @@ class MdSettings:
     cutoffs: str = defaults.PAPER_CUTOFFS
     lincs_order: int = defaults.LINCS_ORDER
     lincs_iter: int = defaults.LINCS_ITER
+    # True: the ligated duplex, bonded to its own periodic image; False: a molecule closed
+    # in space (a minicircle) in a box large enough that it never meets its images
+    periodic_molecules: bool = True
 
     def steps_per(self, ps: float) -> int:
         return max(1, int(round(ps / self.dt_ps)))
@@ -80,9 +83,11 @@ def _cutoff_lines(s: MdSettings) -> list[str]:
 
 def _common(s: MdSettings) -> list[str]:
     return [
-        "; vacuum, periodic in x, y, z; the strands are bonded to their own periodic image",
+        "; vacuum, periodic in x, y, z; the strands are bonded to their own periodic image"
+        if s.periodic_molecules else
+        "; vacuum, periodic in x, y, z; the ring is closed in space and the box keeps its images out of reach",
         "pbc                     = xyz",
-        "periodic-molecules      = yes",
+        f"periodic-molecules      = {'yes' if s.periodic_molecules else 'no'}",
         "cutoff-scheme           = Verlet",
     ] + _cutoff_lines(s) + [
         "nstlist                 = 10",
@@ -92,7 +97,8 @@ def _common(s: MdSettings) -> list[str]:
 def render_md(s: MdSettings) -> str:
     out_steps = s.steps_per(s.output_ps)
     lines = [
-        "; dnarod md.mdp: all-atom MD of the periodic, ligated duplex (see docs/md.md)",
+        "; dnarod md.mdp: all-atom MD of the " + ("periodic, ligated duplex" if s.periodic_molecules
+                                                  else "closed minicircle") + " (see docs/md.md)",
         "integrator              = md",
         f"dt                      = {s.dt_ps}",
         f"nsteps                  = {s.nsteps}",

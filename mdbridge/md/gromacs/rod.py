@@ -54,18 +54,19 @@ class RodInitial:
         return len(self.origins_A)
 
 
-def rod_initial_from_run(run, n_bp: int, units: Units | None = None):
-    """RodInitial (t = 0) and the centerline over the whole run in A (T, N, 3), from a
-    rod run. Base pair i sits on grid point i N / n_bp, so no interpolation is involved;
-    the sampling is mdbridge.rod.frames' (RodRun.trajectory, RodRun.bp_lab_velocities)."""
+def rod_initial_from_run(run, n_bp: int, units: Units | None = None, frame: int = 0):
+    """RodInitial (at output frame FRAME, default t = 0) and the centerline over the whole
+    run in A (T, N, 3), from a rod run. Base pair i sits on grid point i N / n_bp, so no
+    interpolation is involved; the sampling is mdbridge.rod.frames' (RodRun.trajectory,
+    RodRun.bp_lab_velocities)."""
     u = units or Units.paper()
     run.require("fields/gamma", "fields/omega")
     traj = run.trajectory(n_bp, u)
-    g, w = run.bp_lab_velocities(n_bp, frame=0)
-    rod = RodInitial(origins_A=traj.origins[0], R=traj.R[0],
+    g, w = run.bp_lab_velocities(n_bp, frame=frame)
+    rod = RodInitial(origins_A=traj.origins[frame], R=traj.R[frame],
                      gamma_lab_A_ps=u.velocity_to_A_per_ps(g),
                      omega_lab_rad_ps=u.angular_velocity_to_rad_per_ps(w),
-                     closure_length_A=float(np.linalg.norm(traj.period[0])))
+                     closure_length_A=float(np.linalg.norm(traj.period[frame])))
     return rod, u.length_to_A(np.asarray(run.centerline, float))
 
 

@@ -158,17 +158,18 @@ def _right_jacobian_se3(u, terms=14):
     return J
 
 
-def closure_jacobian(x, L, box_length, refine=16):
-    """Closure defect c (4,) (as closure_defect) and its Jacobian (4, 6N), analytic.
+def holonomy_jacobian(x, L, refine=16, B=None):
+    """The holonomy (R_T (3, 3), d_T (3,)) of the grid strains x (N, 6), as monodromy, and
+    the body twist of a change of x, dzeta (6, 6N) (rotation rows first), analytic.
+    B: the cell matrix cell_matrix(N, L, refine), if the caller keeps it.
 
     T = T_1 ... T_M with T_c = exp(h xi_c), xi_c = (Omega, Gamma) of the interpolant
     at cell c. A change d xi_c moves T to T exp(Ad_{S_c^-1} h J_r(h xi_c) d xi_c),
-    S_c = T_{c+1} ... T_M; the body twist (d theta, d v) gives d log R = J_r^SO3(log R)^-1
-    d theta and d |d| = d_hat . R d v."""
+    S_c = T_{c+1} ... T_M."""
     N = x.shape[0]
     M = refine * N
     h = L / M
-    B = _cell_matrix(N, L, refine)                        # (M, N)
+    B = _cell_matrix(N, L, refine) if B is None else B  # (M, N)
     xm = B @ x                                            # (M, 6) = (Gamma, Omega)
     xi = np.concatenate([xm[:, 3:], xm[:, :3]], axis=1)   # (Omega, Gamma): rotation first
     Rc, dc = step_exp(h * xi[:, :3], h * xi[:, 3:])
@@ -180,7 +181,6 @@ def closure_jacobian(x, L, box_length, refine=16):
         RS[c], pS[c] = R, p
         p = Rc[c] @ p + dc[c]
         R = Rc[c] @ R
-    RT, dT = R, p
     # Ad of S^-1 = (R^T, -R^T p): [[R^T, 0], [[-R^T p]x R^T, R^T]]
     RSt = np.swapaxes(RS, -1, -2)
     Ad = np.zeros((M, 6, 6))
@@ -190,6 +190,15 @@ def closure_jacobian(x, L, box_length, refine=16):
     G = Ad @ _right_jacobian_se3(h * xi) * h              # (M, 6, 6): d body twist / d xi_c
     G = np.concatenate([G[:, :, 3:], G[:, :, :3]], axis=2)   # columns in (Gamma, Omega) order
     dzeta = np.einsum("cab,cj->ajb", G, B).reshape(6, 6 * N)  # body twist of T per grid value
+    return R, p, dzeta
+
+
+def closure_jacobian(x, L, box_length, refine=16):
+    """Closure defect c (4,) (as closure_defect) and its Jacobian (4, 6N), analytic: from
+    the body twist (d theta, d v) of the holonomy (holonomy_jacobian),
+    d log R = J_r^SO3(log R)^-1 d theta and d |d| = d_hat . R d v."""
+    N = x.shape[0]
+    RT, dT, dzeta = holonomy_jacobian(x, L, refine)
     phi = rotation_log(RT)
     c = np.concatenate([phi, [np.linalg.norm(dT) - box_length]])
     C = np.empty((4, 6 * N))

@@ -1,0 +1,183 @@
+"""`dnarod minicircle`: a supercoiled DNA minicircle, rod and atoms (mdbridge.rod.minicircle,
+mdbridge.md.ring; docs/topology.md, "A supercoiled minicircle")."""
+from __future__ import annotations
+
+import secrets
+import sys
+from pathlib import Path
+
+NAME = "minicircle"
+HELP = "a DNA ring at a chosen linking-number difference: closed rod, relaxation, writhe, all-atom ring"
+DESCRIPTION = """\
+A closed DNA ring of N base pairs at Lk = round(Lk0) + D, Lk0 = N / (bp per turn of
+the relaxed rod), relaxed in the Langevin rod, with its linking number, twist and
+writhe; then the all-atom ring on the relaxed rod's base pairs, with GROMACS inputs.
+Writes into DIR:
+
+  material.h5     the DNA's grid material (as `dnarod dna-rod`)
+  ring.h5         the t = 0 state: the planar ring of Lk turns, closed, with a small
+                  out-of-plane seed velocity (initial.kind = "file")
+  scene.toml      the relaxation: [thermal] Langevin rod (--temperature-K, --friction),
+                  [contact] with --contact-diameter-nm
+  relax.h5        the rod run (rodsim's output)
+  minicircle.json Lk0, Lk, Delta Lk; per frame time_ps, Lk, Tw, Wr; the last frame's Tw
+                  and Wr; the all-atom build's strand Lk
+  atoms/          conf.gro, topol.top, strand .itp files, md.mdp, em.mdp, build.json
+                  (`dnarod run-md atoms` runs it; `dnarod topology atoms` reads it)
+
+Checks (each an error after minicircle.json is written): every frame of the run is
+a ring, its Lk never changes (a rod without self-contact passes through itself once
+an overtwisted ring has buckled far enough), and the built strands (C1' and P
+polygons, and conf.gro's C1') link as often as the rod.
+
+examples:
+  dnarod minicircle --bp 336 --delta-lk -2 --random-seed 1 -o mc336
+  dnarod minicircle --bp 80 --delta-lk 1 --params paper --relax-ps 500 -o mc80
+  dnarod minicircle --sequence ACGT... --delta-lk 0 --no-atoms -o ring
+"""
+
+
+def add_arguments(p):
+    from dnarod.commands._options import add_output
+    p.add_argument("--bp", type=int, metavar="N", help="base pairs (with --random-seed; implied by --sequence)")
+    p.add_argument("--delta-lk", type=int, required=True, metavar="D",
+                   help="linking-number difference: Lk = round(Lk0) + D (integer)")
+    src = p.add_mutually_exclusive_group()
+    src.add_argument("--sequence", metavar="SEQ", help="strand I, 5'->3' (A/C/G/T)")
+    src.add_argument("--random-seed", type=int, metavar="S",
+                     help="a random sequence of --bp bases from seed S (default: a drawn seed, recorded)")
+    p.add_argument("--params", default="olson1998", metavar="SET",
+                   help="paper | olson1998 | a per-step file STEPS.h5 (default olson1998; as dna-rod)")
+    p.add_argument("--points-per-bp", type=int, default=None, metavar="M",
+                   help="grid points per base pair (default 1 for paper, 2 otherwise: a sequence-dependent "
+                        "ring on 1 point per bp opens in the run, docs/topology.md)")
+    p.add_argument("--temperature-K", type=float, default=0.0, metavar="T",
+                   help="temperature of the Langevin relaxation (default 0: friction only)")
+    p.add_argument("--friction", default="critical", metavar="F",
+                   help="critical (default: every velocity damped at twice the ring's slowest bending "
+                        "frequency), water (DNA's drag: microseconds for 336 bp), or a rate [1/ps]")
+    p.add_argument("--relax-ps", type=float, default=None, metavar="PS",
+                   help="length of the relaxation (default 5000 ps; 0: no run, the atoms on the planar ring)")
+    p.add_argument("--frames", type=int, default=None, metavar="K", help="output frames of the run (101)")
+    p.add_argument("--seed-kick", type=float, default=None, metavar="A_PER_PS",
+                   help="out-of-plane seed velocity amplitude (0.01 A/ps; 0: none)")
+    p.add_argument("--contact-diameter-nm", type=float, default=None, metavar="D",
+                   help="self-contact: [contact] diameter_nm = D in the scene (needs a rodsim with [contact])")
+    p.add_argument("--no-atoms", action="store_true", help="the rod only, no all-atom ring")
+    p.add_argument("--md-temperature-K", type=float, default=300.0, metavar="T",
+                   help="thermal velocities of the all-atom ring (300)")
+    p.add_argument("--minimize", action="store_true", help="restrained minimisation of the all-atom ring")
+    p.add_argument("--gmx", default=None, metavar="PATH", help="the gmx executable (as build-md)")
+    p.add_argument("--threads", type=int, default=1, metavar="N",
+                   help="mdrun threads of the minimisation (1: a ring of a few thousand atoms)")
+    add_output(p, metavar="DIR", help="output folder")
+
+
+def _sequence(args) -> tuple[str, str]:
+    from dna_models.errors import InputError
+    from dna_models.sequence import random_sequence, validate
+    if args.sequence:
+        seq = validate(args.sequence, "--sequence")
+        if args.bp is not None and args.bp != len(seq):
+            raise InputError(f"--bp {args.bp}: --sequence has {len(seq)} bases")
+        return seq, "given"
+    if args.bp is None:
+        raise InputError("--bp N is needed with a random sequence (or give --sequence)")
+    seed = args.random_seed if args.random_seed is not None else secrets.randbelow(2**31)
+    return random_sequence(args.bp, seed=seed), f"random, seed {seed}"
+
+
+def _choice(args):
+    from dna_models.errors import InputError
+    from mdbridge.rod.minicircle import FRAMES, RELAX_PS, SEED_KICK_A_PER_PS, RelaxationChoice
+    friction = args.friction
+    if friction not in ("critical", "water"):
+        try:
+            friction = float(friction)
+        except ValueError:
+            raise InputError(f"--friction {args.friction!r}: allowed 'critical', 'water' or a rate > 0 "
+                             "[1/ps]") from None
+    c = RelaxationChoice(temperature_K=args.temperature_K, friction=friction,
+                         relax_ps=RELAX_PS if args.relax_ps is None else args.relax_ps,
+                         frames=FRAMES if args.frames is None else args.frames,
+                         seed_kick_A_per_ps=SEED_KICK_A_PER_PS if args.seed_kick is None else args.seed_kick,
+                         contact_diameter_nm=args.contact_diameter_nm)
+    c.check()
+    return c
+
+
+def run(args):
+    import numpy as np
+
+    from dna_models.errors import InputError
+    from dna_models.units import Units
+    from mdbridge.jsonio import write_json
+    from mdbridge.rod.material.gridfile import write_grid_material
+    from mdbridge.rod.material.parameter_sets import step_material
+    from mdbridge.rod.material.steps_to_rod import grid_material, rod_material
+    from mdbridge.rod.minicircle import check_relaxation, make_minicircle, relaxation_topology
+    from mdbridge.rod.run import run_scene
+    from mdbridge.rod.scene import with_absolute_paths, write_scene
+
+    # every input checked before any work
+    u = Units.paper()
+    seq, seq_source = _sequence(args)
+    if len(seq) < 10:
+        raise InputError(f"{len(seq)} bp: a minicircle needs at least 10 base pairs")
+    choice = _choice(args)
+    ppb = args.points_per_bp if args.points_per_bp is not None else (1 if args.params == "paper" else 2)
+    if ppb < 1:
+        raise InputError(f"--points-per-bp {ppb}: must be >= 1")
+    if args.threads < 1:
+        raise InputError(f"--threads {args.threads}: must be >= 1")
+    if args.md_temperature_K < 0:
+        raise InputError(f"--md-temperature-K {args.md_temperature_K}: must be >= 0")
+    gmx = None
+    if not args.no_atoms:
+        from mdbridge.md.gromacs.gmx import find_gmx
+        gmx = find_gmx(args.gmx)
+    sm = step_material(seq, args.params, closed=True)
+
+    out = Path(args.output)
+    out.mkdir(parents=True, exist_ok=True)
+    rm = rod_material(sm, units=u)
+    g = grid_material(rm, ppb * rm.n_bp, "trig")
+    print(f"minicircle: {rm.n_bp} bp ({seq_source}), {args.params}, {ppb} point(s) per bp; closing the ring ...",
+          file=sys.stderr)
+    mc = make_minicircle(g, rm.length, rm.n_bp, args.delta_lk, choice, out, u)
+    write_grid_material(out / "material.h5", g, source=sm.source,
+                        attrs={"sequence": seq, "interpolation": "trig", "h_A": rm.h_A})
+    write_scene(out / "scene.toml", mc.scene,
+                comment=f"{rm.n_bp}-bp minicircle, Lk = {mc.Lk} (Lk0 = {mc.Lk0:.4f}, Delta Lk = "
+                        f"{mc.Lk - mc.Lk0:+.4f}), sequence {seq}\nparameters: {sm.source}\n"
+                        "written by `dnarod minicircle` (docs/topology.md, 'A supercoiled minicircle')")
+    print(f"minicircle: Lk0 = {mc.Lk0:.4f} ({rm.n_bp / mc.Lk0:.4f} bp per turn), Lk = {mc.Lk}, Delta Lk = "
+          f"{mc.Lk - mc.Lk0:+.4f}; relaxing for {choice.relax_ps:g} ps ...", file=sys.stderr)
+    run_ = run_scene(with_absolute_paths(mc.scene, out / "scene.toml"), source=str(out / "scene.toml"),
+                     output=out / "relax.h5")
+    top = relaxation_topology(run_, mc.Lk, contact=choice.contact_diameter_nm is not None)
+    info = {"format": "dnarod-minicircle/1", "sequence": seq, "sequence_source": seq_source,
+            "params": args.params, "source": sm.source, **mc.as_dict(), "relaxation": {
+                "temperature_K": choice.temperature_K, "friction": mc.scene["thermal"],
+                "relax_ps": choice.relax_ps, "seed_kick_A_per_ps": choice.seed_kick_A_per_ps,
+                "contact": mc.scene.get("contact"), "wall_seconds": run_.summary.get("wall_seconds")},
+            "topology": top, "failure": top["failure"]}
+    if top.get("Wr"):
+        info.update(Tw_final=top["Tw"][-1], Wr_final=top["Wr"][-1],
+                    energy_kT=(np.asarray(run_.energy, float) / u.kT_to_rod(300.0)).tolist()
+                    if run_.energy is not None else None)
+    write_json(out / "minicircle.json", info)
+    check_relaxation(top)
+    print(f"minicircle: relaxed: Lk {mc.Lk} in all {len(top['Lk'])} frames; last frame Tw {top['Tw'][-1]:.4f}, "
+          f"Wr {top['Wr'][-1]:.4f}", file=sys.stderr)
+    if not args.no_atoms:
+        from mdbridge.md.ring import build_ring_md
+        frame = -1 if choice.relax_ps > 0 else 0
+        info["atoms"] = build_ring_md(run_, seq, out / "atoms", Lk=mc.Lk, frame=frame,
+                                      temperature_K=args.md_temperature_K, minimize=args.minimize, gmx=gmx,
+                                      threads=args.threads,
+                                      seed=choice.seed, meta={"minicircle": str(out / "minicircle.json")},
+                                      say=lambda s: print(f"minicircle: {s}", file=sys.stderr))
+        write_json(out / "minicircle.json", info)
+    print(f"wrote {out}/")
+    return 0
