@@ -102,14 +102,14 @@ void SelfContact::sweep(const double* y) {
   // differences (periodic): the end corrections of the trapezoid rule below.
   std::copy(y + 9 * N, y + 12 * N, xi_.begin());
   std::copy(y + 6 * N, y + 9 * N, xi_.begin() + 3 * N);
+  const double c12 = 1.0 / (12.0 * h);
   for (int r = 0; r < 6; ++r) {
     const double* f = xi_.data() + r * N;
     double* d = dxi_.data() + r * N;
-    for (std::size_t i = 0; i < N; ++i) {
-      const double fm2 = f[(i + N - 2) % N], fm1 = f[(i + N - 1) % N];
-      const double fp1 = f[(i + 1) % N], fp2 = f[(i + 2) % N];
-      d[i] = (fm2 - 8.0 * fm1 + 8.0 * fp1 - fp2) / (12.0 * h);
-    }
+    auto at = [&](std::size_t i, long o) { return f[(i + N + o) % N]; };  // periodic, at the ends only
+    for (std::size_t i : {std::size_t{0}, std::size_t{1}, N - 2, N - 1})
+      d[i] = (at(i, -2) - 8.0 * at(i, -1) + 8.0 * at(i, 1) - at(i, 2)) * c12;
+    for (std::size_t i = 2; i + 2 < N; ++i) d[i] = (f[i - 2] - 8.0 * f[i - 1] + 8.0 * f[i + 1] - f[i + 2]) * c12;
   }
   // g_{i+1} = g_i exp(theta_i), the 4th-order Magnus step from the end values:
   //   theta = h/2 (xi_i + xi_{i+1}) + h^2/12 (xi'_i - xi'_{i+1}) + h^2/12 [xi_i, xi_{i+1}],
@@ -189,8 +189,8 @@ double SelfContact::forces(const double* r, double* F) {
             const long cx = ct[0] + dx, cy = ct[1] + dy, cz = ct[2] + dz;
             for (int b = head_[cell_hash(cx, cy, cz, mask)]; b >= 0; b = next_[b]) {
               const auto ub = static_cast<std::size_t>(b);
+              if (m == 0 && ub <= a) break;  // each pair once (a bucket lists its beads in descending order)
               if (cell_[3 * ub] != cx || cell_[3 * ub + 1] != cy || cell_[3 * ub + 2] != cz) continue;
-              if (m == 0 && ub <= a) continue;  // each pair once
               long gap = static_cast<long>(ub) * k + m * Nl - static_cast<long>(a) * k;
               if (gap < 0) gap = -gap;
               if (closed_) gap = std::min(gap, Nl - gap);
