@@ -521,7 +521,8 @@ void bind_topology(py::module_& m) {
         std::array<double, 3> buf{};
         return tp::linking_number(a.data(), a.shape(0), b.data(), b.shape(0), period_ptr(period, buf));
       },
-      py::arg("A"), py::arg("B"), py::arg("period") = py::none(), "Exact integer linking number by crossings.");
+      py::arg("A"), py::arg("B"), py::arg("period") = py::none(),
+      "Exact integer linking number by crossings.");
   t.def(
       "gauss_linking_integral",
       [](const py::object& A, const py::object& B) {
@@ -580,12 +581,14 @@ void bind_topology(py::module_& m) {
       py::arg("t"), py::arg("u"), "Transported twist angle per point [rad], cyclic.");
   t.def(
       "ribbon_topology",
-      [](const py::object& x, const py::object& v, const py::object& period, int writhe_stride, bool coarsening) {
+      [](const py::object& x, const py::object& v, const py::object& period, int writhe_stride,
+         bool coarsening) {
         auto a = points(x, "ribbon: centreline"), b = points(v, "ribbon: vectors");
-        if (a.shape(0) != b.shape(0)) throw InputError("ribbon: the centreline and the vectors differ in length");
+        if (a.shape(0) != b.shape(0))
+          throw InputError("ribbon: the centreline and the vectors differ in length");
         std::array<double, 3> buf{};
-        const auto r =
-            tp::ribbon_topology(a.data(), b.data(), a.shape(0), period_ptr(period, buf), writhe_stride, coarsening);
+        const auto r = tp::ribbon_topology(a.data(), b.data(), a.shape(0), period_ptr(period, buf),
+                                           writhe_stride, coarsening);
         return py::dict(py::arg("Lk") = r.Lk, py::arg("Tw") = r.Tw, py::arg("Wr") = r.Wr,
                         py::arg("Wr_coarsening") = r.Wr_coarsening);
       },

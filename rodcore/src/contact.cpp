@@ -109,7 +109,8 @@ void SelfContact::sweep(const double* y) {
     auto at = [&](std::size_t i, long o) { return f[(i + N + o) % N]; };  // periodic, at the ends only
     for (std::size_t i : {std::size_t{0}, std::size_t{1}, N - 2, N - 1})
       d[i] = (at(i, -2) - 8.0 * at(i, -1) + 8.0 * at(i, 1) - at(i, 2)) * c12;
-    for (std::size_t i = 2; i + 2 < N; ++i) d[i] = (f[i - 2] - 8.0 * f[i - 1] + 8.0 * f[i + 1] - f[i + 2]) * c12;
+    for (std::size_t i = 2; i + 2 < N; ++i)
+      d[i] = (f[i - 2] - 8.0 * f[i - 1] + 8.0 * f[i + 1] - f[i + 2]) * c12;
   }
   // g_{i+1} = g_i exp(theta_i), the 4th-order Magnus step from the end values:
   //   theta = h/2 (xi_i + xi_{i+1}) + h^2/12 (xi'_i - xi'_{i+1}) + h^2/12 [xi_i, xi_{i+1}],
@@ -122,8 +123,10 @@ void SelfContact::sweep(const double* y) {
     q_[i] = q;
     for (int c = 0; c < 3; ++c) r_[3 * i + c] = r[c];
     const std::size_t j = (i + 1) % N;
-    const Vec3 W1{at(xi_, 0, i), at(xi_, 1, i), at(xi_, 2, i)}, V1{at(xi_, 3, i), at(xi_, 4, i), at(xi_, 5, i)};
-    const Vec3 W2{at(xi_, 0, j), at(xi_, 1, j), at(xi_, 2, j)}, V2{at(xi_, 3, j), at(xi_, 4, j), at(xi_, 5, j)};
+    const Vec3 W1{at(xi_, 0, i), at(xi_, 1, i), at(xi_, 2, i)},
+        V1{at(xi_, 3, i), at(xi_, 4, i), at(xi_, 5, i)};
+    const Vec3 W2{at(xi_, 0, j), at(xi_, 1, j), at(xi_, 2, j)},
+        V2{at(xi_, 3, j), at(xi_, 4, j), at(xi_, 5, j)};
     const Vec3 WW = cross(W1, W2), WV = cross(W1, V2), VW = cross(W2, V1);
     Vec3 phi, u;
     for (int c = 0; c < 3; ++c) {
@@ -166,7 +169,8 @@ double SelfContact::forces(const double* r, double* F) {
   for (std::size_t b = 0; b < M; ++b) {
     const double* p = bead(b);
     for (int c = 0; c < 3; ++c) {
-      if (!std::isfinite(p[c])) throw NumericalError("contact: non-finite centreline at bead " + std::to_string(b));
+      if (!std::isfinite(p[c]))
+        throw NumericalError("contact: non-finite centreline at bead " + std::to_string(b));
       cell_[3 * b + c] = static_cast<long>(std::floor(p[c] / dc));
     }
     const std::size_t hb = cell_hash(cell_[3 * b], cell_[3 * b + 1], cell_[3 * b + 2], mask);
@@ -182,7 +186,8 @@ double SelfContact::forces(const double* r, double* F) {
       // bead b's image b + m N is near a when b is near pa - m P
       const double t[3] = {pa[0] - m * P[0], pa[1] - m * P[1], pa[2] - m * P[2]};
       long ct[3];
-      for (int c = 0; c < 3; ++c) ct[c] = m == 0 ? cell_[3 * a + c] : static_cast<long>(std::floor(t[c] / dc));
+      for (int c = 0; c < 3; ++c)
+        ct[c] = m == 0 ? cell_[3 * a + c] : static_cast<long>(std::floor(t[c] / dc));
       for (long dx = -1; dx <= 1; ++dx)
         for (long dy = -1; dy <= 1; ++dy)
           for (long dz = -1; dz <= 1; ++dz) {

@@ -270,15 +270,17 @@ Simulation::Simulation(const Scene& scene, InitialState initial) : impl_(std::ma
   // not matter): rings get Lk, Tw, Wr in every frame.
   {
     std::vector<double> x(3 * d.N);
-    const auto end = d.rec->sweep(d.state.data(), Quat{1.0, 0.0, 0.0, 0.0}, Vec3{0.0, 0.0, 0.0}, x.data(), nullptr);
+    const auto end =
+        d.rec->sweep(d.state.data(), Quat{1.0, 0.0, 0.0, 0.0}, Vec3{0.0, 0.0, 0.0}, x.data(), nullptr);
     d.closed = topology::is_closed(x.data(), d.N);
     if (sc.contact.on) {
       const ContactPotential p = contact_potential(sc.contact);  // the reader checked its keys
       const double period = std::sqrt(end.r[0] * end.r[0] + end.r[1] * end.r[1] + end.r[2] * end.r[2]);
       if (!d.closed && period < 2.0 * p.cutoff)
-        throw InputError(sc.source + ": [contact]: the box-periodic rod's period " + num(period) +
-                         " is shorter than twice the contact cut-off " + num(p.cutoff) +
-                         " (from contact.diameter and contact.barrier_kT): the rod would touch its own images");
+        throw InputError(
+            sc.source + ": [contact]: the box-periodic rod's period " + num(period) +
+            " is shorter than twice the contact cut-off " + num(p.cutoff) +
+            " (from contact.diameter and contact.barrier_kT): the rod would touch its own images");
       try {
         d.contact = std::make_unique<SelfContact>(d.N, sc.rod.length, p, d.closed);
       } catch (const InputError& e) {

@@ -26,8 +26,10 @@ V unit(const V& a) { return scale(1.0 / norm(a), a); }
 
 // Projection directions for the crossing count: generic (no symmetry of a test curve or
 // a box axis lies in them), tried in turn until the over and under counts agree.
-constexpr double kDirections[4][3] = {
-    {0.2917, 0.5189, 0.8037}, {-0.6571, 0.2279, 0.7185}, {0.5330, -0.7936, 0.2934}, {0.1187, 0.9251, -0.3607}};
+constexpr double kDirections[4][3] = {{0.2917, 0.5189, 0.8037},
+                                      {-0.6571, 0.2279, 0.7185},
+                                      {0.5330, -0.7936, 0.2934},
+                                      {0.1187, 0.9251, -0.3607}};
 constexpr std::size_t kBlock = 32;
 
 // Segments as start and end points (3 values each).
@@ -116,10 +118,10 @@ double segment_solid_angle(const double* p1, const double* p2, const double* p3,
   const V v1 = sub(P3, P1), v2 = sub(P4, P1), v3 = sub(P4, P2), v4 = sub(P3, P2);
   const double l1 = norm(v1), l2 = norm(v2), l3 = norm(v3), l4 = norm(v4);
   const double d13 = dot(v1, v3);
-  const double first = std::atan2(dot(v1, cross(v2, v3)),
-                                  l1 * l2 * l3 + dot(v1, v2) * l3 + d13 * l2 + dot(v2, v3) * l1);
-  const double second = std::atan2(dot(v1, cross(v3, v4)),
-                                   l1 * l3 * l4 + d13 * l4 + dot(v1, v4) * l3 + dot(v3, v4) * l1);
+  const double first =
+      std::atan2(dot(v1, cross(v2, v3)), l1 * l2 * l3 + dot(v1, v2) * l3 + d13 * l2 + dot(v2, v3) * l1);
+  const double second =
+      std::atan2(dot(v1, cross(v3, v4)), l1 * l3 * l4 + d13 * l4 + dot(v1, v4) * l3 + dot(v3, v4) * l1);
   return -2.0 * (first + second);
 }
 
@@ -274,7 +276,8 @@ std::vector<double> twist_angles(const double* t, const double* u, std::size_t n
     const V t1 = load(t + 3 * i), t2 = load(t + 3 * j), u1 = load(u + 3 * i), u2 = load(u + 3 * j);
     const double c = dot(t1, t2);
     if (c <= -1.0 + 1e-12)
-      throw NumericalError("twist: the tangent reverses between points " + std::to_string(i) + " and the next");
+      throw NumericalError("twist: the tangent reverses between points " + std::to_string(i) +
+                           " and the next");
     const V Pu = sub(u1, scale(dot(t2, u1) / (1.0 + c), add(t1, t2)));
     out[i] = std::atan2(dot(cross(Pu, u2), t2), dot(Pu, u2));
   }
@@ -302,12 +305,12 @@ Ribbon ribbon_topology(const double* x, const double* v, std::size_t n, const do
     if (std::abs(angles[i]) > std::abs(angles[worst])) worst = i;
   }
   if (std::abs(angles[worst]) > kMaxTwistPerPoint)
-    throw NumericalError("ribbon: it turns " +
-                         std::to_string(static_cast<long>(std::lround(angles[worst] * 180.0 / std::numbers::pi))) +
-                         " deg between points " + std::to_string(worst) + " and " +
-                         std::to_string((worst + 1) % n) +
-                         "; at most 90 deg per point is resolved (a faster twist aliases to a slower one in "
-                         "Lk and Tw alike)");
+    throw NumericalError(
+        "ribbon: it turns " +
+        std::to_string(static_cast<long>(std::lround(angles[worst] * 180.0 / std::numbers::pi))) +
+        " deg between points " + std::to_string(worst) + " and " + std::to_string((worst + 1) % n) +
+        "; at most 90 deg per point is resolved (a faster twist aliases to a slower one in "
+        "Lk and Tw alike)");
   std::vector<double> ribbon(3 * n);
   const double eps = 0.25 * median;
   for (std::size_t i = 0; i < 3 * n; ++i) ribbon[i] = x[i] + eps * u[i];
@@ -326,7 +329,8 @@ Ribbon ribbon_topology(const double* x, const double* v, std::size_t n, const do
 bool is_closed(const double* x, std::size_t n) {
   check_points(x, n, "is_closed", 2);
   double longest = 0.0;
-  for (std::size_t i = 0; i + 1 < n; ++i) longest = std::max(longest, norm(sub(load(x + 3 * (i + 1)), load(x + 3 * i))));
+  for (std::size_t i = 0; i + 1 < n; ++i)
+    longest = std::max(longest, norm(sub(load(x + 3 * (i + 1)), load(x + 3 * i))));
   return norm(sub(load(x), load(x + 3 * (n - 1)))) <= 2.0 * longest;
 }
 

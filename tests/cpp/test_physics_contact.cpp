@@ -64,8 +64,8 @@ double crossing_energy(double rho) {
 }
 
 // Every pair, no cell list: the energy and forces of contact.hpp's definition.
-double brute_force(const std::vector<double>& r, std::size_t N, double h, const ContactPotential& p, bool closed,
-                   std::vector<double>& F) {
+double brute_force(const std::vector<double>& r, std::size_t N, double h, const ContactPotential& p,
+                   bool closed, std::vector<double>& F) {
   F.assign(3 * N, 0.0);
   const std::size_t k = static_cast<std::size_t>(p.stride);
   const double w = static_cast<double>(k) * h, dc2 = p.cutoff * p.cutoff;
@@ -220,7 +220,7 @@ TEST(PhysicsContact, DiameterRatioApproachesItsLargeBarrierAsymptote) {
 
 TEST(PhysicsContact, BadGridsAreRefused) {
   const ContactPotential p = unit_potential(3);
-  EXPECT_THROW(SelfContact(100, 20.0, p, true), InputError);          // stride 3 does not divide 100
+  EXPECT_THROW(SelfContact(100, 20.0, p, true), InputError);                 // stride 3 does not divide 100
   EXPECT_THROW(SelfContact(60, 20.0, unit_potential(1), true), InputError);  // h = 0.33 > d_c / 4
   EXPECT_THROW(SelfContact(100, 2.0, unit_potential(1), true), InputError);  // ring shorter than 2 s_ex
 }

@@ -241,7 +241,8 @@ H5Output::H5Output(const std::string& path, const Scene& scene, const std::vecto
     if (want_.centerline) centerline_ = reopen("centerline", resume.frames);
     if (want_.directors) directors_ = reopen("directors", resume.frames);
     if (h5::exists(file_, "topology/Lk")) {
-      for (const char* k : kTopology) topology_.push_back(reopen(std::string("topology/") + k, resume.frames));
+      for (const char* k : kTopology)
+        topology_.push_back(reopen(std::string("topology/") + k, resume.frames));
       has_topology_ = true;
       std::vector<double> Lk(static_cast<std::size_t>(resume.frames));
       if (resume.frames > 0 &&
