@@ -725,7 +725,8 @@ the output file say how to convert.)")
           "kinetic_kT", [](const PySimulation& p) { return p.sim->kinetic_kT(); },
           "2 KE / (6 N) of the state now: the kinetic temperature in energy units (docs/thermal.md).")
       .def("rhs", &PySimulation::rhs, py::arg("state"),
-           "d(state)/dt of Eqs (11)-(14) for this rod and material: state as a dict of (N, 3) arrays "
+           "d(state)/dt of Eqs (11)-(14) for this rod and material (with [contact] the self-contact force "
+           "included): state as a dict of (N, 3) arrays "
            "(returns the same) or 12 N values (returns 12 N values).")
       .def("summary", [](const PySimulation& p) { return summary_dict(p.sim->summary()); })
       .def_property_readonly("scene", &PySimulation::scene_text, "The scene as run, resolved, as TOML text.")

@@ -517,7 +517,7 @@ void Simulation::Impl::deliver(const Simulation& self, int index, double tf, con
     try {
       const auto r = topology::ribbon_topology(x, d1.data(), N, nullptr, topology::writhe_stride(N), false);
       fr.topology = Frame::Topology{static_cast<double>(r.Lk), r.Tw, r.Wr};
-    } catch (const NumericalError&) {  // an unresolved ribbon: no Lk in this frame
+    } catch (const Error&) {  // an unresolved ribbon (or non-finite points): no Lk in this frame
       const double nan = std::numeric_limits<double>::quiet_NaN();
       fr.topology = Frame::Topology{nan, nan, nan};
     }
