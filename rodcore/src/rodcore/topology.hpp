@@ -84,8 +84,8 @@ Ribbon ribbon_topology(const double* x, const double* v, std::size_t n, const do
 // longest of the others (a box-periodic rod's is about its length).
 bool is_closed(const double* x, std::size_t n);
 // Stride of the coarsened writhe of a closed rod: at most `writhe_points` blocks
-// (InputError if writhe_points < 8). Default: 1000 blocks, 0.25 CPU s at 10.5 kbp
-// in numpy, within 0.04 of the exact writhe (bench/topology.py).
+// (InputError if writhe_points < 8). Default: 1000 blocks, 0.02 CPU s at 10.5 kbp,
+// within 0.04 of the exact writhe (bench/topology.py).
 inline constexpr int kWrithePoints = 1000;
 int writhe_stride(std::size_t n, int writhe_points = kWrithePoints);
 
