@@ -1,6 +1,6 @@
 """Cost of self-contact ([contact], rodcore/src/rodcore/contact.hpp) per right-hand-side
 evaluation, against the same RHS without it, on closed DNA rings at one point per base pair
-(the paper's DNA material, 5-nm effective diameter), for contact.stride 1, 2, 4.
+(the paper's DNA material, 5-nm effective diameter), for contact.stride 1, 2, 3.
 
 The ring is a circle with the thermal roughness of bench/topology.py's curve absent: no two
 distant parts touch, so the cost is the floor of the cell-list walk (each bead visits the
@@ -45,7 +45,7 @@ def per_call(sim, y, calls):
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--bp", type=int, nargs="+", default=[1050, 4200, 10500])
-    ap.add_argument("--strides", type=int, nargs="+", default=[1, 2, 4])
+    ap.add_argument("--strides", type=int, nargs="+", default=[1, 2, 3])
     ap.add_argument("--pairs", type=int, default=7)
     ap.add_argument("--out", type=Path, default=Path(__file__).parent / "results")
     a = ap.parse_args()
