@@ -3,7 +3,9 @@ Klenin-Langowski writhe of the whole polygon (polygon_writhe) against the coarse
 one (writhe(x, k): near pairs exact, far ones by the chords of k segments) and
 against the polygon through every k-th point alone (chords only), CPU time and error
 side by side; and the cost of the other parts of a frame (Lk by crossings, Tw) and of a whole
-frame as `dnarod topology` does it (the default of at most 1000 writhe points).
+frame as `dnarod topology` does it (the default of at most 1000 writhe points) and as rodsim
+does it for a closed rod (the same without the stride-2k coarsening estimate). All of it runs
+the C++ of rodcore/src/topology.cpp (rodcore.topology).
 
 The curve: 10,500 points 3.38 A apart, a toroidal supercoil (a helix of 20 coils wound
 on a torus, R = 4000 A, r = 200 A, writhe about -2.7) with the roughness of thermal DNA
@@ -24,6 +26,7 @@ from pathlib import Path
 import numpy as np
 
 from dna_models.bdna import RISE_A
+from mdbridge.geometry.compiled import rodcore_module
 from mdbridge.geometry.topology import (centred_tangents, linking_number, perpendicular_unit, polygon_writhe,
                                         ribbon_topology, twist, writhe)
 from mdbridge.jsonio import write_json
@@ -91,6 +94,8 @@ def main():
                                      "error": wk - full, "Wr_coarsening": wk - writhe(x, 2 * k),
                                      "chords_only_error": chords - full, "chords_only_cpu_s": tc})
         r, t_frame = cpu(ribbon_topology, x, d1, None, 11)    # stride 11: 955 points, as the command
+        # rodsim's frame of a closed rod: the same without the stride-22 estimate
+        _, t_rodsim = cpu(rodcore_module().topology.ribbon_topology, x, d1, None, 11, False)
         t = centred_tangents(x)
         u = perpendicular_unit(d1, t)
         _, t_lk = cpu(linking_number, x, x + 0.25 * RISE_A * u)
@@ -98,14 +103,15 @@ def main():
         row.update(frame={"Lk": r["Lk"], "Tw": r["Tw"], "Wr": r["Wr"],
                           "Lk_minus_Tw_minus_Wr": r["Lk"] - r["Tw"] - r["Wr"],
                           "Lk_minus_Tw_minus_Wr_full_writhe": r["Lk"] - r["Tw"] - full,
-                          "cpu_s_frame_stride_11": t_frame, "cpu_s_Lk": t_lk, "cpu_s_Tw": t_tw})
+                          "cpu_s_frame_stride_11": t_frame, "cpu_s_frame_rodsim": t_rodsim,
+                          "cpu_s_Lk": t_lk, "cpu_s_Tw": t_tw})
         rows.append(row)
         f = row["frame"]
         print(f"seed {seed}: Wr {full:.4f} ({t_full:.1f} CPU s, {N_BP} points), bend {bend:.3f} rad; "
               + ", ".join(f"k={c['stride']}: err {c['error']:+.4f} ({c['cpu_s']:.2f} s, dWr "
                           f"{c['Wr_coarsening']:+.4f}; chords only {c['chords_only_error']:+.4f})"
                           for c in row["coarsened"])
-              + f"; frame {t_frame:.2f} s (Lk {t_lk:.3f} s, Tw {t_tw:.4f} s), Lk - Tw - Wr "
+              + f"; frame {t_frame:.2f} s (rodsim's {t_rodsim:.2f} s; Lk {t_lk:.3f} s, Tw {t_tw:.4f} s), Lk - Tw - Wr "
                 f"{f['Lk_minus_Tw_minus_Wr']:+.4f} (full writhe {f['Lk_minus_Tw_minus_Wr_full_writhe']:+.2e})")
     summary = {}
     for k in a.strides:

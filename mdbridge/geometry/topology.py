@@ -1,5 +1,10 @@
 """Linking number, twist and writhe of polygons: closed curves and box-periodic ones.
 
+The algorithms live once, in C++ (rodcore/src/topology.cpp, which rodsim also runs per
+frame of a closed rod); the functions here check their input and call them through the
+rodcore module (rodcore.topology). What stays here is the all-atom side: the one-turn
+axis of a duplex and its topology.
+
 The three numbers of Calugareanu-White-Fuller, Lk = Tw + Wr, for a curve x (the axis)
 and a ribbon along unit vectors u perpendicular to its tangent (docs/topology.md):
 
@@ -28,24 +33,16 @@ import numpy as np
 
 from dna_models.errors import InputError, NumericalError
 
-# Projection directions for the crossing count: generic (no symmetry of a test curve or
-# a box axis lies in them), tried in turn until the over and under counts agree.
-_DIRECTIONS = np.array([[0.2917, 0.5189, 0.8037], [-0.6571, 0.2279, 0.7185],
-                        [0.5330, -0.7936, 0.2934], [0.1187, 0.9251, -0.3607]])
-_BLOCK = 32
+from .compiled import rodcore_module
+
 # Rounds of (axis -> twist -> one-turn window -> axis) in duplex_topology: the centres
 # wobble about the axis (the grooves are unequal), which biases the first twist; three
 # rounds move the window by < 1e-3 bp on the test rings (tests/python/test_topology.py).
 _AXIS_ITERATIONS = 3
-# A ribbon turning by more than this between neighbouring points is not resolved: a turn
-# of 270 deg reads as -90 deg in the twist and in the ribbon polygon's linking alike, so
-# Lk = Tw + Wr would still hold and could not flag it. DNA at one point per base pair
-# turns by about 34 deg.
+# A ribbon turning by more than this between neighbouring points is not resolved (the C++
+# kernel refuses it: rodcore.topology.MAX_TWIST_PER_POINT). DNA at one point per base
+# pair turns by about 34 deg.
 MAX_TWIST_PER_POINT = np.pi / 2
-
-
-def _unit(v):
-    return v / np.linalg.norm(v, axis=-1, keepdims=True)
 
 
 def _check_points(x, name, minimum=3):
@@ -57,56 +54,23 @@ def _check_points(x, name, minimum=3):
     return x
 
 
-# -- the Gauss integral of two straight segments (Klenin & Langowski) ------------------------
+# -- the curve topology: rodcore.topology (C++, rodcore/src/topology.cpp), the one home ------
 
-def segment_solid_angles(p1, p2, p3, p4):
-    """4 pi times the Gauss integral over the segments p1 -> p2 and p3 -> p4, exactly: the
-    signed solid angle under which the parallelogram of the vectors p_j - p_i (p_i on the
-    first segment, p_j on the second; corners p3 - p1, p4 - p1, p4 - p2, p3 - p2) is seen
-    from the origin (Klenin & Langowski 2000), as two triangles by the formula of Van
-    Oosterom & Strackee (IEEE Trans Biomed Eng 30:125, 1983). Components first: arrays
-    (3, ...) broadcasting over the rest. Segments that touch give 0.
-
-    Sign: (1/4 pi) times the sum over the segment pairs of two closed polygons is their
-    linking number, and over the ordered pairs i != j of one closed polygon its writhe.
-    """
-    v1, v2, v3, v4 = p3 - p1, p4 - p1, p4 - p2, p3 - p2
-    l1, l2, l3, l4 = (np.sqrt(np.einsum("k...,k...->...", v, v)) for v in (v1, v2, v3, v4))
-    dot = (lambda a, b: np.einsum("k...,k...->...", a, b))
-
-    def triple(a, b, c):
-        return (a[0] * (b[1] * c[2] - b[2] * c[1]) + a[1] * (b[2] * c[0] - b[0] * c[2])
-                + a[2] * (b[0] * c[1] - b[1] * c[0]))
-    d13 = dot(v1, v3)
-    first = np.arctan2(triple(v1, v2, v3), l1 * l2 * l3 + dot(v1, v2) * l3 + d13 * l2 + dot(v2, v3) * l1)
-    second = np.arctan2(triple(v1, v3, v4), l1 * l3 * l4 + d13 * l4 + dot(v1, v4) * l3 + dot(v3, v4) * l1)
-    return -2.0 * (first + second)
+def _kernel(name, *args, **kw):
+    """rodcore.topology.NAME(*args, **kw), its errors as dnarod's (InputError, NumericalError)."""
+    rodcore = rodcore_module()
+    try:
+        return getattr(rodcore.topology, name)(*args, **kw)
+    except rodcore.InputError as e:
+        raise InputError(str(e)) from None
+    except rodcore.NumericalError as e:
+        raise NumericalError(str(e)) from None
 
 
-def _pair_sum(a, b, i, j):
-    """Sum of the solid angles of segment pairs (i, j) (index arrays; a, b the segment
-    starts and ends, components first)."""
-    return segment_solid_angles(a[:, i], b[:, i], a[:, j], b[:, j]).sum()
-
-
-def polygon_writhe(x, pairs_per_chunk: int = 300_000) -> float:
+def polygon_writhe(x) -> float:
     """Writhe of the closed polygon x (n, 3), exact for the polygon (Klenin & Langowski):
-    every unordered pair of non-adjacent segments. O(n^2): 12 CPU s at 10,500 points,
-    0.15 s at 1000 (bench/topology.py)."""
-    x = _check_points(x, "writhe", 4)
-    n = len(x)
-    a, b = x.T, np.roll(x, -1, axis=0).T
-    # row 0 with 2 .. n-2, rows i >= 1 with j >= i + 2 (segment n-1 is adjacent to segment 0)
-    total = segment_solid_angles(a[:, :1], b[:, :1], a[:, 2:n - 1], b[:, 2:n - 1]).sum()
-    rows = max(1, pairs_per_chunk // n)
-    for i0 in range(1, n - 2, rows):
-        i1 = min(i0 + rows, n - 2)
-        i = np.arange(i0, i1)[:, None]
-        j = np.arange(i0 + 2, n)[None, :]
-        omega = segment_solid_angles(a[:, i0:i1, None], b[:, i0:i1, None], a[:, None, i0 + 2:],
-                                     b[:, None, i0 + 2:])
-        total += np.where(j >= i + 2, omega, 0.0).sum()
-    return float(2.0 * total / (4.0 * np.pi))
+    every unordered pair of non-adjacent segments. O(n^2) (bench/topology.py)."""
+    return float(_kernel("polygon_writhe", _check_points(x, "writhe", 4)))
 
 
 def writhe(x, stride: int = 1) -> float:
@@ -116,129 +80,45 @@ def writhe(x, stride: int = 1) -> float:
     the pair of their chords, i.e. the writhe of the polygon through every k-th point
     plus the exact near pairs. O((n/k)^2 + k n); its error, against the
     exact polygon, is measured in bench/topology.py (docs/topology.md)."""
-    x = _check_points(x, "writhe", 4)
-    k = int(stride)
-    if k <= 1:
-        return polygon_writhe(x)
-    n = len(x)
-    starts = np.arange(0, n, k)
-    if len(starts) < 4:
-        raise InputError(f"writhe: stride {k} leaves {len(starts)} of {n} points; at least 4 are needed")
-    ends = np.append(starts[1:], n)
-    a, b = x.T, np.roll(x, -1, axis=0).T
-    near = 0.0
-    for blk in range(len(starts)):
-        nxt = (blk + 1) % len(starts)
-        i = np.arange(starts[blk], ends[blk])
-        j = np.concatenate([i, np.arange(starts[nxt], ends[nxt])])
-        gap = (j[None, :] - i[:, None]) % n                         # forward index distance
-        in_same = np.arange(len(j))[None, :] < len(i)
-        keep = (gap >= 2) & (gap <= n - 2) & (~in_same | (j[None, :] > i[:, None]))
-        ii, jj = np.nonzero(keep)
-        near += _pair_sum(a, b, i[ii], j[jj])
-    return polygon_writhe(x[starts]) + float(2.0 * near / (4.0 * np.pi))
+    return float(_kernel("writhe", _check_points(x, "writhe", 4), int(stride)))
 
 
 def gauss_linking_integral(A, B) -> float:
     """(1/4 pi) sum of the segment solid angles of two closed polygons: their linking
     number as a real number, O(n_A n_B). For checks; `linking_number` is the fast
     integer."""
-    A = _check_points(A, "A")
-    B = _check_points(B, "B")
-    a1, a2 = A.T[:, :, None], np.roll(A, -1, axis=0).T[:, :, None]
-    b1, b2 = B.T[:, None, :], np.roll(B, -1, axis=0).T[:, None, :]
-    return float(segment_solid_angles(a1, a2, b1, b2).sum() / (4.0 * np.pi))
-
-
-# -- exact linking number by crossings ----------------------------------------------------------
-
-def _blocks(P, Q):
-    """Per block of _BLOCK segments (P -> Q, (m, 2) projected): min and max corners."""
-    m = len(P)
-    nb = -(-m // _BLOCK)
-    pad = nb * _BLOCK - m
-    lo = np.minimum(P, Q)
-    hi = np.maximum(P, Q)
-    lo = np.concatenate([lo, np.repeat(lo[-1:], pad, axis=0)]).reshape(nb, _BLOCK, 2).min(axis=1)
-    hi = np.concatenate([hi, np.repeat(hi[-1:], pad, axis=0)]).reshape(nb, _BLOCK, 2).max(axis=1)
-    return lo, hi
-
-
-def _crossings(a1, a2, b1, b2, p):
-    """Signed crossings of segments a (a1 -> a2) and b in the projection along p:
-    (sum over crossings with a above b, sum with b above a); crossing sign
-    sign((d_upper x d_lower) . p), the right-hand rule."""
-    e1 = _unit(np.cross(p, [1.0, 0.0, 0.0] if abs(p[0]) < 0.9 else [0.0, 1.0, 0.0]))
-    e2 = np.cross(p, e1)
-    E = np.stack([e1, e2], axis=1)                      # (3, 2): plane coordinates
-    A1, A2, B1, B2 = a1 @ E, a2 @ E, b1 @ E, b2 @ E
-    loA, hiA = _blocks(A1, A2)
-    loB, hiB = _blocks(B1, B2)
-    overlap = np.all((loA[:, None] <= hiB[None]) & (loB[None] <= hiA[:, None]), axis=-1)
-    ia, ib = np.nonzero(overlap)
-    above = below = 0
-    k = np.arange(_BLOCK)
-    for c0 in range(0, len(ia), 256):                   # candidate block pairs in chunks
-        sa = (ia[c0:c0 + 256, None] * _BLOCK + k[None]).reshape(-1)
-        sb = (ib[c0:c0 + 256, None] * _BLOCK + k[None]).reshape(-1)
-        nb_ = len(sa) // _BLOCK
-        sa = np.repeat(sa.reshape(nb_, _BLOCK, 1), _BLOCK, axis=2).reshape(-1)
-        sb = np.repeat(sb.reshape(nb_, 1, _BLOCK), _BLOCK, axis=1).reshape(-1)
-        ok = (sa < len(A1)) & (sb < len(B1))
-        sa, sb = sa[ok], sb[ok]
-        r = A2[sa] - A1[sa]
-        q = B2[sb] - B1[sb]
-        w = B1[sb] - A1[sa]
-        den = r[:, 0] * q[:, 1] - r[:, 1] * q[:, 0]
-        with np.errstate(divide="ignore", invalid="ignore"):
-            s = (w[:, 0] * q[:, 1] - w[:, 1] * q[:, 0]) / den
-            t = (w[:, 0] * r[:, 1] - w[:, 1] * r[:, 0]) / den
-        hit = (den != 0) & (s >= 0) & (s < 1) & (t >= 0) & (t < 1)
-        if not np.any(hit):
-            continue
-        sa, sb, s, t, den = sa[hit], sb[hit], s[hit], t[hit], den[hit]
-        za = (a1[sa] + s[:, None] * (a2[sa] - a1[sa])) @ p
-        zb = (b1[sb] + t[:, None] * (b2[sb] - b1[sb])) @ p
-        sign = np.sign(den)                              # sign((d_a x d_b) . p)
-        above += int(np.sum(np.where(za > zb, sign, 0)))
-        below += int(np.sum(np.where(za < zb, -sign, 0)))
-    return above, below
+    return float(_kernel("gauss_linking_integral", _check_points(A, "A"), _check_points(B, "B")))
 
 
 def linking_number(A, B, period=None) -> int:
-    """Linking number of the closed polygons A and B, an exact integer.
+    """Linking number of the closed polygons A and B, an exact integer, from the signed
+    crossings in a projection, counted twice (A over B, B over A; a disagreement moves to
+    the next projection direction, and if none agree it is an error).
 
     period b (3,): A and B are one period of box-periodic curves (A_{i+n} = A_i + b,
     likewise B); the linking number is that of the box axis closed into a circle far
     larger than the box without twist (docs/topology.md), counted over one period in a
-    projection along a direction perpendicular to b.
-
-    Counted twice, A over B and B over A; a disagreement (a crossing at a vertex in
-    round-off) moves to the next projection direction, and if none agree it is an error.
-    """
+    projection along a direction perpendicular to b."""
     A = _check_points(A, "linking_number: A")
     B = _check_points(B, "linking_number: B")
-    if period is None:
-        segs = (A, np.roll(A, -1, axis=0), B, np.roll(B, -1, axis=0))
-    else:
+    if period is not None:
         b = np.asarray(period, float)
         if b.shape != (3,) or not np.linalg.norm(b) > 0:
             raise InputError(f"linking_number: the period must be a nonzero 3-vector, got {period!r}")
-        # one period of A against B over the neighbouring periods: every crossing of the
-        # periodic diagram once (by its segment of A)
-        Aone = np.concatenate([A, A[:1] + b])
-        Bext = np.concatenate([B - b, B, B + b, B[:1] + 2 * b])
-        segs = (Aone[:-1], Aone[1:], Bext[:-1], Bext[1:])
-    for p in _DIRECTIONS:
-        p = p / np.linalg.norm(p)
-        if period is not None:     # project along a direction normal to the box axis
-            bh = b / np.linalg.norm(b)
-            p = _unit(p - (p @ bh) * bh)
-        up, down = _crossings(*segs, p)
-        if up == down:
-            return up
-    raise NumericalError("linking_number: the crossings of A over B and of B over A disagree in every "
-                         "projection tried; the curves touch or nearly intersect")
+        period = b
+    return int(_kernel("linking_number", A, B, period))
+
+
+def is_closed(x) -> bool:
+    """A ring: the edge from the last point back to the first is no longer than twice the
+    longest of the others (a box-periodic rod's is about its length); rodsim's rule."""
+    return bool(_kernel("is_closed", _check_points(x, "is_closed", 2)))
+
+
+def writhe_stride(n_points: int, writhe_points: int) -> int:
+    """Stride of the coarsened writhe: at most writhe_points blocks of the n_points
+    (writhe_points >= 8)."""
+    return int(_kernel("writhe_stride", int(n_points), int(writhe_points)))
 
 
 # -- twist, tangents, ribbons ----------------------------------------------------------------
@@ -246,38 +126,20 @@ def linking_number(A, B, period=None) -> int:
 def centred_tangents(x, period=None):
     """Unit tangents at the points of a closed (period None) or box-periodic polygon:
     x_{i+1} - x_{i-1}, second order."""
-    x = np.asarray(x, float)
-    nxt = np.roll(x, -1, axis=0)
-    prv = np.roll(x, 1, axis=0)
-    if period is not None:
-        nxt[-1] += period
-        prv[0] -= period
-    return _unit(nxt - prv)
+    return _kernel("centred_tangents", np.asarray(x, float), _period_or_none(period))
 
 
 def perpendicular_unit(v, t):
     """v made perpendicular to the unit tangents t and normalised (the ribbon direction);
     an error where v is (nearly) along t."""
-    w = v - np.einsum("...k,...k->...", v, t)[..., None] * t
-    nw = np.linalg.norm(w, axis=-1)
-    if np.any(nw < 1e-6 * np.linalg.norm(v, axis=-1)):
-        i = int(np.argmin(nw))
-        raise NumericalError(f"ribbon: the ribbon vector is along the tangent at point {i}; its "
-                             "perpendicular part is undefined there")
-    return w / nw[..., None]
+    return _kernel("perpendicular_unit", np.asarray(v, float), np.asarray(t, float))
 
 
 def twist_angles(t, u):
     """Angle [rad] from u_i, parallel-transported from t_i to t_{i+1} (the minimal
     rotation), to u_{i+1}, about t_{i+1}; cyclic in i (closed and box-periodic curves
     alike). t, u: (n, 3) unit, u perpendicular to t."""
-    t2 = np.roll(t, -1, axis=0)
-    u2 = np.roll(u, -1, axis=0)
-    c = np.einsum("ik,ik->i", t, t2)
-    if np.any(c <= -1 + 1e-12):
-        raise NumericalError(f"twist: the tangent reverses between points {int(np.argmin(c))} and the next")
-    Pu = u - (np.einsum("ik,ik->i", t2, u) / (1.0 + c))[:, None] * (t + t2)
-    return np.arctan2(np.einsum("ik,ik->i", np.cross(Pu, u2), t2), np.einsum("ik,ik->i", Pu, u2))
+    return _kernel("twist_angles", np.asarray(t, float), np.asarray(u, float))
 
 
 def twist(t, u) -> float:
@@ -291,21 +153,7 @@ def periodic_writhe(x, period) -> float:
     over the polygon's tantrix (its edge directions joined by great-circle arcs, on which
     the integral is the signed area of the spherical triangle (e, t_i, t_{i+1})). Defined
     while no edge points against the axis (e . t > -1); an error otherwise."""
-    x = np.asarray(x, float)
-    b = np.asarray(period, float)
-    e = b / np.linalg.norm(b)
-    edges = np.roll(x, -1, axis=0) - x
-    edges[-1] += b
-    t = _unit(edges)
-    et = t @ e
-    if np.any(et < -0.9):
-        raise InputError(f"periodic writhe: edge {int(np.argmin(et))} turns back against the box axis "
-                         f"(cosine {et.min():.2f}); the writhe relative to the straight axis is defined "
-                         "only while the axis never reverses (docs/topology.md)")
-    t2 = np.roll(t, -1, axis=0)
-    num = np.einsum("k,ik->i", e, np.cross(t, t2))
-    den = 1.0 + et + np.roll(et, -1) + np.einsum("ik,ik->i", t, t2)
-    return float(2.0 * np.arctan2(num, den).sum() / (2.0 * np.pi))
+    return float(_kernel("periodic_writhe", np.asarray(x, float), np.asarray(period, float)))
 
 
 # -- the helical axis of a duplex ---------------------------------------------------------------
@@ -335,18 +183,6 @@ def one_turn_average(c, bp_per_turn: float, period=None):
 
 # -- the three numbers of a framed curve and of a duplex ------------------------------------
 
-def _writhe_and_coarsening(x, period, stride):
-    """(Wr, Wr(stride) - Wr(2 stride)): the writhe of a closed polygon coarsened with
-    stride (`writhe`), with the change on coarsening twice as much (0 when stride is 1:
-    nothing was coarsened), or the box-periodic writhe (O(n), never coarsened)."""
-    if period is not None:
-        return periodic_writhe(x, period), 0.0
-    Wr = writhe(x, stride)
-    if stride == 1:
-        return Wr, 0.0
-    return Wr, Wr - writhe(x, 2 * stride)
-
-
 def _period_or_none(period):
     return None if period is None else np.asarray(period, float)
 
@@ -358,26 +194,14 @@ def ribbon_topology(x, v, period=None, writhe_stride: int = 1) -> dict:
     Lk is the linking number of x with x + eps u (u the unit perpendicular part of v,
     eps a quarter of the median spacing), Tw the transported twist of u, Wr the writhe of
     x coarsened with writhe_stride (closed; `writhe`) or per period (box-periodic, period
-    b). Also Wr_coarsening (see `_writhe_and_coarsening`; for a smooth curve the writhe's
-    coarsening error is about -Wr_coarsening / 3, second order). A NumericalError when the
-    ribbon turns by more than MAX_TWIST_PER_POINT between two points."""
+    b). Also Wr_coarsening = Wr(stride) - Wr(2 stride) (0 for stride 1 and box-periodic
+    curves; for a smooth curve the writhe's coarsening error is about -Wr_coarsening / 3,
+    second order). A NumericalError when the ribbon turns by more than
+    MAX_TWIST_PER_POINT between two points."""
     x = _check_points(x, "ribbon: centreline", 4)
-    period = _period_or_none(period)
-    t = centred_tangents(x, period)
-    u = perpendicular_unit(np.asarray(v, float), t)
-    edges = np.roll(x, -1, axis=0) - x
-    if period is not None:
-        edges[-1] += period
-    eps = 0.25 * float(np.median(np.linalg.norm(edges, axis=1)))
-    angles = twist_angles(t, u)
-    if np.max(np.abs(angles)) > MAX_TWIST_PER_POINT:
-        i = int(np.argmax(np.abs(angles)))
-        raise NumericalError(f"ribbon: it turns {np.degrees(angles[i]):.0f} deg between points {i} and "
-                             f"{(i + 1) % len(x)}; at most {np.degrees(MAX_TWIST_PER_POINT):.0f} deg per point "
-                             "is resolved (a faster twist aliases to a slower one in Lk and Tw alike)")
-    Lk = linking_number(x, x + eps * u, period)
-    Wr, dWr = _writhe_and_coarsening(x, period, writhe_stride)
-    return {"Lk": Lk, "Tw": float(angles.sum() / (2.0 * np.pi)), "Wr": Wr, "Wr_coarsening": dWr}
+    r = _kernel("ribbon_topology", x, np.asarray(v, float), _period_or_none(period), int(writhe_stride))
+    return {"Lk": int(r["Lk"]), "Tw": float(r["Tw"]), "Wr": float(r["Wr"]),
+            "Wr_coarsening": float(r["Wr_coarsening"])}
 
 
 def duplex_topology(strand_I, strand_II, period=None) -> dict:

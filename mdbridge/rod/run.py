@@ -20,24 +20,12 @@ import numpy as np
 
 from dna_models.errors import DnarodError, InputError, NumericalError
 from dna_models.units import Units
+from mdbridge.geometry.compiled import rodcore_module
 from mdbridge.geometry.trajectory import BasePairTrajectory
 
 from .frames import bp_frames_from_rod, bp_lab_velocities, period_vector
 
 FIELDS = ("gamma", "omega", "Gamma", "Omega")
-
-
-def rodcore_module():
-    """The compiled module. The source folder rodcore/ imports as an empty namespace
-    package when the module is not installed, so test for `run`, not the import."""
-    try:
-        import rodcore  # type: ignore
-    except ImportError:
-        rodcore = None
-    if not hasattr(rodcore, "run"):
-        raise DnarodError("the compiled rodcore Python module is not installed: run "
-                          "`bash scripts/build.sh` (it builds and installs it)")
-    return rodcore
 
 
 def analytic():

@@ -18,7 +18,7 @@ from pathlib import Path
 
 from dna_models.errors import DnarodError, InputError
 
-from .run import rodcore_module
+from mdbridge.geometry.compiled import rodcore_module
 
 
 # -- read ----------------------------------------------------------------------

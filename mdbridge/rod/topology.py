@@ -10,35 +10,18 @@ r(L) = r(0) + P, and gets the box-periodic convention of docs/topology.md.
 """
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
 from dna_models.errors import InputError
 from dna_models.units import Units
-from mdbridge.geometry.topology import ribbon_topology
+from mdbridge.geometry.topology import is_closed, ribbon_topology, writhe_stride
 
 from .run import RodRun
 
-# Blocks of the coarsened writhe of a closed rod (mdbridge.geometry.topology.writhe):
-# Klenin-Langowski is O(N^2); coarsened to 955 blocks a 10.5-kbp frame costs 0.25 CPU s
-# and is within 0.04 of the exact writhe (bench/topology.py, docs/topology.md).
+# Blocks of the coarsened writhe of a closed rod (rodcore.topology.writhe): Klenin-Langowski
+# is O(N^2); coarsened to 955 blocks a 10.5-kbp frame is within 0.04 of the exact writhe
+# (bench/topology.py, docs/topology.md). rodsim uses the same number.
 WRITHE_POINTS = 1000
-
-
-def is_closed(centerline) -> bool:
-    """A ring: the edge from the last point back to the first is no longer than twice the
-    longest of the others (a periodic rod's is about its length)."""
-    x = np.asarray(centerline, float)
-    edges = np.linalg.norm(np.diff(x, axis=0), axis=1)
-    return bool(np.linalg.norm(x[0] - x[-1]) <= 2.0 * edges.max())
-
-
-def writhe_stride(n_points: int, writhe_points: int = WRITHE_POINTS) -> int:
-    """Stride of the coarsened writhe: at most writhe_points blocks of the n_points."""
-    if writhe_points < 8:
-        raise InputError(f"writhe points: {writhe_points}; allowed: at least 8")
-    return max(1, math.ceil(n_points / writhe_points))
 
 
 def rod_topology(run: RodRun, writhe_points: int = WRITHE_POINTS) -> dict:

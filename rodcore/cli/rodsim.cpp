@@ -144,6 +144,11 @@ int run(const std::string& scene_path, const std::string& out_path, const std::v
                        " frame(s) written so far are in " + out_path + " (attribute complete = 0)");
   }
   bar.finish();
+  if (const long jumps = out->topology_jumps(); jumps > 0)  // the closed rod passed through itself
+    std::cerr << "rodsim: warning: the linking number of the closed rod changed " << jumps
+              << " time(s) between frames (dataset topology/Lk, attribute topology_jumps): the rod passed "
+                 "through itself or its ribbon was not resolved; self-contact ([contact], "
+                 "docs/topology.md) keeps it\n";
   if (!quiet) {
     char line[512];
     std::snprintf(line, sizeof line,

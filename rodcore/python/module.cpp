@@ -17,6 +17,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <array>
 #include <cstring>
 #include <filesystem>
 #include <map>
@@ -31,6 +32,7 @@
 #include "rodcore/initial_conditions.hpp"
 #include "rodcore/scene_reader.hpp"
 #include "rodcore/simulation.hpp"
+#include "rodcore/topology.hpp"
 #include "rodcore/version.hpp"
 
 namespace py = pybind11;
@@ -254,7 +256,7 @@ py::dict run(const py::object& scene, const py::object& initial, const std::vect
   const std::vector<double> s = sim.grid();
   const std::size_t N = s.size();
 
-  std::vector<double> time, energy, kinetic, centerline, directors;
+  std::vector<double> time, energy, kinetic, centerline, directors, topology[3];
   std::vector<double> fields[kFields];
   std::map<std::string, std::vector<double>> parts;
   if (!output.is_none())
@@ -275,6 +277,11 @@ py::dict run(const py::object& scene, const py::object& initial, const std::vect
       centerline.insert(centerline.end(), fr.centerline, fr.centerline + 3 * N);
     if (sc.output.directors && fr.directors)
       directors.insert(directors.end(), fr.directors, fr.directors + 9 * N);
+    if (fr.topology) {
+      topology[0].push_back(fr.topology->Lk);
+      topology[1].push_back(fr.topology->Tw);
+      topology[2].push_back(fr.topology->Wr);
+    }
   };
 
   sim.add_observer(on_frame(collect));
@@ -303,6 +310,12 @@ py::dict run(const py::object& scene, const py::object& initial, const std::vect
   }
   if (sc.output.centerline) out["centerline"] = array(centerline, {T, n, 3});
   if (sc.output.directors) out["directors"] = array(directors, {T, n, 3, 3});
+  if (!topology[0].empty()) {
+    py::dict t;
+    const char* names[3] = {"Lk", "Tw", "Wr"};
+    for (int k = 0; k < 3; ++k) t[names[k]] = array(topology[k], {T});
+    out["topology"] = t;
+  }
   out["summary"] = summary_dict(sum);
   Scene as_run = sim.scene();  // solver.space/time as resolved from automatic
   as_run.initial.path = sc.initial.path;
@@ -475,6 +488,125 @@ py::dict wave_fields(const Wave& w, const py::array_t<double, py::array::forceca
   return out;
 }
 
+// ---- rodcore.topology: the curve topology of topology.hpp on numpy arrays ----------
+
+// An (n, 3) array of finite numbers, C-contiguous (a copy if needed).
+py::array_t<double, py::array::c_style | py::array::forcecast> points(const py::object& x, const char* name) {
+  auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(x);
+  if (!a || a.ndim() != 2 || a.shape(1) != 3)
+    throw InputError(std::string(name) + ": need an array of points of shape (n, 3)");
+  return a;
+}
+const double* period_ptr(const py::object& period, std::array<double, 3>& buf) {
+  if (period.is_none()) return nullptr;
+  auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(period);
+  if (!a || a.size() != 3) throw InputError("period: need 3 numbers");
+  for (int c = 0; c < 3; ++c) buf[c] = a.data()[c];
+  return buf.data();
+}
+py::array_t<double> as_points(const std::vector<double>& v) {
+  return array(v, {static_cast<py::ssize_t>(v.size() / 3), py::ssize_t{3}});
+}
+
+void bind_topology(py::module_& m) {
+  auto t = m.def_submodule("topology",
+                           "Linking number, twist and writhe of polygons (rodcore/src/rodcore/topology.hpp, "
+                           "docs/topology.md). Points: (n, 3) arrays; period: 3 numbers (box-periodic) or "
+                           "None (closed).");
+  namespace tp = rodcore::topology;
+  t.def(
+      "linking_number",
+      [](const py::object& A, const py::object& B, const py::object& period) {
+        auto a = points(A, "linking_number: A"), b = points(B, "linking_number: B");
+        std::array<double, 3> buf{};
+        return tp::linking_number(a.data(), a.shape(0), b.data(), b.shape(0), period_ptr(period, buf));
+      },
+      py::arg("A"), py::arg("B"), py::arg("period") = py::none(),
+      "Exact integer linking number by crossings.");
+  t.def(
+      "gauss_linking_integral",
+      [](const py::object& A, const py::object& B) {
+        auto a = points(A, "A"), b = points(B, "B");
+        return tp::gauss_linking_integral(a.data(), a.shape(0), b.data(), b.shape(0));
+      },
+      py::arg("A"), py::arg("B"), "(1/4 pi) sum of the segment solid angles of two closed polygons.");
+  t.def(
+      "polygon_writhe",
+      [](const py::object& x) {
+        auto a = points(x, "writhe");
+        return tp::polygon_writhe(a.data(), a.shape(0));
+      },
+      py::arg("x"), "Exact writhe of the closed polygon (Klenin & Langowski), O(n^2).");
+  t.def(
+      "writhe",
+      [](const py::object& x, int stride) {
+        auto a = points(x, "writhe");
+        return tp::writhe(a.data(), a.shape(0), stride);
+      },
+      py::arg("x"), py::arg("stride") = 1, "Writhe of the closed polygon, coarsened with stride.");
+  t.def(
+      "periodic_writhe",
+      [](const py::object& x, const py::object& period) {
+        auto a = points(x, "periodic writhe");
+        std::array<double, 3> buf{};
+        const double* p = period_ptr(period, buf);
+        if (!p) throw InputError("periodic writhe: the period is required");
+        return tp::periodic_writhe(a.data(), a.shape(0), p);
+      },
+      py::arg("x"), py::arg("period"), "Writhe per period relative to the straight box axis (Fuller).");
+  t.def(
+      "centred_tangents",
+      [](const py::object& x, const py::object& period) {
+        auto a = points(x, "tangents");
+        std::array<double, 3> buf{};
+        return as_points(tp::centred_tangents(a.data(), a.shape(0), period_ptr(period, buf)));
+      },
+      py::arg("x"), py::arg("period") = py::none(), "Unit tangents x_{i+1} - x_{i-1}.");
+  t.def(
+      "perpendicular_unit",
+      [](const py::object& v, const py::object& t) {
+        auto a = points(v, "ribbon vectors"), b = points(t, "tangents");
+        if (a.shape(0) != b.shape(0)) throw InputError("perpendicular_unit: v and t differ in length");
+        return as_points(tp::perpendicular_unit(a.data(), b.data(), a.shape(0)));
+      },
+      py::arg("v"), py::arg("t"), "v made perpendicular to the unit tangents t and normalised.");
+  t.def(
+      "twist_angles",
+      [](const py::object& t, const py::object& u) {
+        auto a = points(t, "tangents"), b = points(u, "ribbon");
+        if (a.shape(0) != b.shape(0)) throw InputError("twist_angles: t and u differ in length");
+        const auto v = tp::twist_angles(a.data(), b.data(), a.shape(0));
+        return array(v, {static_cast<py::ssize_t>(v.size())});
+      },
+      py::arg("t"), py::arg("u"), "Transported twist angle per point [rad], cyclic.");
+  t.def(
+      "ribbon_topology",
+      [](const py::object& x, const py::object& v, const py::object& period, int writhe_stride,
+         bool coarsening) {
+        auto a = points(x, "ribbon: centreline"), b = points(v, "ribbon: vectors");
+        if (a.shape(0) != b.shape(0))
+          throw InputError("ribbon: the centreline and the vectors differ in length");
+        std::array<double, 3> buf{};
+        const auto r = tp::ribbon_topology(a.data(), b.data(), a.shape(0), period_ptr(period, buf),
+                                           writhe_stride, coarsening);
+        return py::dict(py::arg("Lk") = r.Lk, py::arg("Tw") = r.Tw, py::arg("Wr") = r.Wr,
+                        py::arg("Wr_coarsening") = r.Wr_coarsening);
+      },
+      py::arg("x"), py::arg("v"), py::arg("period") = py::none(), py::arg("writhe_stride") = 1,
+      py::arg("coarsening") = true, "Lk, Tw, Wr (and Wr_coarsening) of the curve x framed by v.");
+  t.def(
+      "is_closed",
+      [](const py::object& x) {
+        auto a = points(x, "is_closed");
+        return tp::is_closed(a.data(), a.shape(0));
+      },
+      py::arg("x"), "A ring: the closing edge no longer than twice the longest other edge.");
+  t.def("writhe_stride", &tp::writhe_stride, py::arg("n"), py::arg("writhe_points") = tp::kWrithePoints,
+        "Stride of the coarsened writhe: at most writhe_points blocks.");
+  t.attr("MAX_TWIST_PER_POINT") = tp::kMaxTwistPerPoint;
+  t.attr("WRITHE_POINTS") = tp::kWrithePoints;
+}
+
 }  // namespace
 
 PYBIND11_MODULE(rodcore, m) {
@@ -508,6 +640,8 @@ PYBIND11_MODULE(rodcore, m) {
       PyErr_SetString(PyExc_RuntimeError, e.what());
     }
   });
+
+  bind_topology(m);
 
   m.def("run", &run, py::arg("scene"), py::arg("initial") = py::none(),
         py::arg("set") = std::vector<std::string>{}, py::arg("output") = py::none(),
@@ -591,7 +725,8 @@ the output file say how to convert.)")
           "kinetic_kT", [](const PySimulation& p) { return p.sim->kinetic_kT(); },
           "2 KE / (6 N) of the state now: the kinetic temperature in energy units (docs/thermal.md).")
       .def("rhs", &PySimulation::rhs, py::arg("state"),
-           "d(state)/dt of Eqs (11)-(14) for this rod and material: state as a dict of (N, 3) arrays "
+           "d(state)/dt of Eqs (11)-(14) for this rod and material (with [contact] the self-contact force "
+           "included): state as a dict of (N, 3) arrays "
            "(returns the same) or 12 N values (returns 12 N values).")
       .def("summary", [](const PySimulation& p) { return summary_dict(p.sim->summary()); })
       .def_property_readonly("scene", &PySimulation::scene_text, "The scene as run, resolved, as TOML text.")

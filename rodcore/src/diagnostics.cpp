@@ -14,6 +14,7 @@ std::map<std::string, double> EnergyParts::as_map() const {
                                     {"bend", bend},
                                     {"twist", twist}};
   if (coupled) out["coupling"] = coupling;
+  if (has_contact) out["contact"] = contact;
   return out;
 }
 

@@ -166,6 +166,10 @@ void Reconstructor::magnus_step(std::size_t i, int sub, double h, Quat& q, Vec3&
     phi[a] = 0.5 * h * (W1[a] + W2[a]) + k3 * WxW[a];
     u[a] = 0.5 * h * (V1[a] + V2[a]) + k3 * (c12[a] - c21[a]);
   }
+  se3_advance(q, r, phi, u);
+}
+
+void se3_advance(Quat& q, Vec3& r, const Vec3& phi, const Vec3& u) {
   // SE(3) exponential: translation V u, V = I + b [phi]x + c [phi]x^2
   const double a2n = phi[0] * phi[0] + phi[1] * phi[1] + phi[2] * phi[2];
   const double an = std::sqrt(a2n);

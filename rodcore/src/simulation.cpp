@@ -7,6 +7,7 @@
 #include <limits>
 #include <optional>
 
+#include "rodcore/contact.hpp"
 #include "rodcore/diagnostics.hpp"
 #include "rodcore/error.hpp"
 #include "rodcore/guards.hpp"
@@ -18,6 +19,7 @@
 #include "rodcore/rhs.hpp"
 #include "rodcore/stability.hpp"
 #include "rodcore/thermal.hpp"
+#include "rodcore/topology.hpp"
 
 namespace rodcore {
 namespace {
@@ -101,6 +103,10 @@ struct Simulation::Impl {
   std::vector<std::shared_ptr<Observer>> observers;  // the scene's checks first
   std::string thermal_note;                          // what the thermal sample did
   std::unique_ptr<LangevinBath> bath;                // solver.time = "langevin"
+  // A ring (topology.hpp is_closed on the initial centreline): its frames carry Lk, Tw,
+  // Wr. With [contact], the self-contact forces, in every RHS evaluation.
+  bool closed = false;
+  std::unique_ptr<SelfContact> contact;
 
   // ---- the run, set up by start() on the first step_to()/run()
   bool started = false;
@@ -111,6 +117,7 @@ struct Simulation::Impl {
   IntegratorOptions io;
   std::unique_ptr<TimeIntegrator> integ;
   std::vector<double> full, buf, centerline, directors, f_guard;
+  std::vector<double> topo_x, topo_d;  // a ring's centreline and directors when the output has none
   double E0 = std::numeric_limits<double>::quiet_NaN();
   RunSummary summary;  // counters of integrators replaced by a fall-back, drift, notes
   double wall_before = 0.0, wall_spent = 0.0;  // wall seconds before a resume / in step_to() calls
@@ -170,10 +177,12 @@ struct Simulation::Impl {
       if (rows[k] < 6) at[rows[k]] = static_cast<int>(k);
     RodRHS* r = rhs.get();
     PlanarRHS* pr = planar_rhs.get();
+    SelfContact* ct = contact.get();
     const std::size_t n = N;
-    sys.f = [r, pr, n, nrows, recon, at](double, const double* y, double* f) {
+    sys.f = [r, pr, ct, n, nrows, recon, at](double, const double* y, double* f) {
       if (pr) (*pr)(y, f);
       else (*r)(y, f);
+      if (ct) ct->add_to_rhs(y, r->material_field(), f);
       if (recon) {
         auto v = [&](int k) { return at[k] < 0 ? 0.0 : y[at[k] * n]; };
         const Vec3 w0{v(3), v(4), v(5)};
@@ -205,6 +214,17 @@ struct Simulation::Impl {
     return true;
   }
 
+  // The energy and its parts of a state (12 N), self-contact included.
+  EnergyParts parts(const double* y) const {
+    EnergyParts e = rodcore::energy_parts(y, N, scene.rod.length / static_cast<double>(N),
+                                          rhs->material_field(), rhs->Gamma0(), rhs->Omega0());
+    if (contact) {
+      e.contact = contact->energy(y);
+      e.has_contact = true;
+    }
+    return e;
+  }
+
   void start(const Simulation& self);
   void deliver(const Simulation& self, int index, double t, const double* y);
   void advance(const Simulation& self, double t_req);
@@ -224,7 +244,7 @@ Simulation::Simulation(const Scene& scene, InitialState initial) : impl_(std::ma
   d.op = make_derivative_operator(sc.solver.space, d.N, sc.rod.length, sc.solver.dealias);
   d.rhs = std::make_unique<RodRHS>(sc.rod, sc.material, *d.op);
   d.reconstruct = sc.output.centerline || sc.output.directors;
-  if (d.reconstruct) d.rec = std::make_unique<Reconstructor>(d.N, sc.rod.length);
+  d.rec = std::make_unique<Reconstructor>(d.N, sc.rod.length);
   d.s.resize(d.N);
   for (std::size_t i = 0; i < d.N; ++i)
     d.s[i] = static_cast<double>(i) * sc.rod.length / static_cast<double>(d.N);
@@ -246,6 +266,28 @@ Simulation::Simulation(const Scene& scene, InitialState initial) : impl_(std::ma
           "], rotational [about, across] = [" + num(sc.thermal.friction_rotational[0]) + ", " +
           num(sc.thermal.friction_rotational[1]) + "] per length";
   }
+  // A ring or a box-periodic rod, from the initial centreline (the frame at s = 0 does
+  // not matter): rings get Lk, Tw, Wr in every frame.
+  {
+    std::vector<double> x(3 * d.N);
+    const auto end =
+        d.rec->sweep(d.state.data(), Quat{1.0, 0.0, 0.0, 0.0}, Vec3{0.0, 0.0, 0.0}, x.data(), nullptr);
+    d.closed = topology::is_closed(x.data(), d.N);
+    if (sc.contact.on) {
+      const ContactPotential p = contact_potential(sc.contact);  // the reader checked its keys
+      const double period = std::sqrt(end.r[0] * end.r[0] + end.r[1] * end.r[1] + end.r[2] * end.r[2]);
+      if (!d.closed && period < 2.0 * p.cutoff)
+        throw InputError(
+            sc.source + ": [contact]: the box-periodic rod's period " + num(period) +
+            " is shorter than twice the contact cut-off " + num(p.cutoff) +
+            " (from contact.diameter and contact.barrier_kT): the rod would touch its own images");
+      try {
+        d.contact = std::make_unique<SelfContact>(d.N, sc.rod.length, p, d.closed);
+      } catch (const InputError& e) {
+        throw InputError(sc.source + ": " + e.what());
+      }
+    }
+  }
   d.y0 = d.state;
   if (d.reconstruct) {
     d.y0.insert(d.y0.end(), initial.q0.begin(), initial.q0.end());
@@ -255,6 +297,8 @@ Simulation::Simulation(const Scene& scene, InitialState initial) : impl_(std::ma
     d.reduce_note = "full system (solver.reduce = \"off\")";
   } else if (sc.thermal.on) {
     d.reduce_note = "full system: a thermal rod is not planar";
+  } else if (sc.contact.on) {
+    d.reduce_note = "full system: self-contact ([contact]) acts in every direction";
   } else if (!planar_reduction_allowed(sc.rod)) {
     d.reduce_note = "full system: the intrinsic shape is not uniform Gamma0 = (0, 0, G03), Omega0 = 0";
   } else if (d.rhs->material_field().kind == MaterialKind::per_point) {
@@ -322,21 +366,17 @@ double Simulation::kinetic_kT() const {
                              d.rhs->material_field());
 }
 
-double Simulation::energy() const {
-  const Impl& d = *impl_;
-  return rodcore::energy_parts(d.state.data(), d.N, d.scene.rod.length / static_cast<double>(d.N),
-                               d.rhs->material_field(), d.rhs->Gamma0(), d.rhs->Omega0())
-      .total();
-}
+double Simulation::energy() const { return impl_->parts(impl_->state.data()).total(); }
 
 std::map<std::string, double> Simulation::energy_parts() const {
-  const Impl& d = *impl_;
-  return rodcore::energy_parts(d.state.data(), d.N, d.scene.rod.length / static_cast<double>(d.N),
-                               d.rhs->material_field(), d.rhs->Gamma0(), d.rhs->Omega0())
-      .as_map();
+  return impl_->parts(impl_->state.data()).as_map();
 }
 
-void Simulation::rhs(const double* y, double* dydt) const { (*impl_->rhs)(y, dydt); }
+void Simulation::rhs(const double* y, double* dydt) const {
+  const Impl& d = *impl_;
+  (*d.rhs)(y, dydt);
+  if (d.contact) d.contact->add_to_rhs(y, d.rhs->material_field(), dydt);
+}
 
 void Simulation::Impl::start(const Simulation& self) {
   const Scene& sc = scene;
@@ -437,16 +477,15 @@ void Simulation::Impl::deliver(const Simulation& self, int index, double tf, con
   // that the summary's drift (then end-to-end) and the overflow check of
   // the initial fields stay (O(N) each; docs/numerics.md).
   if (energy_every_frame || index == 0 || index == sc.output.frames - 1) {
-    const EnergyParts parts = rodcore::energy_parts(y, N, sc.rod.length / static_cast<double>(N),
-                                                    rhs->material_field(), rhs->Gamma0(), rhs->Omega0());
-    const double E = parts.total();
+    const EnergyParts e = parts(y);
+    const double E = e.total();
     if (index == 0) E0 = E;
     const double drift = std::abs(E0) > 0.0 ? std::abs(E - E0) / std::abs(E0) : std::abs(E - E0);
     summary.energy_drift = std::max(summary.energy_drift, drift);
     fr.checked_energy = E;
     fr.energy_drift = drift;
     if (sc.output.energy || sc.output.energy_parts) fr.energy = E;
-    if (sc.output.energy_parts) fr.energy_parts = parts.as_map();
+    if (sc.output.energy_parts) fr.energy_parts = e.as_map();
   }
   if (reconstruct) {
     const Quat q0{y[12 * N], y[12 * N + 1], y[12 * N + 2], y[12 * N + 3]};
@@ -461,6 +500,27 @@ void Simulation::Impl::deliver(const Simulation& self, int index, double tf, con
     fr.max_director_norm_error = rec->max_director_norm_error();
     if (!centerline.empty()) fr.centerline = centerline.data();
     if (!directors.empty()) fr.directors = directors.data();
+  }
+  if (closed) {  // a ring: Lk, Tw, Wr of its centreline and the ribbon along d1
+    const double* x = fr.centerline;
+    const double* D = fr.directors;
+    if (!x || !D) {
+      topo_x.resize(3 * N);
+      topo_d.resize(9 * N);
+      rec->sweep(y, Quat{1.0, 0.0, 0.0, 0.0}, Vec3{0.0, 0.0, 0.0}, topo_x.data(), topo_d.data());
+      x = topo_x.data();
+      D = topo_d.data();
+    }
+    std::vector<double> d1(3 * N);
+    for (std::size_t i = 0; i < N; ++i)
+      for (int a = 0; a < 3; ++a) d1[3 * i + a] = D[9 * i + 3 * a];
+    try {
+      const auto r = topology::ribbon_topology(x, d1.data(), N, nullptr, topology::writhe_stride(N), false);
+      fr.topology = Frame::Topology{static_cast<double>(r.Lk), r.Tw, r.Wr};
+    } catch (const Error&) {  // an unresolved ribbon (or non-finite points): no Lk in this frame
+      const double nan = std::numeric_limits<double>::quiet_NaN();
+      fr.topology = Frame::Topology{nan, nan, nan};
+    }
   }
   if (sc.thermal.on)
     fr.kinetic_kT = rodcore::kinetic_kT(y, N, sc.rod.length / static_cast<double>(N), rhs->material_field());

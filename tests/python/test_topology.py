@@ -319,6 +319,21 @@ def test_command_on_rodsim_rings(tmp_path, rodsim, dnarod):
     assert ring["time_ps"][-1] == pytest.approx(2 * 0.9416, rel=1e-3)
     assert not box["closed"] and box["Lk"] == [15, 15, 15]
     assert box["Lk_minus_Tw_minus_Wr_max"] < 1e-6
+    # rodsim's own per-frame topology of the closed rod (the same C++ functions), none for
+    # the box-periodic one
+    with h5py.File(tmp_path / "ring.h5") as f:
+        assert list(f["topology/Lk"][()]) == ring["Lk"] and f.attrs["topology_jumps"] == 0
+        assert np.allclose(f["topology/Tw"][()], ring["Tw"], atol=1e-12)
+        assert np.allclose(f["topology/Wr"][()], ring["Wr"], atol=1e-12)
+    with h5py.File(tmp_path / "box.h5") as f:
+        assert "topology" not in f and "topology_jumps" not in f.attrs
+
+
+def test_one_writhe_coarsening_default():
+    """rodsim (C++) and `dnarod topology` coarsen the writhe to the same number of blocks."""
+    import rodcore
+    from mdbridge.rod.topology import WRITHE_POINTS
+    assert rodcore.topology.WRITHE_POINTS == WRITHE_POINTS
 
 
 # -- bad input and failed checks --------------------------------------------------------------------

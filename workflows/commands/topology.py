@@ -38,7 +38,7 @@ def add_arguments(p):
     add_output(p, metavar="DIR", help="output folder (DIR/topology.json)")
     p.add_argument("--writhe-points", type=int, default=None, metavar="M",
                    help="the writhe of a closed rod coarsened to at most M blocks (default 1000: "
-                        "0.25 CPU s and within 0.04 of the exact writhe at 10.5 kbp)")
+                        "0.02 CPU s and within 0.04 of the exact writhe at 10.5 kbp)")
 
 
 def _inputs(paths, writhe_points):

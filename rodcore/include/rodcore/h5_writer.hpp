@@ -37,6 +37,9 @@ class H5Writer : public Observer {
   void annotate(const std::string& name, const std::string& text);
   int frames_written() const;
   std::string partial_path() const;
+  // A closed rod: the frames written whose Lk differs from the frame before (the
+  // attribute topology_jumps); -1 for a rod without per-frame topology.
+  long topology_jumps() const;
 
   void frame(const Simulation& sim, const Frame& frame) override;
   void finished(const Simulation& sim, const RunSummary& summary) override;

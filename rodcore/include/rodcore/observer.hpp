@@ -57,6 +57,12 @@ struct Frame {
   // A thermal scene ([thermal]): 2 KE / (6 N), the kinetic temperature in
   // energy units (docs/thermal.md).
   std::optional<double> kinetic_kT;
+  // A closed rod (a ring): its linking number, twist and writhe (topology.hpp,
+  // docs/topology.md). Lk is NaN when the frame's ribbon cannot be resolved.
+  struct Topology {
+    double Lk, Tw, Wr;
+  };
+  std::optional<Topology> topology;
 };
 
 // The integrated state right after an accepted step. `y` holds `rows.size()`

@@ -232,6 +232,18 @@ struct Thermal {
   }
 };
 
+// [contact]: self-contact, the rod cannot pass through itself (docs/topology.md,
+// "Self-contact"; the potential: rodcore/src/rodcore/contact.hpp). Off unless the scene
+// has the section. Lengths in rod units, resolved by the scene reader.
+struct Contact {
+  bool on = false;                                                // the scene has [contact]
+  double diameter = 0.0;                                          // effective diameter d
+  double diameter_nm = std::numeric_limits<double>::quiet_NaN();  // when the scene gives it in nm
+  double barrier_kT = 100.0;                                      // U_perp(0) / kT of a right-angle crossing
+  double kT = 0.0;  // the kT of the calibration: thermal.kT if > 0, else k_B 300 K (resolved)
+  int stride = 1;   // beads at every stride-th grid point
+};
+
 struct Scene {
   std::string source;  // where it came from (file path or "<dict>"), for messages
   Rod rod;
@@ -241,6 +253,7 @@ struct Scene {
   OutputOptions output;
   Checks checks;
   Thermal thermal;
+  Contact contact;
 };
 
 }  // namespace rodcore

@@ -111,7 +111,8 @@ class Simulation {
   // 2 KE / (6 N) of the state now: the kinetic temperature in energy units
   // (docs/thermal.md).
   double kinetic_kT() const;
-  // The right-hand side of Eqs (11)-(14) for this scene's rod and material:
+  // The right-hand side of Eqs (11)-(14) for this scene's rod and material
+  // (with [contact] the self-contact force included, contact.hpp):
   // dydt = f(y), both 12 N values in the layout of state.hpp.
   void rhs(const double* y, double* dydt) const;
 

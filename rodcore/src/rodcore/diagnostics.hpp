@@ -26,8 +26,10 @@ struct EnergyParts {
   double twist = 0.0;                  // 1/2 K66 e6^2
   double coupling = 0.0;               // sum_{r<c} K_rc e_r e_c: the off-diagonal terms of K
   bool coupled = false;                // the material has off-diagonal K (then as_map has "coupling")
+  double contact = 0.0;                // self-contact (contact.hpp), set by the caller
+  bool has_contact = false;            // the scene has [contact] (then as_map has "contact")
   double total() const {
-    return kinetic_translational + kinetic_rotational + shear + extension + bend + twist + coupling;
+    return kinetic_translational + kinetic_rotational + shear + extension + bend + twist + coupling + contact;
   }
   std::map<std::string, double> as_map() const;
 };

@@ -8,6 +8,9 @@
 //   kinetic_kT           (T)            a thermal scene: 2 KE / (6 N) (docs/thermal.md)
 //   centerline           (T x N x 3)    when "centerline" (lab frame)
 //   directors            (T x N x 3 x 3) when "directors"; [t][i][xyz][k] = component xyz of d_k
+//   topology/<Lk,Tw,Wr>  (T)            a closed rod (docs/topology.md); the attribute
+//                                       topology_jumps counts the frames whose Lk differs
+//                                       from the frame before
 // Datasets are chunked with unlimited T; each frame is written and flushed
 // (H5Fflush) as it arrives, `time` last, so len(time) is the number of
 // complete frames even if the process is killed. The file is written as
@@ -55,6 +58,8 @@ class H5Output {
   void fail(const std::string& message);
 
   int frames_written() const { return frames_; }
+  // Frames whose Lk differs from the frame before (a closed rod), or -1 (no topology).
+  long topology_jumps() const { return has_topology_ ? jumps_ : -1; }
   const std::string& path() const { return path_; }
   std::string partial_path() const { return path_ + ".partial"; }
 
@@ -73,6 +78,10 @@ class H5Output {
   hid_t time_ = H5I_INVALID_HID, energy_ = H5I_INVALID_HID, kinetic_kT_ = H5I_INVALID_HID;
   hid_t centerline_ = H5I_INVALID_HID, directors_ = H5I_INVALID_HID;
   std::vector<std::pair<std::string, hid_t>> energy_parts_;
+  std::vector<hid_t> topology_;  // Lk, Tw, Wr, or empty
+  bool has_topology_ = false;
+  double last_Lk_ = 0.0;
+  long jumps_ = 0;
   std::vector<double> row_;  // N x 3 scratch
   int frames_ = 0;
 };

@@ -39,6 +39,10 @@ Vec3 quat_rotate(const Quat& q, const Vec3& v);
 // (dq/dt, dr/dt); q need not be exactly normalised.
 void anchor_rate(const double* q_r, const Vec3& omega0, const Vec3& gamma0, double* rate);
 
+// g <- g exp(theta) for the frame g = (R(q), r) and theta = (phi, u) in se(3) (rotation
+// phi, translation u, body frame): the exact SE(3) exponential, q renormalised.
+void se3_advance(Quat& q, Vec3& r, const Vec3& phi, const Vec3& u);
+
 class Reconstructor {
  public:
   // max_turn: largest frame rotation h |Omega| per Magnus substep (radians);

@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "h5_handle.hpp"
+#include "rodcore/contact.hpp"
 #include "rodcore/dna_units.hpp"
 #include "rodcore/error.hpp"
 #include "rodcore/scene_reader.hpp"
@@ -129,6 +130,18 @@ void write_scene_attributes(hid_t f, const Scene& sc) {
                                toml_num(t.radius_nm) + " nm (docs/thermal.md)"
                          : "given"));
   }
+  if (sc.contact.on) {  // docs/topology.md, "Self-contact"; absent from a scene without [contact]
+    const Contact& c = sc.contact;
+    const ContactPotential p = contact_potential(c);
+    attr(f, "contact.diameter", c.diameter);
+    if (!std::isnan(c.diameter_nm)) attr(f, "contact.diameter_nm", c.diameter_nm);
+    attr(f, "contact.barrier_kT", c.barrier_kT);
+    attr(f, "contact.kT", c.kT);
+    attr_int(f, "contact.stride", c.stride);
+    attr(f, "contact.cutoff", p.cutoff);
+    attr(f, "contact.psi0", p.psi0);
+    attr(f, "contact.exclude", p.exclude);
+  }
   attr(f, "initial.kind", to_string(sc.initial.kind));
   for (const auto& [k, v] : sc.initial.numbers) attr(f, "initial." + k, v);
   for (const auto& [k, v] : sc.initial.strings) attr(f, "initial." + k, v);
@@ -144,6 +157,14 @@ void write_scene_attributes(hid_t f, const Scene& sc) {
   attr(f, "git_revision", std::string(git_revision()));
   attr(f, "rodcore_version", std::string(kRodcoreVersion));
   attr_int(f, "complete", 0);
+}
+
+// The per-frame topology of a closed rod, and what counts as an Lk jump: a change of
+// the integer, or a frame whose Lk could not be resolved (NaN) after one that was.
+constexpr const char* kTopology[3] = {"Lk", "Tw", "Wr"};
+long is_jump(double before, double after) {
+  if (std::isnan(before) && std::isnan(after)) return 0;
+  return before != after ? 1 : 0;
 }
 
 }  // namespace
@@ -219,12 +240,24 @@ H5Output::H5Output(const std::string& path, const Scene& scene, const std::vecto
     }
     if (want_.centerline) centerline_ = reopen("centerline", resume.frames);
     if (want_.directors) directors_ = reopen("directors", resume.frames);
+    if (h5::exists(file_, "topology/Lk")) {
+      for (const char* k : kTopology)
+        topology_.push_back(reopen(std::string("topology/") + k, resume.frames));
+      has_topology_ = true;
+      std::vector<double> Lk(static_cast<std::size_t>(resume.frames));
+      if (resume.frames > 0 &&
+          H5Dread(topology_[0], H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, Lk.data()) < 0)
+        throw InputError("cannot resume: '" + p + "': unreadable dataset 'topology/Lk'");
+      for (std::size_t f = 1; f < Lk.size(); ++f) jumps_ += is_jump(Lk[f - 1], Lk[f]);
+      if (!Lk.empty()) last_Lk_ = Lk.back();
+    }
     frames_ = resume.frames;
     attr_int(file_, "complete", 0);
     H5Fflush(file_, H5F_SCOPE_GLOBAL);
   } catch (...) {
     for (hid_t d : fields_) H5Dclose(d);
     for (auto& [n, d] : energy_parts_) H5Dclose(d);
+    for (hid_t d : topology_) H5Dclose(d);
     for (hid_t d : {time_, energy_, kinetic_kT_, centerline_, directors_})
       if (d >= 0) H5Dclose(d);
     H5Fclose(file_);
@@ -260,6 +293,7 @@ H5Output::~H5Output() {
   if (file_ >= 0) {
     for (hid_t d : fields_) H5Dclose(d);
     for (auto& [n, d] : energy_parts_) H5Dclose(d);
+    for (hid_t d : topology_) H5Dclose(d);
     for (hid_t d : {time_, energy_, kinetic_kT_, centerline_, directors_})
       if (d >= 0) H5Dclose(d);
     H5Fclose(file_);
@@ -343,6 +377,16 @@ void H5Output::write_frame(const Frame& fr) {
     if (!fr.directors) throw Error("H5Output: the scene asks for directors but the frame has none");
     append(directors_, fr.directors);
   }
+  if (fr.topology) {
+    if (frames_ == 0)
+      for (const char* k : kTopology) topology_.push_back(extendible(std::string("topology/") + k, {}));
+    has_topology_ = true;
+    if (topology_.empty()) throw Error("H5Output: a frame has topology, the first frame had none");
+    const double v[3] = {fr.topology->Lk, fr.topology->Tw, fr.topology->Wr};
+    for (int k = 0; k < 3; ++k) append(topology_[k], &v[k]);
+    if (frames_ > 0) jumps_ += is_jump(last_Lk_, v[0]);
+    last_Lk_ = v[0];
+  }
   // Time last: len(time) counts only complete frames.
   append(time_, &fr.t);
   ++frames_;
@@ -352,6 +396,8 @@ void H5Output::write_frame(const Frame& fr) {
 void H5Output::close_and_rename() {
   for (hid_t d : fields_) H5Dclose(d);
   for (auto& [n, d] : energy_parts_) H5Dclose(d);
+  for (hid_t d : topology_) H5Dclose(d);
+  topology_.clear();
   for (hid_t d : {time_, energy_, kinetic_kT_, centerline_, directors_})
     if (d >= 0) H5Dclose(d);
   fields_.clear();
@@ -376,6 +422,7 @@ void H5Output::finish(const RunSummary& sum) {
   attr(file_, "summary.reduce_note", sum.reduce_note);
   attr(file_, "summary.method_note", sum.method_note);
   if (!sum.thermal_note.empty()) attr(file_, "summary.thermal_note", sum.thermal_note);
+  if (has_topology_) attr_int(file_, "topology_jumps", jumps_);
   attr_int(file_, "complete", 1);
   close_and_rename();
 }
@@ -393,6 +440,7 @@ void H5Output::annotate(const std::string& name, const std::string& text) {
 
 void H5Output::fail(const std::string& message) {
   h5::QuietErrors quiet;
+  if (has_topology_) attr_int(file_, "topology_jumps", jumps_);
   attr_int(file_, "complete", 0);
   attr(file_, "error", message);
   close_and_rename();

@@ -19,6 +19,7 @@ H5Writer::~H5Writer() = default;
 void H5Writer::annotate(const std::string& name, const std::string& text) { out_->annotate(name, text); }
 int H5Writer::frames_written() const { return out_->frames_written(); }
 std::string H5Writer::partial_path() const { return out_->partial_path(); }
+long H5Writer::topology_jumps() const { return out_->topology_jumps(); }
 
 void H5Writer::frame(const Simulation&, const Frame& f) { out_->write_frame(f); }
 void H5Writer::finished(const Simulation&, const RunSummary& summary) { out_->finish(summary); }

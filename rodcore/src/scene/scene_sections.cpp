@@ -329,6 +329,47 @@ std::string write_thermal(const Scene& sc) {
   return o;
 }
 
+// ---- [contact]: self-contact (docs/topology.md, "Self-contact"). Read after
+// [thermal], whose kT calibrates the potential.
+
+// The effective diameter of DNA, about 5 nm near 0.15 M NaCl (Rybenkov, Cozzarelli &
+// Vologodskii, PNAS 90:5307, 1993).
+constexpr double kDefaultDiameter_nm = 5.0;
+// The temperature of the calibration when the scene has no [thermal] kT.
+constexpr double kCalibration_K = 300.0;
+
+void read_contact(Section& ct, SceneDraft& d) {
+  Contact& c = d.scene.contact;
+  c.on = ct.present();
+  const toml::node* dr = ct.get("diameter");
+  const toml::node* dn = ct.get("diameter_nm");
+  c.diameter_nm = kDefaultDiameter_nm;
+  if (dn) c.diameter_nm = ct.number_of("diameter_nm", *dn, positive(), "a number [nm]");
+  c.diameter = c.diameter_nm * 10.0 / dna_units::ell_A;
+  if (dr) {
+    c.diameter = ct.number_of("diameter", *dr, positive(), "a number (rod length units)");
+    c.diameter_nm = std::numeric_limits<double>::quiet_NaN();
+  }
+  if (dr && dn)
+    ct.fail("diameter_nm", dn,
+            "give either contact.diameter (rod length units) or contact.diameter_nm (DNA units), not both");
+  ct.number("barrier_kT", c.barrier_kT, Range{1.0, 1e6});
+  ct.integer("stride", c.stride, Range{1, 1e6});
+  const Thermal& t = d.scene.thermal;
+  c.kT = t.on && t.kT > 0.0 ? t.kT : kT_rod_of_kelvin(kCalibration_K);
+}
+
+std::string write_contact(const Scene& sc) {
+  const Contact& c = sc.contact;
+  if (!c.on) return "";
+  std::string o = std::isnan(c.diameter_nm) ? "diameter = " + toml_num(c.diameter) + "\n"
+                                            : "diameter_nm = " + toml_num(c.diameter_nm) +
+                                                  "  # diameter = " + toml_num(c.diameter) + "\n";
+  o += "barrier_kT = " + toml_num(c.barrier_kT) + "  # kT = " + toml_num(c.kT) + "\n";
+  o += "stride = " + std::to_string(c.stride) + "\n";
+  return o;
+}
+
 }  // namespace
 
 const std::vector<SectionReader>& scene_sections() {
@@ -340,6 +381,7 @@ const std::vector<SectionReader>& scene_sections() {
       {"output", read_output, write_output},
       {"checks", read_checks, write_checks},
       {"thermal", read_thermal, write_thermal},
+      {"contact", read_contact, write_contact},
   };
   return sections;
 }
