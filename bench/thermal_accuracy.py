@@ -14,10 +14,11 @@
    F = EA s(F), s(F) = (2 kT / L) sum_n 1 / (B k_n^2 + F) over the resolved modes
    n = 1 .. N/2; to be measured as the mean n3 = C3 <Gamma3 - 1> of a run with weak
    translational friction (near critical damping of the n = 1 bend). The run also records
-   the box it should keep (the period vector and the holonomy angle): they drift, so the
-   measured tension is not the box-held rod's (docs/thermal.md, "Closure in a run").
+   the box it should keep (the period vector and the holonomy angle), kept by the closure
+   projection (docs/thermal.md, "Closure in a run"; its test: tests/python/test_thermal_closure.py).
 
-3. drift: the box over 500 time units for spectral, spectral + dealias, fd4 and at 30 K.
+3. drift: the box over 500 time units for spectral, spectral + dealias, fd4 and at 30 K,
+   without the closure projection (thermal.keep_closure = false; docs/thermal.md).
 
     /usr/bin/python3 bench/thermal_accuracy.py [--part dt|slack|drift|both] [--out bench/results/thermal_accuracy.json]
 
@@ -38,6 +39,7 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent))
 from dna_models.units import Units  # noqa: E402
 from mdbridge.jsonio import write_json  # noqa: E402
+from mdbridge.rod.slack import slack_tension  # noqa: E402
 
 U = Units.paper()
 KT = U.kT_to_rod(300.0)
@@ -104,12 +106,9 @@ def dt_study(dts=(0.025, 0.05, 0.1, 0.2, 0.4), t_end=2000.0) -> dict:
 
 
 def slack_prediction(L: float, N: int) -> float:
-    """F = EA s(F), s(F) = (2 kT / L) sum_{n=1}^{N/2} 1 / (B k_n^2 + F), in rod units."""
-    k = 2 * np.pi * np.arange(1, N // 2 + 1) / L
-    F = 0.0
-    for _ in range(200):
-        F = C[2] * 2 * KT / L * np.sum(1 / (D[0] * k ** 2 + F))
-    return F
+    """F = EA s(F), s(F) = (2 kT / L) sum_{n=1}^{N/2} 1 / (B k_n^2 + F), in rod units
+    (mdbridge/rod/slack.py's shear-free mean field)."""
+    return slack_tension(L, N, KT, D[0], C[0], C[2], samples=1000).shear_free
 
 
 def slack_study(t_end=4000.0, dt=0.04) -> dict:
@@ -148,7 +147,8 @@ def drift_study(t_end=500.0, dt=0.04) -> dict:
     rows = []
     for space, dealias, T in (("spectral", False, 300.0), ("spectral", True, 300.0), ("fd4", False, 300.0),
                               ("spectral", False, 30.0)):
-        sc = dna158({"seed": 3, "friction_translational": 0.008, "friction_rotational": "water"}, t_end, dt, 25 * dt)
+        sc = dna158({"seed": 3, "friction_translational": 0.008, "friction_rotational": "water",
+                     "keep_closure": False}, t_end, dt, 25 * dt)
         sc["thermal"]["temperature_K"] = T
         sc["solver"].update({"space": space, "dealias": dealias})
         sc["output"]["fields"] = ["centerline"]

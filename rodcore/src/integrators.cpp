@@ -47,8 +47,9 @@ class RK4 final : public TimeIntegrator {
     f_prev_.swap(f_);
     t_prev_ = t_;
     t_ = (t_stop - (t_ + h) <= 0.0) ? t_stop : t_ + h;
-    eval(t_, y_.data(), f_.data());  // first stage of the next step and Hermite slope
     ++steps_;
+    project_end();
+    eval(t_, y_.data(), f_.data());  // first stage of the next step and Hermite slope
   }
   void dense(double t, double* out) const override { hermite(t, out); }
 };
@@ -87,6 +88,7 @@ class Langevin final : public TimeIntegrator {
     t_prev_ = t_;
     ++steps_;
     t_ = origin_ + static_cast<double>(steps_) * h;  // not accumulated: frame times stay on steps
+    project_end();
     fb_ready_ = false;
   }
 
@@ -160,8 +162,9 @@ class RK4Doubling final : public TimeIntegrator {
         for (std::size_t i = 0; i < n; ++i) y_[i] = ysmall_[i] + err_[i] / 15.0;
         t_prev_ = t_;
         t_ = last ? t_stop : t_ + h;
-        eval(t_, y_.data(), f_.data());
         ++steps_;
+        project_end();
+        eval(t_, y_.data(), f_.data());
         const double proposal = err > errcon ? safety * h * std::pow(err, grow) : 5.0 * h;
         if (!last || proposal > h_) h_ = proposal;
         return;
@@ -219,6 +222,7 @@ class Embedded : public TimeIntegrator {
         facold_ = std::max(err, 1e-4);
         accept(h, last ? t_stop : t_ + h);
         ++steps_;
+        if (project_end()) eval(t_, y_.data(), f_.data());  // the FSAL slope is the unprojected state's
         if (!last || hnew > h_) h_ = hnew;
         return;
       }

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 
+#include "rodcore/closure.hpp"
 #include "rodcore/error.hpp"
 #include "rodcore/gaussian.hpp"
 #include "rodcore/guards.hpp"
@@ -48,24 +49,16 @@ Mat3 I_matrix(const MaterialField& mf, std::size_t i) {
   return M;
 }
 
-Mat3 cross_matrix(const V3& r) {
-  Mat3 X;
-  X << 0.0, -r(2), r(1), r(2), 0.0, -r(0), -r(1), r(0), 0.0;
-  return X;
-}
-
 // Frames of a state: directors R_i (columns d_k) and centerline r_i, from
-// the frame (identity, 0) at s = 0; and the holonomy g(0)^-1 g(L).
+// the frame (identity, 0) at s = 0.
 struct Frames {
   std::vector<Mat3> R;
   std::vector<V3> r;
-  Quat q_end;
-  V3 r_end;
 };
 
 Frames frames_of(Reconstructor& rec, const std::vector<double>& y, std::size_t N) {
   std::vector<double> cl(3 * N), dir(9 * N);
-  const auto end = rec.sweep(y.data(), Quat{1.0, 0.0, 0.0, 0.0}, Vec3{0.0, 0.0, 0.0}, cl.data(), dir.data());
+  rec.sweep(y.data(), Quat{1.0, 0.0, 0.0, 0.0}, Vec3{0.0, 0.0, 0.0}, cl.data(), dir.data());
   Frames f;
   f.R.resize(N);
   f.r.resize(N);
@@ -74,47 +67,7 @@ Frames frames_of(Reconstructor& rec, const std::vector<double>& y, std::size_t N
       for (int k = 0; k < 3; ++k) f.R[i](a, k) = dir[9 * i + 3 * a + k];
     f.r[i] = V3(cl[3 * i], cl[3 * i + 1], cl[3 * i + 2]);
   }
-  f.q_end = quat_normalized(end.q);
-  f.r_end = V3(end.r[0], end.r[1], end.r[2]);
   return f;
-}
-
-// Rotation vector of a unit quaternion (the short way round).
-V3 rotation_vector(const Quat& q) {
-  const double w = q[0] < 0.0 ? -q[0] : q[0];
-  const double sgn = q[0] < 0.0 ? -1.0 : 1.0;
-  const V3 v(sgn * q[1], sgn * q[2], sgn * q[3]);
-  const double s = v.norm();
-  if (s == 0.0) return V3::Zero();
-  return (2.0 * std::atan2(s, w) / s) * v;
-}
-
-// The holonomy of `now` relative to `ref` as a twist (rotation vector,
-// translation) in the lab frame: g_now = exp(twist) g_ref to first order.
-Vec6 holonomy_error(const Frames& now, const Frames& ref) {
-  const Quat qc{ref.q_end[0], -ref.q_end[1], -ref.q_end[2], -ref.q_end[3]};
-  const Quat dq = quat_mul(now.q_end, qc);
-  double Rm[3][3];
-  quat_to_matrix(dq, Rm);
-  Mat3 R;
-  for (int a = 0; a < 3; ++a)
-    for (int b = 0; b < 3; ++b) R(a, b) = Rm[a][b];
-  Vec6 e;
-  e.head<3>() = rotation_vector(dq);
-  e.tail<3>() = now.r_end - R * ref.r_end;
-  return e;
-}
-
-// B_i: the change of the holonomy twist (rotation, translation) per unit
-// strain change (Gamma, Omega) at point i, from the variation of a product
-// integral: d(g(L)) g(L)^-1 = int Ad_g(s) d(Omega, Gamma) ds, Ad_(R, r)
-// (w, v) = (R w, R v + r x R w).
-Mat6 closure_row_block(const Mat3& R, const V3& r) {
-  Mat6 B = Mat6::Zero();
-  B.block<3, 3>(0, 3) = R;
-  B.block<3, 3>(3, 0) = R;
-  B.block<3, 3>(3, 3) = cross_matrix(r) * R;
-  return B;
 }
 
 std::string num(double x) { return message_number(x, 3); }
@@ -150,65 +103,46 @@ ThermalSampleReport add_thermal_sample(std::vector<double>& y, double L, const M
   const double h = L / static_cast<double>(N);
   const auto key = key_of(seed);
   Reconstructor rec(N, L);
-  const Frames ref = frames_of(rec, y, N);
 
   // ---- strains: e_i = (kT / h)^1/2 U_i^-1 xi, K_i = U_i^T U_i
   const bool per_point = mf.kind == MaterialKind::per_point;
-  std::vector<Mat6> Kinv(per_point ? N : 1);
   std::vector<Eigen::LLT<Mat6>> chol(per_point ? N : 1);
-  for (std::size_t p = 0; p < Kinv.size(); ++p) {
-    chol[p].compute(K_matrix(mf, p));
-    Kinv[p] = chol[p].solve(Mat6::Identity());
-  }
-  std::vector<Vec6> e(N);  // (dGamma, dOmega) at each point
+  for (std::size_t p = 0; p < chol.size(); ++p) chol[p].compute(K_matrix(mf, p));
+  std::vector<double> e(6 * N);  // (dGamma, dOmega): 6 rows of N, as the state's strain rows
   const double sd = std::sqrt(kT / h);
   for (std::size_t i = 0; i < N; ++i) {
     double z[6];
     normals6(key, kStrainSample, 0, i, z);
-    const Vec6 xi = Eigen::Map<const Vec6>(z);
-    e[i] = sd * chol[per_point ? i : 0].matrixU().solve(xi);
+    const Vec6 ei = sd * chol[per_point ? i : 0].matrixU().solve(Eigen::Map<const Vec6>(z));
+    for (int r = 0; r < 6; ++r) e[r * N + i] = ei(r);
   }
 
-  // ---- closure: condition on the holonomy (projection in the metric K / h)
-  std::vector<Mat6> B(N);
-  Mat6 S = Mat6::Zero();
-  for (std::size_t i = 0; i < N; ++i) {
-    B[i] = h * closure_row_block(ref.R[i], ref.r[i]);
-    S += B[i] * Kinv[per_point ? i : 0] * B[i].transpose();
-  }
-  const Eigen::LDLT<Mat6> S_ldlt(S);
-  auto correct = [&](const Vec6& defect) {  // remove the part of e that changes the holonomy by `defect`
-    const Vec6 lambda = S_ldlt.solve(defect);
-    for (std::size_t i = 0; i < N; ++i) e[i] -= Kinv[per_point ? i : 0] * (B[i].transpose() * lambda);
-  };
-  Vec6 linear = Vec6::Zero();
-  for (std::size_t i = 0; i < N; ++i) linear += B[i] * e[i];
-  correct(linear);
+  // ---- closure: condition on the holonomy (projection in the metric K / h,
+  // along the six directions of the reference state: closure.hpp)
+  ClosureProjector closure(N, L, mf);
+  const RigidMotion ref_holonomy = closure.holonomy(y.data());
+  closure.linearise();
+  closure.remove(closure.linear_change(e.data()), e.data());
   std::vector<double> trial = y;
   auto apply = [&](std::vector<double>& out) {
     out = y;
-    for (std::size_t i = 0; i < N; ++i)
-      for (int r = 0; r < 6; ++r) out[(6 + r) * N + i] += e[i](r);
+    for (std::size_t k = 0; k < 6 * N; ++k) out[6 * N + k] += e[k];
   };
   // Chord-Newton on the holonomy of the reconstruction (the same six
   // directions): exact closure where the linearisation is good enough to
   // converge; else the linear-order sample is kept and the gap reported.
-  const std::vector<Vec6> e_linear = e;
-  const double scale = std::max(1.0, L);
+  const std::vector<double> e_linear = e;
   apply(trial);
-  Frames now = frames_of(rec, trial, N);
-  Vec6 err = holonomy_error(now, ref);
-  auto size_of = [&](const Vec6& d) { return std::max(d.head<3>().norm(), d.tail<3>().norm() / scale); };
-  const double linear_gap = size_of(err);
+  auto err = ClosureProjector::defect(closure.holonomy(trial.data()), ref_holonomy);
+  const double linear_gap = closure.size(err);
   double gap = linear_gap;
   int it = 0;
   const double tol = 1e-12;
   while (gap > tol && it < 50) {
-    correct(err);
+    closure.remove(err, e.data());
     apply(trial);
-    now = frames_of(rec, trial, N);
-    err = holonomy_error(now, ref);
-    const double next = size_of(err);
+    err = ClosureProjector::defect(closure.holonomy(trial.data()), ref_holonomy);
+    const double next = closure.size(err);
     ++it;
     // Stagnated (round-off), diverged, or converging too slowly to reach
     // round-off (the chord steps of a good linearisation gain ~10x each).
@@ -223,10 +157,10 @@ ThermalSampleReport add_thermal_sample(std::vector<double>& y, double L, const M
   } else {
     e = e_linear;
     apply(trial);
-    now = frames_of(rec, trial, N);
     rep.closure_residual = linear_gap;
   }
   y = trial;
+  const Frames now = frames_of(rec, y, N);
 
   // ---- velocities, then zero momenta (frames of the sampled configuration)
   std::vector<V3> gam(N), om(N);
@@ -242,13 +176,16 @@ ThermalSampleReport add_thermal_sample(std::vector<double>& y, double L, const M
     gam[i] = std::sqrt(kT / (mf.rho_at(i) * h)) * V3(z[0], z[1], z[2]);
     om[i] = sd * Ichol[per_point ? i : 0].matrixU().solve(V3(z[3], z[4], z[5]));
   }
-  const Vec6 hol = holonomy_error(ref, Frames{{}, {}, Quat{1.0, 0.0, 0.0, 0.0}, V3::Zero()});
-  const bool closed = hol.head<3>().norm() < 1e-6 && hol.tail<3>().norm() < 1e-6 * scale;
+  const auto hol_twist = ClosureProjector::defect(ref_holonomy, RigidMotion{});
+  const V3 hol_rot(hol_twist[0], hol_twist[1], hol_twist[2]),
+      hol_tr(hol_twist[3], hol_twist[4], hol_twist[5]);
+  const double scale = std::max(1.0, L);
+  const bool closed = hol_rot.norm() < 1e-6 && hol_tr.norm() < 1e-6 * scale;
   std::vector<V3> axes;
   if (closed) {
     axes = {V3::UnitX(), V3::UnitY(), V3::UnitZ()};
   } else {
-    axes = {hol.head<3>().norm() > 1e-6 ? hol.head<3>().normalized() : hol.tail<3>().normalized()};
+    axes = {hol_rot.norm() > 1e-6 ? hol_rot.normalized() : hol_tr.normalized()};
   }
   V3 centre = V3::Zero();
   double mass = 0.0;

@@ -226,6 +226,15 @@ struct Thermal {
   bool translational_water = false, rotational_water = false;       // given as "water"
   double viscosity_mPa_s = 0.89;                                    // for "water"
   double radius_nm = 1.0;                                           // for "water"
+  // for "water": the length of the motion whose drag the cylinder formulas
+  // give (NaN: the rod's length, the wavelength of its slowest mode)
+  double friction_length_nm = std::numeric_limits<double>::quiet_NaN();
+  // Keep the initial state's closure (the box of a box-held rod, the closed
+  // ring): the strains are projected back onto it at the end of the first
+  // step that reaches each multiple of closure_interval (time; 0: every
+  // step); closure.hpp, docs/thermal.md.
+  bool keep_closure = true;
+  double closure_interval = 0.5;
   bool has_friction() const {
     return friction_translational[0] > 0.0 || friction_translational[1] > 0.0 ||
            friction_rotational[0] > 0.0 || friction_rotational[1] > 0.0;

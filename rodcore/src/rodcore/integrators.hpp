@@ -41,6 +41,11 @@ struct OdeSystem {
   // "langevin" only: the exact friction-and-noise step over dt on y, in
   // place; `step` is the index of the step (the random numbers' counter).
   std::function<void(long step, double* y)> ou;
+  // Optional, every integrator: called on the state y at the end of every
+  // accepted step [t_prev, t], before the slope there is formed; may move y
+  // back onto a manifold the semi-discrete flow leaves (closure.hpp).
+  // Returns whether it changed y.
+  std::function<bool(double t_prev, double t, double* y)> project;
 };
 
 struct IntegratorOptions {
@@ -103,6 +108,8 @@ class TimeIntegrator {
   // One classic RK4 step of size h from (t, y0) with f0 = f(t, y0) given,
   // into y1 (not y0): the stage arithmetic of rk4, rk4-doubling and langevin.
   void rk4_step(double t, const double* y0, const double* f0, double h, double* y1);
+  // sys_.project on y_ at the end of an accepted step (t_prev_, t_ set).
+  bool project_end() { return sys_.project && sys_.project(t_prev_, t_, y_.data()); }
   // Called at the end of reset() and restore_state().
   virtual void restarted() {}
   // Cubic Hermite interpolation on [t_prev, t] from y, f at both ends.

@@ -8,8 +8,9 @@
 //                 nu_perp = 0.839 + 0.185 / p + 0.233 / p^2: the friction of a
 //                 rigid cylinder of length L (Tirado, Lopez Martinez & Garcia
 //                 de la Torre, J Chem Phys 81:2047, 1984; valid for p >= 2)
-//                 divided by L. L is the rod's length: the free-draining rod
-//                 moved rigidly has the friction of the cylinder it is.
+//                 divided by L. L is the length of the motion
+//                 (thermal.friction_length_nm), by default the rod's: the
+//                 wavelength of a periodic rod's slowest mode (docs/thermal.md).
 //   rotation      about the axis:  4 pi eta a^2 (the exact Stokes flow
 //                 around a spinning infinite cylinder);
 //                 across the axis: pi eta a^2 (the exact Stokes flow u_3 =
@@ -28,8 +29,10 @@ struct WaterFriction {
 
 // SI: Pa s (N s / m^2) and N s (N m s / m). Throws InputError if p < 2.
 WaterFriction water_friction_SI(double viscosity_Pa_s, double radius_m, double length_m);
-// Rod units, for a rod of dimensionless length L (viscosity in mPa s, radius in nm).
+// Rod units, for a motion of dimensionless length L (viscosity in mPa s, radius in nm).
 WaterFriction water_friction_rod(double viscosity_mPa_s, double radius_nm, double L);
+// The rod's length unit in nm (dna_units.hpp: ell).
+double dna_length_nm();
 // k_B T in the rod's energy unit (C l) at temperature T [K].
 double kT_rod_of_kelvin(double temperature_K);
 

@@ -122,12 +122,15 @@ void write_scene_attributes(hid_t f, const Scene& sc) {
     if (!std::isnan(t.temperature_K)) attr(f, "temperature_K", t.temperature_K);
     attr_int(f, "thermal.seed", static_cast<long long>(t.seed));
     attr_int(f, "thermal.sample_initial", t.sample_initial);
+    attr_int(f, "thermal.keep_closure", t.keep_closure);
+    attr(f, "thermal.closure_interval", t.closure_interval);
     attr_doubles(f, "thermal.friction_translational", t.friction_translational.data(), 2);
     attr_doubles(f, "thermal.friction_rotational", t.friction_rotational.data(), 2);
     attr(f, "thermal.friction_model",
          std::string(t.translational_water || t.rotational_water
                          ? "water: viscosity " + toml_num(t.viscosity_mPa_s) + " mPa s, radius " +
-                               toml_num(t.radius_nm) + " nm (docs/thermal.md)"
+                               toml_num(t.radius_nm) + " nm, length of the motion " +
+                               toml_num(t.friction_length_nm) + " nm (docs/thermal.md)"
                          : "given"));
   }
   if (sc.contact.on) {  // docs/topology.md, "Self-contact"; absent from a scene without [contact]

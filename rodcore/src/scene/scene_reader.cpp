@@ -199,12 +199,16 @@ template <class SectionOf>
 void check_thermal(Scene& sc, SectionOf& section) {
   Thermal& t = sc.thermal;
   Section& th = section("thermal");
+  // the length of the motion: the rod's own unless given (solvent.hpp)
+  if ((t.translational_water || t.rotational_water) && std::isnan(t.friction_length_nm))
+    t.friction_length_nm = sc.rod.length * dna_length_nm();
   for (auto [water, key, dst] :
        {std::tuple{t.translational_water, "friction_translational", &t.friction_translational},
         std::tuple{t.rotational_water, "friction_rotational", &t.friction_rotational}}) {
     if (!water) continue;
     try {
-      const WaterFriction w = water_friction_rod(t.viscosity_mPa_s, t.radius_nm, sc.rod.length);
+      const WaterFriction w =
+          water_friction_rod(t.viscosity_mPa_s, t.radius_nm, t.friction_length_nm / dna_length_nm());
       *dst = std::string(key) == "friction_translational" ? w.translational : w.rotational;
     } catch (const InputError& e) {
       th.fail(key, th.node(key), e.what());

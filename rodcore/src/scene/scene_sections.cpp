@@ -285,9 +285,12 @@ void read_thermal(Section& th, SceneDraft& d) {
   friction(th, "friction_rotational", "about the axis, across", t.friction_rotational, t.rotational_water);
   th.number("viscosity_mPa_s", t.viscosity_mPa_s, positive());
   th.number("radius_nm", t.radius_nm, positive());
+  th.number("friction_length_nm", t.friction_length_nm, positive());
+  th.boolean("keep_closure", t.keep_closure);
+  th.number("closure_interval", t.closure_interval, Range{0.0, kInf, false, true});
   if (!t.on) return;
   const bool water = t.translational_water || t.rotational_water;
-  for (const char* k : {"viscosity_mPa_s", "radius_nm"})
+  for (const char* k : {"viscosity_mPa_s", "radius_nm", "friction_length_nm"})
     if (th.has(k) && !water)
       th.fail(k, th.node(k),
               "is used only by a \"water\" friction (thermal.friction_translational or "
@@ -324,8 +327,11 @@ std::string write_thermal(const Scene& sc) {
        (t.rotational_water ? "\"water\"  # [about the axis, across] = " + pair(t.friction_rotational)
                            : pair(t.friction_rotational)) +
        "\n";
+  o += std::string("keep_closure = ") + (t.keep_closure ? "true" : "false") +
+       "\nclosure_interval = " + toml_num(t.closure_interval) + "\n";
   if (t.translational_water || t.rotational_water)
-    o += "viscosity_mPa_s = " + toml_num(t.viscosity_mPa_s) + "\nradius_nm = " + toml_num(t.radius_nm) + "\n";
+    o += "viscosity_mPa_s = " + toml_num(t.viscosity_mPa_s) + "\nradius_nm = " + toml_num(t.radius_nm) +
+         "\nfriction_length_nm = " + toml_num(t.friction_length_nm) + "\n";
   return o;
 }
 

@@ -33,6 +33,8 @@ WaterFriction water_friction_rod(double viscosity_mPa_s, double radius_nm, doubl
   return w;
 }
 
+double dna_length_nm() { return dna_units::ell_A / 10.0; }
+
 double kT_rod_of_kelvin(double temperature_K) {
   return dna_units::kB_J_per_K * temperature_K / dna_units::energy_scale_J;
 }
