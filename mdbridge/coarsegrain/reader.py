@@ -19,8 +19,8 @@ from mdbridge.geometry.structure import BasePairFrames, _canonical_atom_name
 from .ensemble import StepEnsemble
 from .mass import frame_inertia, pair_atom_indices
 
-MAX_OPEN_FRACTION = 0.0   # a base pair counts as opened if N1-N3 > 3.5 A in more than this
-                          # fraction of the frames used (0: in any frame)
+MAX_OPEN_FRACTION = 0.05  # the opening rule of the sensitivity: a base pair counts as opened if
+                          # N1-N3 > 3.5 A in more than this fraction of the frames used
 INERTIA_FRAMES = 50       # frames (evenly spaced) the mass/inertia average is taken over
 
 
@@ -109,8 +109,8 @@ def mass_inertia(bpf: BasePairFrames, frame_index: np.ndarray):
 
 def read_ensemble(universe, pairs=None, pair_numbering="resid", closed=None, start=None, stop=None,
                   step=None, max_open_fraction=MAX_OPEN_FRACTION, source="trajectory", progress=None):
-    """StepEnsemble of the duplex in `universe`, with opened base pairs' steps excluded,
-    and a dict of extras (open fractions, mass/inertia, sequence, pairs). progress, if
+    """StepEnsemble of the duplex in `universe` (every step; the steps touching a base pair
+    the opening rule counts as opened marked `opened`, for the rule's sensitivity), and a dict of extras (open fractions, mass/inertia, sequence, pairs). progress, if
     given, is called as progress(stage, done, total, "frames") while the frames are read
     ("frames read") and read again for the base-pair check ("pairs checked")."""
     def stage(name):
@@ -128,12 +128,12 @@ def read_ensemble(universe, pairs=None, pair_numbering="resid", closed=None, sta
         warnings.simplefilter("ignore")
         opened, frac, _ = open_pairs(universe, bpf.pairs, start, stop, step, max_open_fraction,
                                      progress=stage("pairs checked"))
-    excluded = steps_of_pairs(opened, closed)
+    opened_steps = steps_of_pairs(opened, closed)
     T = q.shape[0]
     fi = np.unique(np.linspace(0, T - 1, min(T, INERTIA_FRAMES)).astype(int))
     mi = mass_inertia(bpf, fi)
     ens = StepEnsemble(q=q, sequence=bpf.sequence, closed=bool(closed),
-                       times_ps=np.asarray(bpf.results.time, float), excluded=excluded, source=source)
+                       times_ps=np.asarray(bpf.results.time, float), opened=opened_steps, source=source)
     extras = {"open_fraction": frac, "opened_pairs": np.flatnonzero(opened), "mass_inertia": mi,
               "pairs": [(f"{a.resname}{a.resid}", f"{b.resname}{b.resid}") for a, b in bpf.pairs],
               "bpf": bpf}

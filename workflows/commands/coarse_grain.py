@@ -17,18 +17,25 @@ Coarse-grain an equilibrium MD trajectory of a DNA duplex into the elastic rod:
   * per step (3DNA step parameters q = shift, slide, rise [A], tilt, roll, twist
     [deg]): mean shape and stiffness K = kT <dq dq^T>^-1 (kT/A^2, kT/(A deg),
     kT/deg^2), finite-sample bias of the inverse covariance corrected;
+  * the rod's K: the long-wavelength stiffness K(q -> 0) of the step parameters'
+    compliance spectrum along the sequence (steps in series, couplings between steps
+    included), the per-step compliance average beside it, the stiffness against q
+    (DIR/q_stiffness.png), and the rod's own effective constants;
   * m-step segments (m consecutive steps composed into one rigid-body step) for
     m = 1..M: stiffness against length, and the continuum constants (bend and
     torsional persistence length, torsional and stretch modulus, twist-stretch
-    coupling); the rod's dimensionless K, Gamma0, Omega0 at m = --length;
+    coupling) at m = --length;
   * mass and inertia per base pair about the base-pair origin, the rod's rho and I
     next to the paper's.
 
 Errors: moving-block bootstrap with the block length from the autocorrelation
 times. The equilibration stretch is discarded (Chodera's rule), the remaining
 frames must be worth --min-effective independent samples, the two halves are
-compared, and steps whose base pairs open (N1-N3 > 3.5 A) are excluded and
-listed. Writes DIR/params.json, DIR/convergence.png, DIR/by_length.png,
+compared. Every step is used; the opening rule (a base pair with N1-N3 > 3.5 A in
+more than --max-open-fraction of the frames) is a sensitivity: the rod's K without
+those steps is reported beside it, and its spread enters the error where it exceeds
+the bootstrap's. Writes DIR/params.json, DIR/convergence.png, DIR/by_length.png,
+DIR/q_stiffness.png,
 DIR/replicas.h5 (the bootstrap replicates of the sequence-averaged mean and
 stiffness at every m, for the coarse-grained rod's error) and
 (with the per-step file module mdbridge.rod.material) DIR/steps.h5 and, for a
@@ -67,14 +74,26 @@ def add_arguments(p):
                    help="frames to discard as equilibration (default: Chodera's rule)")
     p.add_argument("--min-effective", type=float, default=None, metavar="N",
                    help="independent frames required (default 50)")
-    p.add_argument("--max-open-fraction", type=float, default=0.0, metavar="F",
-                   help="a base pair counts as opened if N1-N3 > 3.5 A in more than this fraction of "
-                        "frames (default 0: any frame)")
+    p.add_argument("--max-open-fraction", type=float, default=0.05, metavar="F",
+                   help="opening rule of the sensitivity: a base pair counts as opened if N1-N3 > 3.5 A "
+                        "in more than this fraction of frames (default 0.05; 0: in any frame)")
     p.add_argument("--bootstrap", type=int, default=200, metavar="N", help="bootstrap replicates (200)")
     p.add_argument("--seed", type=int, default=0, help="bootstrap random seed")
     p.add_argument("--start", type=int, default=None, help="first trajectory frame (0-based)")
     p.add_argument("--stop", type=int, default=None, help="stop before this frame")
     p.add_argument("--step", type=int, default=None, help="take every STEP-th frame")
+
+
+def constants_table(params: dict) -> str:
+    """The rod's own constants (K(q -> 0)), those of the per-step compliance average and the
+    m-step segments' physical constants, side by side, each with its error."""
+    rod, ca, ph = params["rod"]["constants"], params["rod"]["constants_compliance_average"], params["physical"]
+    m = params["physical_m"]
+    rows = [f"  {'':30s} {'rod, K(q->0)':>20s} {'compliance average':>20s} {f'{m}-step segments':>20s}"]
+    for k in ("bend_persistence_length", "torsional_modulus", "stretch_modulus", "twist_stretch_coupling"):
+        cells = [f"{d[k]['value']:.4g} +- {d[k]['err']:.2g}" for d in (rod, ca, ph)]
+        rows.append(f"  {k.replace('_', ' ') + ' [' + rod[k]['unit'] + ']':30s} " + " ".join(f"{c:>20s}" for c in cells))
+    return "\n".join(rows)
 
 
 def run(args):
@@ -98,7 +117,7 @@ def _coarse_grain(args, u, source, pairs, numbering, closed, stages):
     base-pair check and the coarse-graining lengths analysed."""
     from mdbridge.coarsegrain.cgrod import write_replicas
     from mdbridge.coarsegrain.estimator import MIN_EFFECTIVE, CoarseGrain, default_m_values
-    from mdbridge.coarsegrain.figure import convergence_figure, length_figure
+    from mdbridge.coarsegrain.figure import convergence_figure, length_figure, q_stiffness_figure
     from mdbridge.coarsegrain.params import build_params, write_params
     from mdbridge.coarsegrain.reader import read_ensemble
     from mdbridge.coarsegrain.stepmaterial import write_material_files
@@ -136,8 +155,9 @@ def _coarse_grain(args, u, source, pairs, numbering, closed, stages):
                        f"frames, stiffness errors ~ sqrt(2 / N_eff) = {100 * math.sqrt(2 / max(min_eff, 1)):.0f} % "
                        "or more, and the bias correction is large")
     if extras["opened_pairs"].size:
-        caveats.append("opened base pairs (1-based): " + ", ".join(str(i + 1) for i in extras["opened_pairs"])
-                       + "; their steps are excluded")
+        caveats.append("opened base pairs (1-based, opening rule): "
+                       + ", ".join(str(i + 1) for i in extras["opened_pairs"])
+                       + "; their steps are used, and left out only for the rule's sensitivity")
     if ens.closed and args.tension is None and args.torque is None:
         caveats.append("closed duplex: the means are the box's pre-stressed shape (no --tension/--torque given)")
     if not extras["mass_inertia"]["hydrogens"]:
@@ -152,19 +172,19 @@ def _coarse_grain(args, u, source, pairs, numbering, closed, stages):
     convergence_figure(out / "convergence.png", params)
     length_figure(out / "by_length.png", params)
     params["by_length_figure"] = "by_length.png"
+    q_stiffness_figure(out / "q_stiffness.png", params)
+    params["q_stiffness"]["figure"] = "q_stiffness.png"
     params["files"] = write_material_files(out, cg, extras, source)
     write_replicas(out / "replicas.h5", cg, extras)
     params["files"]["replicas_file"] = "replicas.h5"
     write_params(out / "params.json", params)
-    ph = params["physical"]
-    print(f"{ens.n_steps} steps ({len(cg.results['excluded_steps'])} excluded), {cg.results['frames_used']} frames "
-          f"used after discarding {cg.results['discarded_frames']}, N_eff = {cg.results['effective_samples']:.0f}, "
-          f"T = {T_K:.1f} K ({T_src.split(' ')[0]})")
-    for k in ("bend_persistence_length", "torsional_modulus", "stretch_modulus", "twist_stretch_coupling"):
-        print(f"  {k.replace('_', ' ')} (m = {m_rod}): {ph[k]['value']:.4g} +- {ph[k]['err']:.2g} {ph[k]['unit']}")
+    print(f"{ens.n_steps} steps ({len(cg.results['opened_steps'])} touch a pair the opening rule counts as opened), "
+          f"{cg.results['frames_used']} frames used after discarding {cg.results['discarded_frames']}, "
+          f"N_eff = {cg.results['effective_samples']:.0f}, T = {T_K:.1f} K ({T_src.split(' ')[0]})")
+    print(constants_table(params))
     for c in caveats:
         print(f"  caveat: {c}")
     extra = [f for f in (params["files"].get("steps_file"), params["files"].get("material_file"), "replicas.h5") if f]
-    print(f"wrote {out / 'params.json'}, {out / 'convergence.png'}, {out / 'by_length.png'}"
+    print(f"wrote {out / 'params.json'}, {out / 'q_stiffness.png'}, {out / 'convergence.png'}, {out / 'by_length.png'}"
           + "".join(f", {out / f}" for f in extra))
     return 0
