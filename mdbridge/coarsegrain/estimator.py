@@ -221,15 +221,15 @@ class CoarseGrain(AnalysisBase):
                                       q[:, :, 2].mean(axis=0), window_sums(q, starts, m))
         lw = long_wavelength(q, use, ens.closed, (starts_boot, b), W_half)
         keep_rule = use & ~ens.opened
-        rule = None
+        by_rule = None
         if ens.opened[use].any() and keep_rule.sum() >= 2:
-            rule = long_wavelength(q, keep_rule, ens.closed, (starts_boot, b))
-        lw["K_q0_err"], lw["rule_spread"] = combined_error(lw, rule)
+            by_rule = long_wavelength(q, keep_rule, ens.closed, (starts_boot, b))
+        lw["K_q0_err"], lw["rule_spread"] = combined_error(lw, by_rule)
         res = {"discarded_frames": t0, "equilibration_rule": rule, "frames_used": T,
                "frames_total": self.n_frames, "tau_int_max_frames": tau_max,
                "tau_int_steps": tau_steps, "effective_samples": n_eff, "block_length": b,
                "n_boot": self.n_boot, "by_m": by_m, "m_rod": self.m_rod,
-               "long_wavelength": lw, "rule": rule, "opened_steps": np.flatnonzero(ens.opened & use),
+               "long_wavelength": lw, "rule": by_rule, "opened_steps": np.flatnonzero(ens.opened & use),
                "temperature_K": self.T_K, "used_steps": np.flatnonzero(use),
                "excluded_steps": np.flatnonzero(ens.excluded), "convergence_frames": n_conv,
                "dt_ps": float(np.median(np.diff(self.times_ps))) if self.n_frames > 1 else 0.0}
