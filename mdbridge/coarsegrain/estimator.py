@@ -215,7 +215,7 @@ class CoarseGrain(AnalysisBase):
         by_m = {}
         for k, m in enumerate(self.m_values):
             if self.progress is not None:
-                self.progress("lengths analysed", k, len(self.m_values) + 1, "lengths")
+                self.progress("lengths analysed", k, len(self.m_values), "lengths")
             qm, starts = series[m]
             by_m[m] = self._estimate(m, qm, starts, (starts_boot, b), W_half, W_conv, n_conv,
                                       q[:, :, 2].mean(axis=0), window_sums(q, starts, m))
@@ -234,7 +234,7 @@ class CoarseGrain(AnalysisBase):
                "excluded_steps": np.flatnonzero(ens.excluded), "convergence_frames": n_conv,
                "dt_ps": float(np.median(np.diff(self.times_ps))) if self.n_frames > 1 else 0.0}
         if self.progress is not None:
-            self.progress("lengths analysed", len(self.m_values) + 1, len(self.m_values) + 1, "lengths")
+            self.progress("lengths analysed", len(self.m_values), len(self.m_values), "lengths")
         self.results.update(res)
 
     def _estimate(self, m, qm, starts, boot, W_half, W_conv, n_conv, rise, sums):

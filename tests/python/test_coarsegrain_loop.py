@@ -151,7 +151,9 @@ def test_rod_runs_predict_the_known_material(tmp_path, rodsim):
     c = truth_speed()
     z = (s["speed_A_per_ps"] - c) / s["speed_err_A_per_ps"]
     assert abs(z) < 3, (s["speed_A_per_ps"], s["speed_err_A_per_ps"], c)
-    assert s["speed_err_A_per_ps"] < 0.02 * c
+    # K(q -> 0) of this 42-bp ring extrapolates its two lowest modes: Eq 39 is known to ~1.3 %,
+    # and a spread of 8 replicates scatters by ~25 % about that
+    assert s["speed_err_A_per_ps"] < 0.04 * c
     _, boot = materials(reps, None, 8)
     lin = np.array([eq39_speed(b, L_FID) for b in boot])
     ratio = s["speed_err_cg_A_per_ps"] / spread(lin)
