@@ -35,7 +35,7 @@ from .composition import compose
 from .continuum import TWIST, contour_constants, physical_constants
 from .ensemble import StepEnsemble
 from .equilibration import equilibration_start
-from .qstiffness import combined_error, long_wavelength
+from .qstiffness import combined_error, fit_mode_time, long_wavelength
 from .stiffness import bias_factor, mahalanobis_time
 
 MIN_EFFECTIVE = 50   # independent frames required: the error of a stiffness element is then
@@ -202,7 +202,9 @@ class CoarseGrain(AnalysisBase):
                 f"frames are worth {n_eff:.1f} independent samples (slowest autocorrelation time "
                 f"{tau_max:.1f} frames); at least {self.min_effective:g} are needed, i.e. about "
                 f"{need} frames in total at this frame spacing")
-        b = self.block if self.block is not None else block_length(tau_max, T)
+        # the blocks also span the slowest mode of the q -> 0 fit (qstiffness.py)
+        tau_modes = fit_mode_time(q, use, ens.closed)
+        b = self.block if self.block is not None else block_length(max(tau_max, tau_modes), T)
         starts_boot = block_starts(T, b, self.n_boot, self.rng)
         half = T // 2
         W_half = np.zeros((2, T))
@@ -228,6 +230,7 @@ class CoarseGrain(AnalysisBase):
         res = {"discarded_frames": t0, "equilibration_rule": rule, "frames_used": T,
                "frames_total": self.n_frames, "tau_int_max_frames": tau_max,
                "tau_int_steps": tau_steps, "effective_samples": n_eff, "block_length": b,
+               "tau_int_fit_modes_frames": tau_modes, "effective_samples_fit_modes": T / (2.0 * tau_modes),
                "n_boot": self.n_boot, "by_m": by_m, "m_rod": self.m_rod,
                "long_wavelength": lw, "rule": by_rule, "opened_steps": np.flatnonzero(ens.opened & use),
                "temperature_K": self.T_K, "used_steps": np.flatnonzero(use),

@@ -134,6 +134,21 @@ def second_moment_time(Y: np.ndarray) -> np.ndarray:
     return integrated_time((z * z).sum(axis=-1))
 
 
+def fit_mode_time(q_steps: np.ndarray, keep: np.ndarray, closed: bool, q_fit: float = Q_FIT_RAD) -> float:
+    """The slowest integrated autocorrelation time (frames) of the fit modes' amplitudes (every
+    real component of every fit mode: the bends are slow where the rest is fast, so no median
+    over components). In the base-pair frames the bend at wavenumber
+    k is the laboratory bend at turns -+ k, so on a closed duplex the fit modes include slow
+    low laboratory bending modes; the bootstrap's blocks must span them."""
+    n = q_steps.shape[1]
+    turns = helical_turns(q_steps[:, :, TWIST].mean(axis=0)) if closed else None
+    fit = fit_modes(n, closed, turns, q_fit)
+    if not fit.any():
+        return 0.5
+    Y = features(q_steps, keep)[:, fit]
+    return float(np.max(integrated_time(Y)))                  # (K, 12); a real X_0 gives 0.5 for Im
+
+
 def _inv_sym(S):
     K = np.linalg.inv(S)
     return 0.5 * (K + np.swapaxes(K, -1, -2))

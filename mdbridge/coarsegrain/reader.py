@@ -138,3 +138,57 @@ def read_ensemble(universe, pairs=None, pair_numbering="resid", closed=None, sta
               "pairs": [(f"{a.resname}{a.resid}", f"{b.resname}{b.resid}") for a, b in bpf.pairs],
               "bpf": bpf}
     return ens, extras
+
+
+def is_hdf5(path) -> bool:
+    """True for an HDF5 file (its 8-byte signature): a rod output, not an MD structure."""
+    from pathlib import Path
+    p = Path(path)
+    if not p.is_file():
+        return False
+    with open(p, "rb") as f:
+        return f.read(8) == b"\x89HDF\r\n\x1a\n"
+
+
+def read_rod_ensemble(path, start=None, stop=None, step=None):
+    """StepEnsemble of the base pairs a rod run carries (a `rodsim run` file of a DNA scene:
+    `initial.bp` base pairs at s_i = i L / n_bp, mdbridge.rod.run.RodRun.trajectory), closed
+    (rodsim's rods are periodic), and extras: the rod's temperature (attribute
+    `temperature_K`) and, for a uniform material, each base pair's mass and inertia (rho and
+    I over one rise, the convention of mdbridge.rod.material.steps_to_rod).
+
+    The closing step (last base pair to the first, one period on) is excluded: the rod's
+    frames are reconstructed from s = 0, and a thermal rod's holonomy drifts (docs/thermal.md),
+    so the frame at s = L is not the first frame carried one period on (on a 42-bp Langevin
+    rod at 300 K that step's twist variance was 20x the others')."""
+    from mdbridge.geometry.steps import step_parameters_along
+    from mdbridge.rod.run import RodRun
+    from dna_models.units import AMU, ANGSTROM
+    run = RodRun.read(path)
+    run.require("time", "s", "centerline", "directors", "fields/Gamma")
+    if "initial.bp" not in run.attrs:
+        raise InputError(f"{path}: a rod file without the attribute 'initial.bp': not a DNA scene, so its "
+                         "base pairs are unknown (a DNA scene's kind, e.g. dna_planar, records them)")
+    n_bp = int(run.attrs["initial.bp"])
+    u = run.units()
+    traj = run.trajectory(n_bp, u)
+    sl = slice(start, stop, step)
+    R, o, P = traj.R[sl], traj.origins[sl], traj.period[sl]
+    R_ext = np.concatenate([R, R[:, :1]], axis=1)
+    o_ext = np.concatenate([o, o[:, :1] + P[:, None, :]], axis=1)
+    q = step_parameters_along(R_ext, o_ext)
+    source = str(path)
+    closing = np.zeros(n_bp, dtype=bool)
+    closing[-1] = True
+    ens = StepEnsemble(q=q, sequence=str(run.attrs.get("initial.sequence", "A" * n_bp)), closed=True,
+                       times_ps=traj.times_ps[sl], excluded=closing, source=source)
+    extras = {"open_fraction": np.zeros(n_bp), "opened_pairs": np.array([], dtype=int),
+              "temperature_K": run.attrs.get("temperature_K"), "n_bp": n_bp}
+    if "material.rho" in run.attrs and "material.I" in run.attrs:
+        h_m = float(run.L) / n_bp * u.ell_A * ANGSTROM
+        mass = float(run.attrs["material.rho"]) * u.rho * h_m / AMU
+        inertia = np.diag(np.asarray(run.attrs["material.I"], float)) * u.I * h_m / (AMU * ANGSTROM ** 2)
+        extras["mass_inertia"] = {"mass": np.full(n_bp, mass), "inertia": np.tile(inertia, (n_bp, 1, 1)),
+                                  "slice_inertia": np.tile(inertia, (n_bp, 1, 1)),
+                                  "slice_inertia_err": np.zeros((n_bp, 3, 3)), "hydrogens": True, "frames": 0}
+    return ens, extras

@@ -44,15 +44,21 @@ closed duplex, the rod's DIR/material.h5 (docs/coarse-graining.md).
 T is the trajectory's kinetic temperature (velocities, e.g. a TRR), or the .edr's
 (--edr), or --temperature (which wins); params.json says which.
 
+A rod output file (`rodsim run` of a DNA scene at a temperature, e.g. a Langevin rod) goes
+through the same estimator: its base pairs at s_i = i L / n_bp, closed, T from the file.
+
 examples:
   dnarod coarse-grain md.tpr md.trr -o cg
+  dnarod coarse-grain rod_thermal.h5 -o cg_rod
   dnarod coarse-grain md.tpr part1.xtc part2.xtc --temperature 300 -m 10 -o cg
   dnarod coarse-grain sample_md0.pdb --pairs bpfile.dat --temperature 300 --min-effective 8 -o cg
 """
 
 
 def add_arguments(p):
-    p.add_argument("structure", metavar="STRUCTURE", help="topology/coordinates (TPR, PDB, GRO, ...)")
+    p.add_argument("structure", metavar="STRUCTURE",
+                   help="topology/coordinates (TPR, PDB, GRO, ...), or a rod output file (rodsim run of a "
+                        "DNA scene, HDF5: the whole input)")
     p.add_argument("trajectories", metavar="TRAJECTORY", nargs="*", help="trajectories, concatenated in order")
     add_output(p, metavar="DIR", help="output directory")
     p.add_argument("--temperature", metavar="K", help="temperature in K (default: kinetic, from velocities)")
@@ -97,10 +103,18 @@ def constants_table(params: dict) -> str:
 
 
 def run(args):
+    from mdbridge.coarsegrain.reader import is_hdf5
     from mdbridge.geometry.structure import load_universe, read_pairs_file
 
     if not (0.0 <= args.max_open_fraction < 1.0):
         raise InputError(f"--max-open-fraction {args.max_open_fraction}: allowed 0 <= F < 1")
+    if is_hdf5(args.structure):
+        if args.trajectories:
+            raise InputError(f"{args.structure}: a rod output file is the whole input; give no trajectory "
+                             f"({' '.join(args.trajectories)})")
+        from dnarod.progress import Stages
+        with Stages("coarse-grain") as stages:
+            return _coarse_grain(args, None, args.structure, None, "resid", True, stages)
     u = load_universe(args.structure, *args.trajectories)
     source = " + ".join([args.structure] + list(args.trajectories))
     pairs, numbering = (None, "resid")
@@ -123,15 +137,24 @@ def _coarse_grain(args, u, source, pairs, numbering, closed, stages):
     from mdbridge.coarsegrain.stepmaterial import write_material_files
     from mdbridge.coarsegrain.temperature import edr_temperature, kinetic_temperature, parse_temperature
 
+    from mdbridge.coarsegrain.reader import read_rod_ensemble
     out = Path(args.output)
-    ens, extras = read_ensemble(u, pairs, numbering, closed, args.start, args.stop, args.step,
-                                args.max_open_fraction, source, progress=stages)
+    if u is None:
+        ens, extras = read_rod_ensemble(args.structure, args.start, args.stop, args.step)
+    else:
+        ens, extras = read_ensemble(u, pairs, numbering, closed, args.start, args.stop, args.step,
+                                    args.max_open_fraction, source, progress=stages)
     stages.close()
     extras["max_open_fraction"] = args.max_open_fraction
 
     caveats = []
     if args.temperature is not None:
         T_K, T_src = parse_temperature(args.temperature), "given"
+    elif u is None:
+        if extras.get("temperature_K") is None:
+            raise InputError(f"{source}: the rod file has no attribute 'temperature_K' (a scene with "
+                             "[thermal] temperature_K writes it): give --temperature K")
+        T_K, T_src = float(extras["temperature_K"]), "rod file (attribute temperature_K)"
     elif args.edr:
         T_K, sd = edr_temperature(args.edr)
         T_src = f"edr ({args.edr}: mean of gmx energy 'Temperature', s.d. {sd:.1f} K)"
@@ -160,11 +183,19 @@ def _coarse_grain(args, u, source, pairs, numbering, closed, stages):
                        + "; their steps are used, and left out only for the rule's sensitivity")
     if ens.closed and args.tension is None and args.torque is None:
         caveats.append("closed duplex: the means are the box's pre-stressed shape (no --tension/--torque given)")
-    if not extras["mass_inertia"]["hydrogens"]:
+    if "mass_inertia" not in extras:
+        caveats.append("the rod file carries no uniform rho and I (a material file): no mass and inertia")
+    elif not extras["mass_inertia"]["hydrogens"]:
         caveats.append("the topology has no hydrogens: masses and inertia are those of the heavy atoms only")
     cg = CoarseGrain(ens, T_K, m_values=m_values, m_rod=m_rod, n_boot=args.bootstrap, seed=args.seed,
                      discard=args.discard, min_effective=min_eff, progress=stages).run()
     stages.close()
+    n_modes = cg.results["effective_samples_fit_modes"]
+    if n_modes < min_eff:
+        caveats.append(f"the slowest mode of the q -> 0 fit (autocorrelation time "
+                       f"{cg.results['tau_int_fit_modes_frames']:.0f} frames) has {n_modes:.0f} independent samples, "
+                       f"fewer than {min_eff:g}: the bootstrap's blocks are capped at T / 8, so the rod's K's error "
+                       "may be understated; a longer run settles it")
     params = build_params(cg, T_src, extras, args.tension, args.torque, min_eff, caveats)
     out.mkdir(parents=True, exist_ok=True)
     write_params(out / "params.json", params)
