@@ -217,7 +217,8 @@ def _rod_section(r) -> dict:
 def _box_constraint(closed, tension_pN, torque_pN_nm, stressed, lw) -> dict:
     return {"closed": closed,
             "modes_left_out": (f"k = 0 (total twist and length) and k = {lw['helical_turns']} (the "
-                               "laboratory-frame bend closure) of the spectrum" if closed else None), "tension_pN": tension_pN, "torque_pN_nm": torque_pN_nm,
+                               "laboratory-frame bend closure) of the spectrum" if closed else None),
+            "tension_pN": tension_pN, "torque_pN_nm": torque_pN_nm,
             "corrected": stressed,
             "correction": "rest mean q0 = <q> - <dq dq^T> f / kT, f = (0, 0, F, 0, 0, tau) "
                           "(mdbridge.coarsegrain.prestress)",

@@ -110,9 +110,10 @@ def mass_inertia(bpf: BasePairFrames, frame_index: np.ndarray):
 def read_ensemble(universe, pairs=None, pair_numbering="resid", closed=None, start=None, stop=None,
                   step=None, max_open_fraction=MAX_OPEN_FRACTION, source="trajectory", progress=None):
     """StepEnsemble of the duplex in `universe` (every step; the steps touching a base pair
-    the opening rule counts as opened marked `opened`, for the rule's sensitivity), and a dict of extras (open fractions, mass/inertia, sequence, pairs). progress, if
-    given, is called as progress(stage, done, total, "frames") while the frames are read
-    ("frames read") and read again for the base-pair check ("pairs checked")."""
+    the opening rule counts as opened marked `opened`, for the rule's sensitivity), and a
+    dict of extras (open fractions, mass/inertia, sequence, pairs). progress, if given, is
+    called as progress(stage, done, total, "frames") while the frames are read ("frames
+    read") and read again for the base-pair check ("pairs checked")."""
     def stage(name):
         return None if progress is None else (lambda done, total: progress(name, done, total, "frames"))
     bpf = BasePairFrames(universe, pairs=pairs, pair_numbering=pair_numbering)

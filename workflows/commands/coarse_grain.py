@@ -98,7 +98,8 @@ def constants_table(params: dict) -> str:
     rows = [f"  {'':30s} {'rod, K(q->0)':>20s} {'compliance average':>20s} {f'{m}-step segments':>20s}"]
     for k in ("bend_persistence_length", "torsional_modulus", "stretch_modulus", "twist_stretch_coupling"):
         cells = [f"{d[k]['value']:.4g} +- {d[k]['err']:.2g}" for d in (rod, ca, ph)]
-        rows.append(f"  {k.replace('_', ' ') + ' [' + rod[k]['unit'] + ']':30s} " + " ".join(f"{c:>20s}" for c in cells))
+        name = f"{k.replace('_', ' ')} [{rod[k]['unit']}]"
+        rows.append(f"  {name:30s} " + " ".join(f"{c:>20s}" for c in cells))
     return "\n".join(rows)
 
 

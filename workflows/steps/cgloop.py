@@ -140,8 +140,9 @@ def cg_rod(scene_path, cg_dir, md_dir, out_dir, rodsim, m=None, n_replicas=20, n
     eq39 = eq39_prediction(reps, m, disp["fiducial_length"], 1.0)
     A_v = scene["initial"].get("A_v_A_per_ps")
     sc = out / "central" / "scene.toml"
+    what = "K(q -> 0)" if m is None else f"m = {m}"
     write_scene(sc, _material_scene(scene, central),
-                 f"dnarod compare: the uniform coarse-grained rod ({'K(q -> 0)' if m is None else f'm = {m}'}) of {cg_dir}, kicked like {scene_path}")
+                f"dnarod compare: the uniform coarse-grained rod ({what}) of {cg_dir}, kicked like {scene_path}")
     _run_rodsim(rodsim, sc, out / "central" / "rod.h5")
     c = analyse_rod(sc, out / "central" / "rod.h5", out / "analysis_central", n_boot)
     reps_out = []
