@@ -9,6 +9,16 @@ import numpy as np
 SHOWN = ("bend_persistence_length", "torsional_modulus", "stretch_modulus", "twist_stretch_coupling")
 
 
+def _save(fig, path, title: str):
+    """The figures' common ending: title, layout, file, figure closed."""
+    import matplotlib.pyplot as plt
+    fig.suptitle(title, fontsize=9)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return path
+
+
 def convergence_figure(path, params: dict):
     import matplotlib
     matplotlib.use("Agg")
@@ -27,11 +37,7 @@ def convergence_figure(path, params: dict):
         ax.set_xlabel("frames used")
         ax.set_title(f"{k.replace('_', ' ')} [{phys[k]['unit']}]", fontsize=9)
     axes[0].legend(fontsize=7)
-    fig.suptitle(f"convergence, m = {c['m']} ({params['source']})", fontsize=9)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path
+    return _save(fig, path, f"convergence, m = {c['m']} ({params['source']})")
 
 
 def length_figure(path, params: dict):
@@ -49,11 +55,7 @@ def length_figure(path, params: dict):
         ax.errorbar(m, v, yerr=e, fmt="o-", ms=3, capsize=2)
         ax.set_xlabel("m (steps per segment)")
         ax.set_title(f"{k.replace('_', ' ')} [{bl[0]['physical'][k]['unit']}]", fontsize=9)
-    fig.suptitle(f"continuum constants against segment length ({params['source']})", fontsize=9)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path
+    return _save(fig, path, f"continuum constants against segment length ({params['source']})")
 
 
 def q_stiffness_figure(path, params: dict):
@@ -86,8 +88,4 @@ def q_stiffness_figure(path, params: dict):
         ax.set_xlabel("q [rad per step]")
         ax.set_title(f"{k.replace('_', ' ')} [{d['unit']}]", fontsize=9)
     axes[0].legend(fontsize=6)
-    fig.suptitle(f"stiffness against wavenumber along the sequence ({params['source']})", fontsize=9)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path
+    return _save(fig, path, f"stiffness against wavenumber along the sequence ({params['source']})")
