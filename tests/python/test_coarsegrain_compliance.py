@@ -159,12 +159,12 @@ def test_fixed_box_leaves_the_long_wavelength_stiffness_unbiased():
     seq = "ACGTTGCAAGCTTCGAGCATG"
     n = len(seq)
     mean, F = per_step(seq, closed=True)
-    x = ar1_steps(np.zeros_like(mean), F, 20000, 0.0, rng).reshape(20000, 6 * n)
+    x = ar1_steps(np.zeros_like(mean), F, 5000, 0.0, rng).reshape(5000, 6 * n)
     Sigma = linalg.block_diag(*np.linalg.inv(F))
     c = np.zeros(6 * n)
     c[2::6] = 1.0                                                 # the sum of the rises
     P = np.eye(6 * n) - np.outer(Sigma @ c, c) / (c @ Sigma @ c)
-    q = mean + (x @ P.T).reshape(20000, n, 6)
+    q = mean + (x @ P.T).reshape(5000, n, 6)
     assert np.abs(q[..., 2].sum(axis=1) - mean[:, 2].sum()).max() < 1e-9
     cg = CoarseGrain(StepEnsemble(q, seq, closed=True), T_K, m_values=[1], n_boot=150, seed=2, discard=0).run()
     lw = cg.results["long_wavelength"]
