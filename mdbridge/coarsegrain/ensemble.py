@@ -14,14 +14,17 @@ class StepEnsemble:
     """q (T, n_steps, 6): shift, slide, rise [A], tilt, roll, twist [deg] per frame and
     step (3DNA definitions); step k joins base pairs k and k + 1 (0-based), and for a
     closed (periodic ligated) duplex n_steps == n_bp and the last step joins the last
-    base pair to the first. excluded (n_steps,) bool: steps not to be used (a base pair
-    opened); times_ps (T,)."""
+    base pair to the first. excluded (n_steps,) bool: steps not to be used at all;
+    opened (n_steps,) bool: steps touching a base pair that the opening rule counts as
+    opened: used, and left out only for the rule's sensitivity (estimator.py);
+    times_ps (T,)."""
 
     q: np.ndarray
     sequence: str
     closed: bool = False
     times_ps: np.ndarray | None = None
     excluded: np.ndarray | None = None
+    opened: np.ndarray | None = None
     source: str = "arrays"
     meta: dict = field(default_factory=dict)
 
@@ -40,8 +43,12 @@ class StepEnsemble:
         if self.times_ps.shape != (T,):
             raise InputError(f"{self.source}: times_ps of shape {self.times_ps.shape} for {T} frames "
                              "of step parameters")
-        if self.excluded is None:
-            self.excluded = np.zeros(n, dtype=bool)
+        for name in ("excluded", "opened"):
+            v = getattr(self, name)
+            v = np.zeros(n, dtype=bool) if v is None else np.asarray(v, dtype=bool)
+            if v.shape != (n,):
+                raise InputError(f"{self.source}: '{name}' has shape {v.shape}, expected ({n},) (one per step)")
+            setattr(self, name, v)
 
     @property
     def n_frames(self) -> int:

@@ -8,10 +8,14 @@ Order of work, each piece in its own module:
  2. m-step composition of the steps (composition.py), windows containing an excluded
     step dropped;
  3. per window: mean, covariance, K = kT cov^-1 with the finite-sample correction
-    (stiffness.py); sequence averages; continuum constants (continuum.py);
- 4. errors: moving-block bootstrap over frames of the whole of 2-3 (mdbridge/stats.py);
- 5. checks: first half against second half, estimate against frames used;
- 6. optional rest-shape correction of a pre-stressed (box-constrained) duplex
+    (stiffness.py); the sequence's compliance average (mean covariance)^-1; continuum
+    constants (continuum.py);
+ 4. the rod's K: the long-wavelength stiffness K(q -> 0) of the step parameters' compliance
+    spectrum along the sequence (qstiffness.py), with every step the analysis defines, and
+    again without the steps of opened base pairs (the opening rule's sensitivity);
+ 5. errors: moving-block bootstrap over frames of the whole of 2-4 (mdbridge/stats.py);
+ 6. checks: first half against second half, estimate against frames used;
+ 7. optional rest-shape correction of a pre-stressed (box-constrained) duplex
     (prestress.py).
 Stiffness is in units of kT (the caller knows T); continuum constants in SI-like
 units at the given temperature.
@@ -31,6 +35,7 @@ from .composition import compose
 from .continuum import TWIST, contour_constants, physical_constants
 from .ensemble import StepEnsemble
 from .equilibration import equilibration_start
+from .qstiffness import combined_error, fit_mode_time, long_wavelength
 from .stiffness import bias_factor, mahalanobis_time
 
 MIN_EFFECTIVE = 50   # independent frames required: the error of a stiffness element is then
@@ -197,7 +202,9 @@ class CoarseGrain(AnalysisBase):
                 f"frames are worth {n_eff:.1f} independent samples (slowest autocorrelation time "
                 f"{tau_max:.1f} frames); at least {self.min_effective:g} are needed, i.e. about "
                 f"{need} frames in total at this frame spacing")
-        b = self.block if self.block is not None else block_length(tau_max, T)
+        # the blocks also span the slowest mode of the q -> 0 fit (qstiffness.py)
+        tau_modes = fit_mode_time(q, use, ens.closed)
+        b = self.block if self.block is not None else block_length(max(tau_max, tau_modes), T)
         starts_boot = block_starts(T, b, self.n_boot, self.rng)
         half = T // 2
         W_half = np.zeros((2, T))
@@ -214,10 +221,18 @@ class CoarseGrain(AnalysisBase):
             qm, starts = series[m]
             by_m[m] = self._estimate(m, qm, starts, (starts_boot, b), W_half, W_conv, n_conv,
                                       q[:, :, 2].mean(axis=0), window_sums(q, starts, m))
+        lw = long_wavelength(q, use, ens.closed, (starts_boot, b), W_half)
+        keep_rule = use & ~ens.opened
+        by_rule = None
+        if ens.opened[use].any() and keep_rule.sum() >= 2:
+            by_rule = long_wavelength(q, keep_rule, ens.closed, (starts_boot, b))
+        lw["K_q0_err"], lw["rule_spread"] = combined_error(lw, by_rule)
         res = {"discarded_frames": t0, "equilibration_rule": rule, "frames_used": T,
                "frames_total": self.n_frames, "tau_int_max_frames": tau_max,
                "tau_int_steps": tau_steps, "effective_samples": n_eff, "block_length": b,
+               "tau_int_fit_modes_frames": tau_modes, "effective_samples_fit_modes": T / (2.0 * tau_modes),
                "n_boot": self.n_boot, "by_m": by_m, "m_rod": self.m_rod,
+               "long_wavelength": lw, "rule": by_rule, "opened_steps": np.flatnonzero(ens.opened & use),
                "temperature_K": self.T_K, "used_steps": np.flatnonzero(use),
                "excluded_steps": np.flatnonzero(ens.excluded), "convergence_frames": n_conv,
                "dt_ps": float(np.median(np.diff(self.times_ps))) if self.n_frames > 1 else 0.0}
@@ -248,6 +263,12 @@ class CoarseGrain(AnalysisBase):
             K = np.linalg.inv(c) * bias_factor(n, P)[..., :, None, None]
             return 0.5 * (K + np.swapaxes(K, -1, -2))
 
+        def K_series(c, n):
+            """The windows' compliance average: (mean covariance)^-1, bias-corrected with the
+            pooled degrees of freedom (windows in series add compliances, not stiffnesses)."""
+            K = np.linalg.inv(c.mean(axis=-3)) * np.asarray(bias_factor(n, P))[..., None, None]
+            return 0.5 * (K + np.swapaxes(K, -1, -2))
+
         K = 0.5 * (Kinv + np.swapaxes(Kinv, -1, -2)) * bias_factor(n2, P)[:, None, None]
         # the pooled covariance averages n_w windows, of which ~n_w / m do not overlap:
         # its degrees of freedom for the bias correction are ~N_eff max(1, n_w / m)
@@ -267,11 +288,11 @@ class CoarseGrain(AnalysisBase):
         out = {"m": m, "first_step": starts,
                "mean": mean, "mean_err": spread(bm),
                "cov": cov, "K": K, "K_err": spread(bK), "tau2": tau2, "n_eff2": n2,
-               "K_avg": K.mean(axis=0), "K_avg_err": spread(bK.mean(axis=1)),
+               "K_series": K_series(cov, n_pool), "K_series_err": spread(K_series(bc, n_pool)),
                "mean_avg": mean.mean(axis=0), "mean_avg_err": spread(bm.mean(axis=1)),
-               # the replicates themselves: the uniform coarse-grained rod's error is the
-               # spread of rods built from them (cgrod.py)
-               "K_avg_boot": bK.mean(axis=1), "mean_avg_boot": bm.mean(axis=1),
+               # the replicates themselves: the m-step materials' errors are the spread of
+               # rods built from them (cgrod.py)
+               "K_series_boot": K_series(bc, n_pool), "mean_avg_boot": bm.mean(axis=1),
                "physical": {k: float(v) for k, v in phys.items()},
                "physical_err": {k: float(spread(v)) for k, v in bphys.items()},
                "physical_boot": bphys, "n_eff_pooled": n_pool}
@@ -279,21 +300,22 @@ class CoarseGrain(AnalysisBase):
         hm, hc = weighted_moments(qm, W_half)
         n2h = n2[None, :] / 2.0
         ok = np.all(n2h > P + 2)
-        hK = K_of(hc, n2h) if ok else np.full_like(hc, np.nan)
+        hK = K_series(hc, n_pool / 2.0) if ok and n_pool / 2.0 > P + 2 else np.full_like(hc[:, 0], np.nan)
         hphys = (_constants_of(hm, hc, self.T_K, n_pool / 2.0, contour, weighted_moments(sums, W_half))
                  if n_pool / 2 > 4 else None)
-        out["halves"] = {"K_avg": hK.mean(axis=1), "mean_avg": hm.mean(axis=1),
+        out["halves"] = {"K_series": hK, "mean_avg": hm.mean(axis=1),
                          "physical": None if hphys is None else {k: v for k, v in hphys.items()}}
         # convergence: first n frames
         cm, cc = weighted_moments(qm, W_conv)
         n2c = n2[None, :] * (n_conv[:, None] / T)
         okc = np.all(n2c > P + 2, axis=1)
-        cK = np.full_like(cc, np.nan)
-        if okc.any():
-            cK[okc] = K_of(cc[okc], n2c[okc])
         n_c = n_pool * n_conv / T
+        cK = np.full_like(cc[:, 0], np.nan)
+        okc &= n_c > P + 2
+        if okc.any():
+            cK[okc] = K_series(cc[okc], n_c[okc])
         cphys = _constants_of(cm, cc, self.T_K, n_c if np.all(n_c > 4) else None, contour,
                               weighted_moments(sums, W_conv))
-        out["convergence"] = {"frames": n_conv, "K_avg": cK.mean(axis=1), "mean_avg": cm.mean(axis=1),
+        out["convergence"] = {"frames": n_conv, "K_series": cK, "mean_avg": cm.mean(axis=1),
                               "physical": cphys}
         return out

@@ -8,13 +8,18 @@ import numpy as np
 
 from mdbridge.geometry.steps import STEP_NAMES
 
-from .constants import paper_rho_I
+from dna_models.units import Units
+
+from mdbridge.stats import spread
+
+from .cgrod import ROD_CONSTANT_UNITS, rod_constants
+from .constants import kT_pN_nm, paper_rho_I
 from .continuum import UNITS
 from .mass import rod_densities
 from .prestress import rest_shape
-from .segment import segment_rod_material
+from .qstiffness import VIEW_UNITS, view
 
-FORMAT = "dnarod-cg-params/1"
+FORMAT = "dnarod-cg-params/2"
 UNITS_TEXT = "A, deg; stiffness kT/A^2, kT/(A deg), kT/deg^2"
 REFERENCE_POINT = ("base-pair frame origin (3DNA: mid-point of the two base origins; the rod's "
                    "centreline point r(s_i)), axes = base-pair x (d1, major groove), y (d2), z (d3)")
@@ -53,31 +58,39 @@ def build_params(cg, temperature_source: str, extras: dict | None = None,
         "discarded_frames": r["discarded_frames"], "equilibration_rule": r["equilibration_rule"],
         "frame_spacing_ps": r["dt_ps"],
         "tau_int_max_frames": r["tau_int_max_frames"], "effective_samples": r["effective_samples"],
+        "tau_int_fit_modes_frames": r["tau_int_fit_modes_frames"],
+        "effective_samples_fit_modes": r["effective_samples_fit_modes"],
         "min_effective_samples": min_effective,
         "bootstrap": {"method": "moving block", "block_length_frames": r["block_length"],
                       "replicates": r["n_boot"]},
         "order": list(STEP_NAMES), "units": UNITS_TEXT,
         "steps": _steps(ens, r, rest, stressed),
-        "average": {"mean": _l(b1["mean_avg"]), "mean_err": _l(b1["mean_avg_err"]),
-                    "rest_mean": rest(b1["mean_avg"], b1["cov"].mean(axis=0)),
-                    "stiffness": _l(b1["K_avg"]), "stiffness_err": _l(b1["K_avg_err"]),
-                    "over": f"{len(b1['first_step'])} steps not excluded"},
+        "average": _average(r, rest),
+        "long_wavelength": _long_wavelength(r),
+        "q_stiffness": _q_stiffness(r, b1["mean_avg"][2]),
         "by_length": [{"m": m, "n_windows": int(len(bl["first_step"])),
                        "mean": _l(bl["mean_avg"]), "mean_err": _l(bl["mean_avg_err"]),
                        "rest_mean": rest(bl["mean_avg"], bl["cov"].mean(axis=0)),
-                       "stiffness": _l(bl["K_avg"]), "stiffness_err": _l(bl["K_avg_err"]),
+                       "stiffness": _l(bl["K_series"]), "stiffness_err": _l(bl["K_series_err"]),
+                       "stiffness_definition": "compliance average of the m-step windows, "
+                                               "(mean covariance)^-1",
                        "physical": _phys(bl["physical"], bl["physical_err"])}
                       for m, bl in sorted(r["by_m"].items())],
         "physical": _phys(bm["physical"], bm["physical_err"]),
         "physical_m": m_rod,
         "physical_note": "continuum constants of m-step segments at m = physical_m "
                          "(docs/coarse-graining.md); by_length has every m",
-        "rod": _rod_section(bm, m_rod, T_K, F, tq, stressed),
-        "excluded": {"rule": "a base pair whose N1-N3 distance exceeds 3.5 A (mdbridge.analysis."
-                             "integrity) opens; every step touching it is excluded",
-                     "steps": [int(k) + 1 for k in r["excluded_steps"]]},
+        "rod": _rod_section(r),
+        "excluded": {"steps": [int(k) + 1 for k in r["excluded_steps"]],
+                     "note": "steps not used at all (none unless the caller excluded them: every step "
+                             "the analysis defines is used)"},
+        "opening_rule": {"rule": "a base pair whose N1-N3 distance exceeds 3.5 A (mdbridge.md.integrity) "
+                                 "in more than max_open_fraction of the frames counts as opened; the "
+                                 "sensitivity leaves out every step touching it",
+                         "steps": [int(k) + 1 for k in r["opened_steps"]]},
         "halves": _halves(bm),
-        "box_constraint": _box_constraint(ens.closed, tension_pN, torque_pN_nm, stressed),
+        "box_constraint": _box_constraint(ens.closed, tension_pN, torque_pN_nm, stressed,
+                                          r["long_wavelength"]),
         "convergence": _convergence(bm),
         "caveats": list(caveats),
     }
@@ -94,7 +107,8 @@ def _steps(ens, r, rest, stressed) -> list:
     tau = dict(zip(r["used_steps"].tolist(), r["tau_int_steps"]))
     steps = []
     for k in range(ens.n_steps):
-        d = {"step": k + 1, "dimer": ens.dimer(k), "excluded": bool(ens.excluded[k])}
+        d = {"step": k + 1, "dimer": ens.dimer(k), "excluded": bool(ens.excluded[k]),
+             "opened": bool(ens.opened[k])}
         if k in row:
             j = row[k]
             d.update(mean=_l(b1["mean"][j]), mean_err=_l(b1["mean_err"][j]),
@@ -106,21 +120,105 @@ def _steps(ens, r, rest, stressed) -> list:
     return steps
 
 
-def _rod_section(bm, m_rod, T_K, F, tq, stressed) -> dict:
-    """The uniform rod of the m_rod-step segments (segment.py), at their rest mean when the
-    box pre-stresses them."""
-    mean_rod = bm["mean_avg"] if not stressed else rest_shape(bm["mean_avg"], bm["cov"].mean(axis=0), F, tq, T_K)
-    rod = segment_rod_material(mean_rod, bm["cov"].mean(axis=0), T_K, bm["n_eff_pooled"])
-    return {"m": m_rod, "segment_length_A": rod["segment_length_A"],
-            "K_star": _l(rod["K_star"]), "K_SI": _l(rod["K_SI"]),
+def _average(r, rest) -> dict:
+    """The rod's per-step stiffness K(q -> 0) and its error parts; the per-step compliance
+    average beside it."""
+    lw, b1 = r["long_wavelength"], r["by_m"][1]
+    rule = r["rule"]
+    return {"mean": _l(b1["mean_avg"]), "mean_err": _l(b1["mean_avg_err"]),
+            "rest_mean": rest(b1["mean_avg"], b1["cov"].mean(axis=0)),
+            "stiffness": _l(lw["K_q0"]), "stiffness_err": _l(lw["K_q0_err"]),
+            "stiffness_err_parts": {"bootstrap": _l(lw["K_q0_boot_err"]),
+                                    "extrapolation": _l(lw["extrapolation_err"]),
+                                    "opening_rule": _l(lw["rule_spread"])},
+            "definition": "K(q -> 0): the long-wavelength stiffness of the step parameters' compliance "
+                          "spectrum, per step, kT units (the K the rod is built from; "
+                          "docs/coarse-graining.md, \"The rod's K\")",
+            "compliance_average": {"stiffness": _l(lw["K_avg_compliance"]),
+                                   "stiffness_err": _l(lw["K_avg_compliance_err"]),
+                                   "definition": "inverse of the mean per-step covariance, the "
+                                                 "closure's modes taken out (equal to K(q -> 0) for "
+                                                 "independent steps)"},
+            "opening_rule": None if rule is None else {
+                "stiffness": _l(rule["K_q0"]), "compliance_average": _l(rule["K_avg_compliance"]),
+                "steps_left_out": [int(k) + 1 for k in r["opened_steps"]]},
+            "over": f"{lw['n_kept']} of {lw['n_steps']} steps"}
+
+
+def _long_wavelength(r) -> dict:
+    lw = r["long_wavelength"]
+    d = {"helical_turns": lw["helical_turns"], "fit_modes": [int(k) for k in lw["fit_modes"]],
+         "fit_order": lw["fit_order"], "fit_q_max_rad_per_step": lw["fit_q_max_rad"],
+         "fit": "Re S(q) = a0 + a1 4 sin^2(q/2) by least squares over fit_modes; S(0) = a0",
+         "fit_weights": _l(lw["fit_weights"]),
+         "stiffness_order2": _l(lw["K_q0_order2"]),
+         "degrees_of_freedom": {"q0": float(lw["dof_q0"]), "compliance_average": float(lw["dof_avg"])},
+         "modes_left_out": "k = 0 and k = helical_turns (the closure's)" if lw["closed"] else "none"}
+    if "halves" in lw:
+        h = lw["halves"]["K_q0"]
+        e = 2.0 * np.diagonal(lw["K_q0_boot_err"])
+        d["halves"] = {"first_diag": _l(np.diagonal(h[0])), "second_diag": _l(np.diagonal(h[1])),
+                       "z_diag": _l((np.diagonal(h[0]) - np.diagonal(h[1])) / e)}
+    return d
+
+
+def _q_stiffness(r, rise_A) -> dict:
+    """Bend, twist and stretch stiffness against q, with bootstrap errors, and at q -> 0."""
+    lw = r["long_wavelength"]
+    kT = kT_pN_nm(r["temperature_K"])
+    v, vb = view(lw["S"], rise_A, kT), view(lw["S_boot"], rise_A, kT)
+    v0, v0b = view(np.linalg.inv(lw["K_q0"]), rise_A, kT), view(np.linalg.inv(lw["K_q0_boot"]), rise_A, kT)
+    va = view(np.linalg.inv(lw["K_avg_compliance"]), rise_A, kT)
+    q = lw["q_rad_per_step"]
+    out = {"k": [int(k) for k in lw["k"]], "q_rad_per_step": _l(q), "q_per_nm": _l(q / (rise_A / 10.0)),
+           "usable": [bool(u) for u in lw["usable"]], "fit_modes": [int(k) for k in lw["fit_modes"]],
+           "definition": "per mode, the compliances of the spectrum S(q) as constants of a segment of one "
+                         "mean rise: bend 2 h / (S_tilt + S_roll), twist kT h / S_twist, stretch "
+                         "kT h [(S_rise,twist)^-1]_rise; at_q0 the same of K(q -> 0)^-1"}
+    for k, unit in VIEW_UNITS.items():
+        out[k] = {"value": _l(v[k]), "err": _l(spread(vb[k])), "unit": unit,
+                  "at_q0": float(v0[k]), "at_q0_err": float(spread(v0b[k])),
+                  "compliance_average": float(va[k])}
+    return out
+
+
+def _rod_section(r) -> dict:
+    """The uniform rod the loop builds (cgrod.py): K(q -> 0) at the sequence-averaged mean
+    step through mdbridge.rod.material.steps_to_rod at the paper's rise, and its own
+    effective constants, with bootstrap errors; the same constants of the compliance average."""
+    from mdbridge.rod.material.steps_to_rod import rod_stiffness, strains_from_steps
+    u = Units.paper()
+    lw, b1 = r["long_wavelength"], r["by_m"][1]
+    T_K = r["temperature_K"]
+    mean = b1["mean_avg"]
+    K = rod_stiffness(lw["K_q0"], mean, T_K, u.rise_A, u)
+    Kb = rod_stiffness(lw["K_q0_boot"], b1["mean_avg_boot"], T_K, u.rise_A, u)
+    Ka = rod_stiffness(lw["K_avg_compliance"], mean, T_K, u.rise_A, u)
+    Kab = rod_stiffness(lw["K_avg_compliance_boot"], b1["mean_avg_boot"], T_K, u.rise_A, u)
+    G0, O0 = strains_from_steps(mean, u.rise_A, u)
+    c, cb = rod_constants(K, T_K, u), rod_constants(Kb, T_K, u)
+    ca, cab = rod_constants(Ka, T_K, u), rod_constants(Kab, T_K, u)
+    return {"definition": "the uniform coarse-grained rod: K(q -> 0) (average.stiffness) at the mean step "
+                          "(average.mean), mapped by mdbridge.rod.material.steps_to_rod at h = the "
+                          "paper's rise", "h_A": u.rise_A,
+            "K_star": _l(K), "K_star_err": _l(spread(Kb)), "K_SI": _l(u.stiffness_to_SI(K)),
             "K_SI_units": "N (Gamma-Gamma), J (Gamma-Omega), J m (Omega-Omega)",
             "order": ["Gamma1", "Gamma2", "Gamma3", "Omega1", "Omega2", "Omega3"],
-            "Gamma0_star": _l(rod["Gamma0_star"]), "Omega0_star": _l(rod["Omega0_star"]),
+            "Gamma0_star": _l(G0), "Omega0_star": _l(O0),
+            "constants": {k: {"value": float(c[k]), "err": float(spread(cb[k])), "unit": unit}
+                          for k, unit in ROD_CONSTANT_UNITS.items()},
+            "constants_compliance_average": {k: {"value": float(ca[k]), "err": float(spread(cab[k])),
+                                                 "unit": unit} for k, unit in ROD_CONSTANT_UNITS.items()},
+            "constants_note": "the rod's own effective constants at temperature_K from its K* alone "
+                              "(mdbridge.coarsegrain.cgrod.rod_constants); errors bootstrap only",
             "units": "paper's (dna_models.units): force C, length l = sqrt(I/rho)"}
 
 
-def _box_constraint(closed, tension_pN, torque_pN_nm, stressed) -> dict:
-    return {"closed": closed, "tension_pN": tension_pN, "torque_pN_nm": torque_pN_nm,
+def _box_constraint(closed, tension_pN, torque_pN_nm, stressed, lw) -> dict:
+    return {"closed": closed,
+            "modes_left_out": (f"k = 0 (total twist and length) and k = {lw['helical_turns']} (the "
+                               "laboratory-frame bend closure) of the spectrum" if closed else None),
+            "tension_pN": tension_pN, "torque_pN_nm": torque_pN_nm,
             "corrected": stressed,
             "correction": "rest mean q0 = <q> - <dq dq^T> f / kT, f = (0, 0, F, 0, 0, tau) "
                           "(mdbridge.coarsegrain.prestress)",
@@ -131,26 +229,29 @@ def _box_constraint(closed, tension_pN, torque_pN_nm, stressed) -> dict:
 
 def _add_extras(out: dict, extras: dict, rise_A, excluded) -> None:
     """The opened pairs, and the mass and inertia (and so the rod's rho* and I*)."""
-    out["excluded"]["opened_pairs"] = [int(i) + 1 for i in extras.get("opened_pairs", [])]
-    out["excluded"]["open_fraction"] = _l(extras.get("open_fraction"))
-    out["excluded"]["max_open_fraction"] = extras.get("max_open_fraction")
+    out["opening_rule"]["opened_pairs"] = [int(i) + 1 for i in extras.get("opened_pairs", [])]
+    out["opening_rule"]["open_fraction"] = _l(extras.get("open_fraction"))
+    out["opening_rule"]["max_open_fraction"] = extras.get("max_open_fraction")
     if "mass_inertia" in extras:
-        out["mass_inertia"] = _mass_section(extras["mass_inertia"], rise_A, excluded, rod_rho_I=None)
-        rho_p, I_p = paper_rho_I()
-        mi = out["mass_inertia"]
-        out["rod"]["rho_star"] = mi["rho"]["value"] / rho_p
-        out["rod"]["I_star"] = _l(np.asarray(mi["I"]["value"]) / I_p)
+        mi = extras["mass_inertia"]
+        out["mass_inertia"] = _mass_section(mi, rise_A, excluded, rod_rho_I=None)
+        # the loop's convention (cgrod.uniform_material): mean mass and full inertia tensor over h
+        u = Units.paper()
+        out["rod"]["rho_star"] = float(u.mass_amu_per_length_A_to_rod(float(np.mean(mi["mass"])), u.rise_A))
+        I = np.asarray(u.inertia_amu_A2_per_length_A_to_rod(np.mean(np.asarray(mi["inertia"], float), axis=0),
+                                                           u.rise_A))
+        out["rod"]["I_star"] = _l(0.5 * (I + I.T))
 
 
 def _halves(bm):
     h = bm["halves"]
-    d = {"first": {"mean": _l(h["mean_avg"][0]), "stiffness_diag": _l(np.diagonal(h["K_avg"][0]))},
-         "second": {"mean": _l(h["mean_avg"][1]), "stiffness_diag": _l(np.diagonal(h["K_avg"][1]))}}
+    d = {"first": {"mean": _l(h["mean_avg"][0]), "stiffness_diag": _l(np.diagonal(h["K_series"][0]))},
+         "second": {"mean": _l(h["mean_avg"][1]), "stiffness_diag": _l(np.diagonal(h["K_series"][1]))}}
     # each half has ~sqrt(2) times the full-run error; their difference 2 times
     e_mean = 2.0 * bm["mean_avg_err"]
-    e_K = 2.0 * np.diagonal(bm["K_avg_err"])
+    e_K = 2.0 * np.diagonal(bm["K_series_err"])
     d["z_mean"] = _l((h["mean_avg"][0] - h["mean_avg"][1]) / e_mean)
-    d["z_stiffness_diag"] = _l((np.diagonal(h["K_avg"][0]) - np.diagonal(h["K_avg"][1])) / e_K)
+    d["z_stiffness_diag"] = _l((np.diagonal(h["K_series"][0]) - np.diagonal(h["K_series"][1])) / e_K)
     if h["physical"] is not None:
         d["physical"] = {k: {"first": float(v[0]), "second": float(v[1]),
                              "z": float((v[0] - v[1]) / (2.0 * bm["physical_err"][k]))}
@@ -162,7 +263,7 @@ def _halves(bm):
 def _convergence(bm):
     c = bm["convergence"]
     return {"m": bm["m"], "frames": [int(x) for x in c["frames"]],
-            "stiffness_diag": _l(np.diagonal(c["K_avg"], axis1=-2, axis2=-1)),
+            "stiffness_diag": _l(np.diagonal(c["K_series"], axis1=-2, axis2=-1)),
             "physical": {k: _l(v) for k, v in c["physical"].items()}}
 
 

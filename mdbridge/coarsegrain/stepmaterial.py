@@ -27,13 +27,13 @@ def step_material(cg, extras, source: str):
     n = ens.n_steps
     P = np.tile(b1["mean_avg"], (n, 1))
     Pe = np.tile(b1["mean_avg_err"], (n, 1))
-    K = np.tile(b1["K_avg"], (n, 1, 1))
-    Ke = np.tile(b1["K_avg_err"], (n, 1, 1))
+    K = np.tile(b1["K_series"], (n, 1, 1))
+    Ke = np.tile(b1["K_series_err"], (n, 1, 1))
     rows = b1["first_step"]
     P[rows], Pe[rows], K[rows], Ke[rows] = b1["mean"], b1["mean_err"], b1["K"], b1["K_err"]
     exc = np.flatnonzero(ens.excluded) + 1
     note = "" if not len(exc) else (f"; steps {', '.join(map(str, exc))} excluded (base pair opened): "
-                                    "they carry the average of the other steps")
+                                    "they carry the compliance average of the other steps")
     mi = extras["mass_inertia"]
     return StepMaterial(sequence=ens.sequence, closed=ens.closed, step_params=P, stiffness=K,
                         temperature_K=cg.results["temperature_K"], mass=np.asarray(mi["mass"], float),

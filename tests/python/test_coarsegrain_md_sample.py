@@ -28,7 +28,7 @@ def ensemble():
         warnings.simplefilter("ignore")
         u = MDAnalysis.Universe(str(DATA / "md_sample_3dna" / "sample_md0.pdb.gz"))
         pairs, numbering = read_pairs_file(DATA / "md_sample_3dna" / "bpfile.dat")
-        return read_ensemble(u, pairs, numbering)
+        return read_ensemble(u, pairs, numbering, max_open_fraction=0.0)
 
 
 def test_model0_step_parameters_equal_3dna(ensemble):
@@ -38,12 +38,13 @@ def test_model0_step_parameters_equal_3dna(ensemble):
     assert np.abs(ens.q[0] - ref).max() < TOL3
 
 
-def test_opened_pairs_are_excluded_and_reported(ensemble):
+def test_opened_pairs_are_marked_for_the_rule_and_kept(ensemble):
     """N1-N3 > 3.5 A occurs in single models for pairs 6, 7 and 10 (6.46 A for pair 6):
-    with the strict rule (any frame) their steps are excluded."""
+    the strict rule (any frame) marks their steps for its sensitivity; every step is used."""
     ens, extras = ensemble
     assert list(extras["opened_pairs"] + 1) == [6, 7, 10]
-    assert list(np.flatnonzero(ens.excluded) + 1) == [5, 6, 7, 9, 10]
+    assert list(np.flatnonzero(ens.opened) + 1) == [5, 6, 7, 9, 10]
+    assert not ens.excluded.any()
 
 
 def _run(tmp_path, *extra):
@@ -56,12 +57,16 @@ def _run(tmp_path, *extra):
 
 def test_21_models_reported_with_caveat(tmp_path, capsys):
     rc = _run(tmp_path, "--temperature", "300", "--min-effective", "5", "--discard", "0",
-              "--max-open-fraction", "0.05", "-m", "5")
+              "--max-open-fraction", "0", "-m", "5")
     assert rc == 0
     p = json.loads((tmp_path / "params.json").read_text())
     assert p["temperature_source"] == "given" and p["frames_used"] == 21
     assert any("below the default" in c for c in p["caveats"])
     assert len(p["steps"]) == 11 and not any(s["excluded"] for s in p["steps"])
+    # the strict rule's steps are used, and left out only for the sensitivity beside the rod's K
+    assert p["opening_rule"]["steps"] == [5, 6, 7, 9, 10]
+    assert p["average"]["opening_rule"]["steps_left_out"] == [5, 6, 7, 9, 10]
+    assert (tmp_path / "q_stiffness.png").stat().st_size > 10000
     avg = np.array(p["average"]["mean"])
     # mean rise and twist of this hairpin (3DNA's model 0 alone: 3.45 A, 31.0 deg)
     assert 3.3 < avg[2] < 3.6 and 27 < avg[5] < 34

@@ -17,18 +17,25 @@ Coarse-grain an equilibrium MD trajectory of a DNA duplex into the elastic rod:
   * per step (3DNA step parameters q = shift, slide, rise [A], tilt, roll, twist
     [deg]): mean shape and stiffness K = kT <dq dq^T>^-1 (kT/A^2, kT/(A deg),
     kT/deg^2), finite-sample bias of the inverse covariance corrected;
+  * the rod's K: the long-wavelength stiffness K(q -> 0) of the step parameters'
+    compliance spectrum along the sequence (steps in series, couplings between steps
+    included), the per-step compliance average beside it, the stiffness against q
+    (DIR/q_stiffness.png), and the rod's own effective constants;
   * m-step segments (m consecutive steps composed into one rigid-body step) for
     m = 1..M: stiffness against length, and the continuum constants (bend and
     torsional persistence length, torsional and stretch modulus, twist-stretch
-    coupling); the rod's dimensionless K, Gamma0, Omega0 at m = --length;
+    coupling) at m = --length;
   * mass and inertia per base pair about the base-pair origin, the rod's rho and I
     next to the paper's.
 
 Errors: moving-block bootstrap with the block length from the autocorrelation
 times. The equilibration stretch is discarded (Chodera's rule), the remaining
 frames must be worth --min-effective independent samples, the two halves are
-compared, and steps whose base pairs open (N1-N3 > 3.5 A) are excluded and
-listed. Writes DIR/params.json, DIR/convergence.png, DIR/by_length.png,
+compared. Every step is used; the opening rule (a base pair with N1-N3 > 3.5 A in
+more than --max-open-fraction of the frames) is a sensitivity: the rod's K without
+those steps is reported beside it, and its spread enters the error where it exceeds
+the bootstrap's. Writes DIR/params.json, DIR/convergence.png, DIR/by_length.png,
+DIR/q_stiffness.png,
 DIR/replicas.h5 (the bootstrap replicates of the sequence-averaged mean and
 stiffness at every m, for the coarse-grained rod's error) and
 (with the per-step file module mdbridge.rod.material) DIR/steps.h5 and, for a
@@ -37,15 +44,21 @@ closed duplex, the rod's DIR/material.h5 (docs/coarse-graining.md).
 T is the trajectory's kinetic temperature (velocities, e.g. a TRR), or the .edr's
 (--edr), or --temperature (which wins); params.json says which.
 
+A rod output file (`rodsim run` of a DNA scene at a temperature, e.g. a Langevin rod) goes
+through the same estimator: its base pairs at s_i = i L / n_bp, closed, T from the file.
+
 examples:
   dnarod coarse-grain md.tpr md.trr -o cg
+  dnarod coarse-grain rod_thermal.h5 -o cg_rod
   dnarod coarse-grain md.tpr part1.xtc part2.xtc --temperature 300 -m 10 -o cg
   dnarod coarse-grain sample_md0.pdb --pairs bpfile.dat --temperature 300 --min-effective 8 -o cg
 """
 
 
 def add_arguments(p):
-    p.add_argument("structure", metavar="STRUCTURE", help="topology/coordinates (TPR, PDB, GRO, ...)")
+    p.add_argument("structure", metavar="STRUCTURE",
+                   help="topology/coordinates (TPR, PDB, GRO, ...), or a rod output file (rodsim run of a "
+                        "DNA scene, HDF5: the whole input)")
     p.add_argument("trajectories", metavar="TRAJECTORY", nargs="*", help="trajectories, concatenated in order")
     add_output(p, metavar="DIR", help="output directory")
     p.add_argument("--temperature", metavar="K", help="temperature in K (default: kinetic, from velocities)")
@@ -67,9 +80,9 @@ def add_arguments(p):
                    help="frames to discard as equilibration (default: Chodera's rule)")
     p.add_argument("--min-effective", type=float, default=None, metavar="N",
                    help="independent frames required (default 50)")
-    p.add_argument("--max-open-fraction", type=float, default=0.0, metavar="F",
-                   help="a base pair counts as opened if N1-N3 > 3.5 A in more than this fraction of "
-                        "frames (default 0: any frame)")
+    p.add_argument("--max-open-fraction", type=float, default=0.05, metavar="F",
+                   help="opening rule of the sensitivity: a base pair counts as opened if N1-N3 > 3.5 A "
+                        "in more than this fraction of frames (default 0.05; 0: in any frame)")
     p.add_argument("--bootstrap", type=int, default=200, metavar="N", help="bootstrap replicates (200)")
     p.add_argument("--seed", type=int, default=0, help="bootstrap random seed")
     p.add_argument("--start", type=int, default=None, help="first trajectory frame (0-based)")
@@ -77,11 +90,32 @@ def add_arguments(p):
     p.add_argument("--step", type=int, default=None, help="take every STEP-th frame")
 
 
+def constants_table(params: dict) -> str:
+    """The rod's own constants (K(q -> 0)), those of the per-step compliance average and the
+    m-step segments' physical constants, side by side, each with its error."""
+    rod, ca, ph = params["rod"]["constants"], params["rod"]["constants_compliance_average"], params["physical"]
+    m = params["physical_m"]
+    rows = [f"  {'':30s} {'rod, K(q->0)':>20s} {'compliance average':>20s} {f'{m}-step segments':>20s}"]
+    for k in ("bend_persistence_length", "torsional_modulus", "stretch_modulus", "twist_stretch_coupling"):
+        cells = [f"{d[k]['value']:.4g} +- {d[k]['err']:.2g}" for d in (rod, ca, ph)]
+        name = f"{k.replace('_', ' ')} [{rod[k]['unit']}]"
+        rows.append(f"  {name:30s} " + " ".join(f"{c:>20s}" for c in cells))
+    return "\n".join(rows)
+
+
 def run(args):
+    from mdbridge.coarsegrain.reader import is_hdf5
     from mdbridge.geometry.structure import load_universe, read_pairs_file
 
     if not (0.0 <= args.max_open_fraction < 1.0):
         raise InputError(f"--max-open-fraction {args.max_open_fraction}: allowed 0 <= F < 1")
+    if is_hdf5(args.structure):
+        if args.trajectories:
+            raise InputError(f"{args.structure}: a rod output file is the whole input; give no trajectory "
+                             f"({' '.join(args.trajectories)})")
+        from dnarod.progress import Stages
+        with Stages("coarse-grain") as stages:
+            return _coarse_grain(args, None, args.structure, None, "resid", True, stages)
     u = load_universe(args.structure, *args.trajectories)
     source = " + ".join([args.structure] + list(args.trajectories))
     pairs, numbering = (None, "resid")
@@ -98,21 +132,30 @@ def _coarse_grain(args, u, source, pairs, numbering, closed, stages):
     base-pair check and the coarse-graining lengths analysed."""
     from mdbridge.coarsegrain.cgrod import write_replicas
     from mdbridge.coarsegrain.estimator import MIN_EFFECTIVE, CoarseGrain, default_m_values
-    from mdbridge.coarsegrain.figure import convergence_figure, length_figure
+    from mdbridge.coarsegrain.figure import convergence_figure, length_figure, q_stiffness_figure
     from mdbridge.coarsegrain.params import build_params, write_params
     from mdbridge.coarsegrain.reader import read_ensemble
     from mdbridge.coarsegrain.stepmaterial import write_material_files
     from mdbridge.coarsegrain.temperature import edr_temperature, kinetic_temperature, parse_temperature
 
+    from mdbridge.coarsegrain.reader import read_rod_ensemble
     out = Path(args.output)
-    ens, extras = read_ensemble(u, pairs, numbering, closed, args.start, args.stop, args.step,
-                                args.max_open_fraction, source, progress=stages)
+    if u is None:
+        ens, extras = read_rod_ensemble(args.structure, args.start, args.stop, args.step)
+    else:
+        ens, extras = read_ensemble(u, pairs, numbering, closed, args.start, args.stop, args.step,
+                                    args.max_open_fraction, source, progress=stages)
     stages.close()
     extras["max_open_fraction"] = args.max_open_fraction
 
     caveats = []
     if args.temperature is not None:
         T_K, T_src = parse_temperature(args.temperature), "given"
+    elif u is None:
+        if extras.get("temperature_K") is None:
+            raise InputError(f"{source}: the rod file has no attribute 'temperature_K' (a scene with "
+                             "[thermal] temperature_K writes it): give --temperature K")
+        T_K, T_src = float(extras["temperature_K"]), "rod file (attribute temperature_K)"
     elif args.edr:
         T_K, sd = edr_temperature(args.edr)
         T_src = f"edr ({args.edr}: mean of gmx energy 'Temperature', s.d. {sd:.1f} K)"
@@ -136,15 +179,24 @@ def _coarse_grain(args, u, source, pairs, numbering, closed, stages):
                        f"frames, stiffness errors ~ sqrt(2 / N_eff) = {100 * math.sqrt(2 / max(min_eff, 1)):.0f} % "
                        "or more, and the bias correction is large")
     if extras["opened_pairs"].size:
-        caveats.append("opened base pairs (1-based): " + ", ".join(str(i + 1) for i in extras["opened_pairs"])
-                       + "; their steps are excluded")
+        caveats.append("opened base pairs (1-based, opening rule): "
+                       + ", ".join(str(i + 1) for i in extras["opened_pairs"])
+                       + "; their steps are used, and left out only for the rule's sensitivity")
     if ens.closed and args.tension is None and args.torque is None:
         caveats.append("closed duplex: the means are the box's pre-stressed shape (no --tension/--torque given)")
-    if not extras["mass_inertia"]["hydrogens"]:
+    if "mass_inertia" not in extras:
+        caveats.append("the rod file carries no uniform rho and I (a material file): no mass and inertia")
+    elif not extras["mass_inertia"]["hydrogens"]:
         caveats.append("the topology has no hydrogens: masses and inertia are those of the heavy atoms only")
     cg = CoarseGrain(ens, T_K, m_values=m_values, m_rod=m_rod, n_boot=args.bootstrap, seed=args.seed,
                      discard=args.discard, min_effective=min_eff, progress=stages).run()
     stages.close()
+    n_modes = cg.results["effective_samples_fit_modes"]
+    if n_modes < min_eff:
+        caveats.append(f"the slowest mode of the q -> 0 fit (autocorrelation time "
+                       f"{cg.results['tau_int_fit_modes_frames']:.0f} frames) has {n_modes:.0f} independent samples, "
+                       f"fewer than {min_eff:g}: the bootstrap's blocks are capped at T / 8, so the rod's K's error "
+                       "may be understated; a longer run settles it")
     params = build_params(cg, T_src, extras, args.tension, args.torque, min_eff, caveats)
     out.mkdir(parents=True, exist_ok=True)
     write_params(out / "params.json", params)
@@ -152,19 +204,19 @@ def _coarse_grain(args, u, source, pairs, numbering, closed, stages):
     convergence_figure(out / "convergence.png", params)
     length_figure(out / "by_length.png", params)
     params["by_length_figure"] = "by_length.png"
+    q_stiffness_figure(out / "q_stiffness.png", params)
+    params["q_stiffness"]["figure"] = "q_stiffness.png"
     params["files"] = write_material_files(out, cg, extras, source)
     write_replicas(out / "replicas.h5", cg, extras)
     params["files"]["replicas_file"] = "replicas.h5"
     write_params(out / "params.json", params)
-    ph = params["physical"]
-    print(f"{ens.n_steps} steps ({len(cg.results['excluded_steps'])} excluded), {cg.results['frames_used']} frames "
-          f"used after discarding {cg.results['discarded_frames']}, N_eff = {cg.results['effective_samples']:.0f}, "
-          f"T = {T_K:.1f} K ({T_src.split(' ')[0]})")
-    for k in ("bend_persistence_length", "torsional_modulus", "stretch_modulus", "twist_stretch_coupling"):
-        print(f"  {k.replace('_', ' ')} (m = {m_rod}): {ph[k]['value']:.4g} +- {ph[k]['err']:.2g} {ph[k]['unit']}")
+    print(f"{ens.n_steps} steps ({len(cg.results['opened_steps'])} touch a pair the opening rule counts as opened), "
+          f"{cg.results['frames_used']} frames used after discarding {cg.results['discarded_frames']}, "
+          f"N_eff = {cg.results['effective_samples']:.0f}, T = {T_K:.1f} K ({T_src.split(' ')[0]})")
+    print(constants_table(params))
     for c in caveats:
         print(f"  caveat: {c}")
     extra = [f for f in (params["files"].get("steps_file"), params["files"].get("material_file"), "replicas.h5") if f]
-    print(f"wrote {out / 'params.json'}, {out / 'convergence.png'}, {out / 'by_length.png'}"
+    print(f"wrote {out / 'params.json'}, {out / 'q_stiffness.png'}, {out / 'convergence.png'}, {out / 'by_length.png'}"
           + "".join(f", {out / f}" for f in extra))
     return 0

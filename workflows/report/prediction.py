@@ -47,16 +47,19 @@ def results(cfg: dict, runs: dict, res: dict) -> dict:
         "cg_rod_planarity": float(np.mean([number(r.get("planarity")) for r in rows])) if rows else float("nan"),
         "cg_rod_quantity": next((r.get("quantity") for r in rows if r.get("quantity")), None),
         "cg_rod_reason": "; ".join(reasons) or None,
-        "cg_rod": {"seeds": sorted(runs), "runs": rows, "m": cg.get("m", 1),
+        "cg_rod": {"seeds": sorted(runs), "runs": rows, "m": cg.get("m"),
                    "replicas": cg.get("replicas", 20),
-                   "definition": "prediction: the uniform coarse-grained rod (sequence-averaged m-step material of "
-                                 "each seed's A_v = 0 MD, mapped by mdbridge.rod.material.steps_to_rod) run with the "
-                                 "headline scene (same kick, length, shape and analysis as the paper-constant rod); "
-                                 "error: spread over rod runs with the coarse-graining's bootstrap-replicate "
-                                 "materials (+ the central fit error), then combined over seeds like the MD",
+                   "definition": "prediction: the uniform coarse-grained rod (the long-wavelength stiffness "
+                                 "K(q -> 0) of the step parameters of each seed's A_v = 0 MD, or the m-step "
+                                 "compliance average when m is set, mapped by mdbridge.rod.material.steps_to_rod) "
+                                 "run with the headline scene (same kick, length, shape and analysis as the "
+                                 "paper-constant rod); error: spread over rod runs with the coarse-graining's "
+                                 "bootstrap-replicate materials (+ the central fit error and the material's "
+                                 "extrapolation and opening-rule parts), then combined over seeds like the MD",
                    "dispersion_definition": "Eq 39 (mdbridge/analysis/dispersion.py) with the coarse-grained "
-                                            "material's shear, bend and inertia averaged over the two transverse "
-                                            "directions, rho as measured; error over all bootstrap replicates"},
+                                            "material's shear and bend compliances averaged over the two "
+                                            "transverse directions (inertia averaged), rho as measured; error "
+                                            "over all bootstrap replicates (+ extrapolation and opening rule)"},
     }
     # the same keys whatever ran (NaN where a number is missing): runs stay comparable
     md, rod = number(res.get("md_wave_speed_A_per_ps")), number(res.get("rod_wave_speed_A_per_ps"))

@@ -3,14 +3,15 @@
     python -m dnarod.steps.cgloop coarse-grain MD_DIR OUT_DIR [--m M] [--temperature K]
         [--min-effective N] [--max-open-fraction F] [--discard N] [--m-max M]
     python -m dnarod.steps.cgloop rod SCENE.toml CG_DIR MD_DIR OUT_DIR --rodsim RODSIM [--m M]
-        [--replicas R] [--n-boot B] [--sequence-dependent]
+        [--replicas R] [--n-boot B] [--sequence-dependent]   (no --m: the rod's K(q -> 0))
 
 `coarse-grain` runs `dnarod coarse-grain` on the unkicked equilibrium MD (A_v = 0) of one
 seed and writes OUT_DIR/cg.json: ok, or the estimator's refusal (e.g. too few frames for
 its minimum) as the reason, so the comparison still reports everything else.
 
-`rod` builds the uniform coarse-grained rod (mdbridge.coarsegrain.cgrod: the
-sequence-averaged m-step material through mdbridge.rod.material.steps_to_rod), runs it with
+`rod` builds the uniform coarse-grained rod (mdbridge.coarsegrain.cgrod: the long-wavelength
+stiffness K(q -> 0) at the mean step through mdbridge.rod.material.steps_to_rod; with --m the
+m-step compliance average instead), runs it with
 the headline scene (same kick, length, output and in-plane direction as the paper-constant
 rod: only [material] differs), fits its standing mode with the same WaveAnalysis, and
 does the same for R bootstrap-replicate materials: the predicted speed's error is their
@@ -38,7 +39,7 @@ from mdbridge.rod.scene import write_scene
 from dnarod.steps.analyse import run_step
 
 
-def coarse_grain_md(md_dir, out_dir, m=None, temperature=None, min_effective=None, max_open_fraction=0.0,
+def coarse_grain_md(md_dir, out_dir, m=None, temperature=None, min_effective=None, max_open_fraction=0.05,
                     discard=None, m_max=None) -> dict:
     """`dnarod coarse-grain MD_DIR/md.tpr MD_DIR/md.xtc -o OUT_DIR` with T from md.edr unless
     given; OUT_DIR/cg.json records success or the refusal."""
@@ -117,7 +118,7 @@ def refused(out_dir: Path, reason: str, extra: dict | None = None) -> dict:
     return s
 
 
-def cg_rod(scene_path, cg_dir, md_dir, out_dir, rodsim, m=1, n_replicas=20, n_boot=200,
+def cg_rod(scene_path, cg_dir, md_dir, out_dir, rodsim, m=None, n_replicas=20, n_boot=200,
            sequence_dependent=False) -> dict:
     from mdbridge.stats import spread
     from mdbridge.coarsegrain.cgrod import as_json, eq39_prediction, materials, read_replicas
@@ -139,8 +140,9 @@ def cg_rod(scene_path, cg_dir, md_dir, out_dir, rodsim, m=1, n_replicas=20, n_bo
     eq39 = eq39_prediction(reps, m, disp["fiducial_length"], 1.0)
     A_v = scene["initial"].get("A_v_A_per_ps")
     sc = out / "central" / "scene.toml"
+    what = "K(q -> 0)" if m is None else f"m = {m}"
     write_scene(sc, _material_scene(scene, central),
-                 f"dnarod compare: the uniform coarse-grained rod (m = {m}) of {cg_dir}, kicked like {scene_path}")
+                f"dnarod compare: the uniform coarse-grained rod ({what}) of {cg_dir}, kicked like {scene_path}")
     _run_rodsim(rodsim, sc, out / "central" / "rod.h5")
     c = analyse_rod(sc, out / "central" / "rod.h5", out / "analysis_central", n_boot)
     reps_out = []
@@ -162,15 +164,25 @@ def cg_rod(scene_path, cg_dir, md_dir, out_dir, rodsim, m=1, n_replicas=20, n_bo
     err_cg = float(spread(v[ok])) if ok.sum() > 1 else float("nan")
     err_fit = float(c.get("wave_speed_err_A_per_ps") or float("nan"))
     speed = c.get("wave_speed_A_per_ps")
+    # the material's systematic parts (order-2 extrapolation, opening rule), carried over from
+    # Eq 39 as relative errors: the rod runs are linear in them at the kicks compared
+    parts = eq39["speed_err_parts_A_per_ps"]
+    rel_sys = math.hypot(parts.get("extrapolation", 0.0), parts.get("rule", 0.0)) / eq39["speed_A_per_ps"]
+    err_sys = rel_sys * float(speed) if speed is not None and math.isfinite(float(speed)) else float("nan")
+    err_stat = math.hypot(err_cg, err_fit) if math.isfinite(err_fit) else err_cg
     s = {"kind": "cg_rod", "A_v_A_per_ps": A_v, "m": m, "seed_md_dir": str(md_dir),
-         "speed_A_per_ps": speed, "speed_err_A_per_ps": math.hypot(err_cg, err_fit) if math.isfinite(err_fit)
-         else err_cg,
+         "material_definition": ("K(q -> 0), the long-wavelength stiffness of the step parameters" if m is None
+                                 else f"the {m}-step compliance average as per-step equivalent"),
+         "speed_A_per_ps": speed,
+         "speed_err_A_per_ps": math.hypot(err_stat, err_sys) if math.isfinite(err_sys) else err_stat,
          "speed_err_cg_A_per_ps": err_cg, "speed_err_fit_A_per_ps": err_fit,
+         "speed_err_systematic_A_per_ps": err_sys,
          "quantity": c.get("wave_quantity"), "reason": (c.get("standing_mode") or {}).get("reason"),
          "error_method": f"spread (half the central 68 % interval) of the standing-mode speed over "
                          f"{int(ok.sum())} rod runs with bootstrap-replicate materials of the "
                          "coarse-graining (same frames resampled for every step), combined in quadrature "
-                         "with the central run's fit error",
+                         "with the central run's fit error and the material's systematic parts (Eq 39's "
+                         "relative shift under the order-2 extrapolation and the opening rule)",
          "replicates": reps_out, "replicates_used": int(ok.sum()),
          "planarity": c.get("planarity"), "mode_amplitude_A": (c.get("standing_mode") or {}).get("mode_amplitude_A"),
          "complete": c.get("complete"), "dispersion": eq39, "paper_dispersion": disp,
@@ -182,6 +194,8 @@ def cg_rod(scene_path, cg_dir, md_dir, out_dir, rodsim, m=1, n_replicas=20, n_bo
                 "temperature_source": params.get("temperature_source"),
                 "frames_used": params.get("frames_used"), "effective_samples": params.get("effective_samples"),
                 "excluded_steps": params.get("excluded", {}).get("steps"), "caveats": params.get("caveats"),
+                "opening_rule_steps": params.get("opening_rule", {}).get("steps"),
+                "rod_constants": params.get("rod", {}).get("constants"),
                 "physical_m": params.get("physical_m"),
                 "physical": {k: params.get("physical", {}).get(k) for k in (
                     "bend_persistence_length", "stretch_modulus", "torsional_modulus", "twist_stretch_coupling")},
@@ -239,7 +253,7 @@ def main(argv=None) -> int:
     p.add_argument("--m", type=int, default=None)
     p.add_argument("--temperature", type=float, default=None)
     p.add_argument("--min-effective", type=float, default=None)
-    p.add_argument("--max-open-fraction", type=float, default=0.0)
+    p.add_argument("--max-open-fraction", type=float, default=0.05)
     p.add_argument("--discard", type=int, default=None)
     p.add_argument("--m-max", type=int, default=None)
     p = sub.add_parser("rod")
@@ -248,7 +262,7 @@ def main(argv=None) -> int:
     p.add_argument("md_dir")
     p.add_argument("out_dir")
     p.add_argument("--rodsim", required=True)
-    p.add_argument("--m", type=int, default=1)
+    p.add_argument("--m", type=int, default=None)
     p.add_argument("--replicas", type=int, default=20)
     p.add_argument("--n-boot", type=int, default=200)
     p.add_argument("--sequence-dependent", action="store_true")
