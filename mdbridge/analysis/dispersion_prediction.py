@@ -39,7 +39,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from dna_models.errors import InputError, NumericalError
-from dna_models.units import BOLTZMANN, Units, persistence_length_nm
+from dna_models.units import Units, persistence_length_nm
 from mdbridge.rod.linear import LinearRod, UniformMaterial, dispersion, lab_bend_indices
 from mdbridge.stats import spread
 

@@ -34,7 +34,8 @@ def test_shipped_configs_are_valid(path):
 def test_defaults_are_filled_in():
     cfg = validate(GOOD)
     assert cfg["md"]["enabled"] is True and cfg["md"]["threads"] == 2
-    assert cfg["sweep"] == {"A_v_A_per_ps": []} and cfg["analysis"] == {"fit_modulus": False, "n_boot": 200, "waves": True}
+    assert cfg["sweep"] == {"A_v_A_per_ps": []}
+    assert cfg["analysis"] == {"fit_modulus": False, "n_boot": 200, "waves": True}
     assert GOOD["md"] == {"run_ps": 4}  # the input is not modified
 
 

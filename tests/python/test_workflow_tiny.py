@@ -79,3 +79,25 @@ def test_coarse_grained_rod_predicts(tiny_run):
     assert abs(run["material"]["rho_star"] - 1) < 0.15
     page = (out / "report" / "index.html").read_text()
     assert "predicted (CG rod)" in page and 'id="fig-prediction"' in page
+
+
+def test_dispersion_of_the_equilibrium_run(tiny_run):
+    """The dispersion steps of the main job run on the tiny chain: the A_v = 0 MD's modes
+    (21 bp, 2 turns: n = 1 of each kind), its virial tension, the rods' predictions at that
+    tension, one row per mode in results.json["dispersion"] and the figure and table in the
+    report; a mode the 20-ps record cannot resolve is refused with its reason, no z."""
+    import numpy as np
+    out = tiny_run[0]
+    d = json.loads((out / "results.json").read_text())["dispersion"]
+    assert [(r["kind"], r["n"]) for r in d["rows"]] == [("bend", 1), ("twist", 1), ("stretch", 1)]
+    assert np.isfinite(d["tension_pN"]) and d["tension_err_pN"] > 0
+    for r in d["rows"]:
+        assert r["paper_rod_omega_per_ps"] > 0
+        assert (r["md_omega0_per_ps"] is None) == (r["md_reason"] is not None) == (r["z_paper_rod"] is None)
+    disp = json.loads((out / "dispersion" / "box1" / "dispersion.json").read_text())
+    assert disp["predictions"]["paper_rod"]["state"]["force_pN"] == \
+        pytest.approx(disp["tension"]["tension_pN"], rel=1e-9)
+    assert "cg_rod" in disp["predictions"] or disp["cg_rod_reason"]
+    assert (out / "dispersion" / "box1" / "md_modes" / "modes.json").is_file()
+    page = (out / "report" / "index.html").read_text()
+    assert 'id="fig-dispersion"' in page and 'id="dispersion-table"' in page

@@ -8,6 +8,8 @@ import json
 import math
 from pathlib import Path
 
+import numpy as np
+
 from dnarod.report.values import number
 
 KINDS = ("bend", "twist", "stretch")
@@ -34,10 +36,10 @@ def _row(r: dict) -> dict:
 
 
 def _summary(rows: list, name: str) -> dict:
-    z = [r[f"z_{name}"] for r in rows if r.get(f"z_{name}") is not None]
-    return {"modes_compared": len(z), "within_2_sigma": sum(1 for x in z if abs(x) < Z_AGREE),
-            "median_abs_z": float(sorted(map(abs, z))[len(z) // 2]) if z else None,
-            "chi2": float(sum(x * x for x in z)) if z else None}
+    z = np.array([float(r[f"z_{name}"]) for r in rows if r.get(f"z_{name}") is not None])
+    return {"modes_compared": len(z), "within_2_sigma": int(np.sum(np.abs(z) < Z_AGREE)),
+            "median_abs_z": float(np.median(np.abs(z))) if len(z) else None,
+            "chi2": float(np.sum(z ** 2)) if len(z) else None}
 
 
 def results(cfg: dict, found: dict) -> dict | None:
@@ -130,7 +132,8 @@ def html_section(d: dict | None) -> str:
     def fit_line(f, what):
         if f.get("reason"):
             return f"<li>{what}: not fitted ({html.escape(f['reason'])})</li>"
-        return (f"<li>{what} (bend n = {', '.join(map(str, f['n']))}): T = {_pm(f['tension_pN'], f['tension_err_pN'])} pN, "
+        return (f"<li>{what} (bend n = {', '.join(map(str, f['n']))}): "
+                f"T = {_pm(f['tension_pN'], f['tension_err_pN'])} pN, "
                 f"B = {_pm(f['B_pN_nm2'], f['B_err_pN_nm2'])} pN nm^2 (persistence length "
                 f"{_pm(f['persistence_length_nm'], f['persistence_length_err_nm'])} nm), chi2 = {_f(f['chi2'], 2)} "
                 f"for {f['dof']} degrees of freedom</li>")
@@ -139,12 +142,15 @@ def html_section(d: dict | None) -> str:
                      for n, label in MODELS if n in fit["materials"])
     boxes = ""
     if len(d["box_scales"]) > 1:
+        rows = []
+        for b in d["box_scales"]:
+            fd = b["fit_dynamics"]
+            rows.append(f"<tr><td>{b['scale']:g}</td><td>{_pm(b['tension_pN'], b['tension_err_pN'])}</td>"
+                        f"<td>{_pm(fd.get('tension_pN'), fd.get('tension_err_pN'))}</td>"
+                        f"<td>{', '.join(_f(b['bend_omega0_per_ps'].get(n), 3) for n in (1, 2, 3, 4))}</td></tr>")
         boxes = ("<table id=\"dispersion-boxes\"><tr><th>box length scale</th><th>virial tension [pN]</th>"
                  "<th>T from the bend dynamics [pN]</th><th>bend omega0, n = 1..4 [rad/ps]</th></tr>"
-                 + "".join(f"<tr><td>{b['scale']:g}</td><td>{_pm(b['tension_pN'], b['tension_err_pN'])}</td>"
-                           f"<td>{_pm(b['fit_dynamics'].get('tension_pN'), b['fit_dynamics'].get('tension_err_pN'))}</td>"
-                           f"<td>{', '.join(_f(b['bend_omega0_per_ps'].get(n), 3) for n in (1, 2, 3, 4))}</td></tr>"
-                           for b in d["box_scales"]) + "</table>")
+                 + "".join(rows) + "</table>")
     st = (d.get("rod_states") or {}).get("cg_rod")
     torque = (f"<p>The coarse-grained material's intrinsic twist is {_f(st['intrinsic_twist_over_box'], 4)} times the "
               f"ligated box's: held at the box's twist its rod carries a torque of {_f(st['torque_pN_nm'], 3)} pN nm, "

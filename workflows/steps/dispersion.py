@@ -24,7 +24,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import math
 import sys
 from pathlib import Path
 
@@ -144,10 +143,11 @@ def predict_and_compare(modes_json, out, tension_jsons, cg_dirs=(), m: int = 1, 
             except DnarodError as e:
                 cg_reasons.append(f"{name}: {e}")
     rows = compare(table["modes"], predictions)
-    for r, e in zip(rows, table["modes"]):
-        r.update(md_omega_damped_per_ps=e.get("omega_per_ps"), md_damping_per_ps=e.get("damping_per_ps"),
-                 md_variance_A2=e.get("variance") if e["kind"] == "bend" else None,
-                 md_variance_err_A2=e.get("variance_err") if e["kind"] == "bend" else None,
+    for r, entry in zip(rows, table["modes"]):
+        bend = entry["kind"] == "bend"
+        r.update(md_omega_damped_per_ps=entry.get("omega_per_ps"), md_damping_per_ps=entry.get("damping_per_ps"),
+                 md_variance_A2=entry.get("variance") if bend else None,
+                 md_variance_err_A2=entry.get("variance_err") if bend else None,
                  k_per_A=2 * np.pi * r["n"] / table["length_A"])
     # the MD's own T and B: the lowest bend modes that are measured
     # the template: the coarse-grained material (mass, inertia, shear, stretch, couplings of the
