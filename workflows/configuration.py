@@ -95,9 +95,6 @@ def validate(data, source: str = "<config>") -> dict:
     if float(out["headline_A_v_A_per_ps"]) not in [float(a) for a in out["A_v_A_per_ps"]]:
         raise InputError(f"{source}: key 'headline_A_v_A_per_ps' = {out['headline_A_v_A_per_ps']!r}: must be one "
                          f"of A_v_A_per_ps {out['A_v_A_per_ps']}")
-    if out["dispersion"].get("enabled") and 0.0 not in [float(a) for a in out["A_v_A_per_ps"]]:
-        raise InputError(f"{source}: key 'dispersion.enabled' is true, but A_v_A_per_ps {out['A_v_A_per_ps']} has "
-                         "no 0: the mode spectra are of the unkicked (A_v = 0) MD")
     return out
 
 

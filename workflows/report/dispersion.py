@@ -47,8 +47,9 @@ def results(cfg: dict, found: dict) -> dict | None:
     the unstretched run (MD omega0, the two rods' omega, errors, z), the tension, the MD's T
     and B from its dynamics and its statics, and per box scale the tension and the fits."""
     disp = cfg.get("dispersion", {}) or {}
-    if not disp.get("enabled"):
-        return None
+    if not (disp.get("enabled") and cfg.get("md", {}).get("enabled", True)
+            and 0.0 in [float(a) for a in cfg["A_v_A_per_ps"]]):
+        return None     # as the Snakefile's DISP_ON: the dispersion needs the unkicked MD
     base = found.get("1")
     if base is None:
         return {"reason": "no dispersion result (dispersion/box1/dispersion.json): the MD or its analysis "
