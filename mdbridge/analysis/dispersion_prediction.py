@@ -192,9 +192,14 @@ def predict(mat: UniformMaterial, duplex: Duplex, tension_pN: float, tension_err
     unstable at this tension is counted in replicas_unstable)."""
     if not (math.isfinite(tension_pN) and math.isfinite(tension_err_pN) and tension_err_pN >= 0):
         raise InputError(f"tension {tension_pN} +- {tension_err_pN} pN: need finite numbers, error >= 0")
-    central = frequencies(mat, duplex, tension_pN, n_max, units)
-    side = [frequencies(mat, duplex, tension_pN + s * tension_err_pN, n_max, units)
-            for s in (1, -1)] if tension_err_pN > 0 else None
+    try:
+        central = frequencies(mat, duplex, tension_pN, n_max, units)
+        side = [frequencies(mat, duplex, tension_pN + s * tension_err_pN, n_max, units)
+                for s in (1, -1)] if tension_err_pN > 0 else None
+    except NumericalError as e:
+        raise NumericalError(f"the straight rod is unstable between {tension_pN - tension_err_pN:.3g} and "
+                             f"{tension_pN + tension_err_pN:.3g} pN (it buckles under a compression beyond Euler's "
+                             f"load, or a torque beyond Greenhill's): {e}") from None
     reps, unstable = [], 0
     for r in replicas:
         if r is None:
@@ -334,8 +339,8 @@ def fit_tension_bend(ns, values, errors, template: UniformMaterial, duplex: Dupl
 
     def model(x):
         if abs(x[1]) > LN_BEND_SCALE_MAX:
-            raise NumericalError(f"B runs to {math.exp(x[1]):.3g} x the template's (beyond e^+-"
-                                 f"{LN_BEND_SCALE_MAX:g}): the measured values are not those of a bending rod")
+            raise NumericalError(f"B runs to {math.exp(x[1]):.3g} x the template's (the fit's range: 1/1000 to "
+                                 "1000 x): the measured values are not those of a bending rod")
         mat = scaled_bend(template, math.exp(x[1]))
         if observable == "omega":
             return bend_frequencies(mat, duplex, x[0], ns, u)

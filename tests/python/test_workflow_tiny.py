@@ -91,13 +91,18 @@ def test_dispersion_of_the_equilibrium_run(tiny_run):
     d = json.loads((out / "results.json").read_text())["dispersion"]
     assert [(r["kind"], r["n"]) for r in d["rows"]] == [("bend", 1), ("twist", 1), ("stretch", 1)]
     assert np.isfinite(d["tension_pN"]) and d["tension_err_pN"] > 0
-    for r in d["rows"]:
-        assert r["paper_rod_omega_per_ps"] > 0
-        assert (r["md_omega0_per_ps"] is None) == (r["md_reason"] is not None) == (r["z_paper_rod"] is None)
     disp = json.loads((out / "dispersion" / "box1" / "dispersion.json").read_text())
-    assert disp["predictions"]["paper_rod"]["state"]["force_pN"] == \
-        pytest.approx(disp["tension"]["tension_pN"], rel=1e-9)
-    assert "cg_rod" in disp["predictions"] or disp["cg_rod_reason"]
+    # each rod predicts at the MD's tension or is refused with the reason (20 ps of a fresh
+    # duplex can give a compression beyond Euler's load, where the straight rod buckles)
+    for name in ("paper_rod", "cg_rod", "cg_rod_box_twist"):
+        p = disp["predictions"].get(name)
+        assert (p is None) == (name in disp["refused"]), (name, disp["refused"])
+        if p is None:
+            continue
+        assert p["state"]["force_pN"] == pytest.approx(disp["tension"]["tension_pN"], rel=1e-9)
+        for r in d["rows"]:
+            assert r[f"{name}_omega_per_ps"] > 0
+            assert (r["md_omega0_per_ps"] is None) == (r["md_reason"] is not None) == (r[f"z_{name}"] is None)
     assert (out / "dispersion" / "box1" / "md_modes" / "modes.json").is_file()
     page = (out / "report" / "index.html").read_text()
     assert 'id="fig-dispersion"' in page and 'id="dispersion-table"' in page

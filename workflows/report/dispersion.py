@@ -58,7 +58,7 @@ def results(cfg: dict, found: dict) -> dict | None:
     out = {"rows": rows, "tension_pN": base["tension"]["tension_pN"],
            "tension_err_pN": base["tension"]["tension_err_pN"], "temperature_K": base["temperature_K"],
            "length_A": base["length_A"], "record_ps": base.get("record_ps"), "discard_ps": disp.get("discard_ps"),
-           "cg_rod_reason": base.get("cg_rod_reason"),
+           "cg_rod_reason": base.get("cg_rod_reason"), "refused": base.get("refused", {}),
            "rod_states": {n: p.get("state") for n, p in base["predictions"].items()},
            "summary": {name: dict(_summary(rows, name), **{kind: _summary([r for r in rows if r["kind"] == kind],
                                                                            name) for kind in KINDS})
@@ -91,8 +91,8 @@ def verdict(d: dict | None) -> str:
                             if s[k]["modes_compared"])
             out.append(f"The {label} at that tension, with no fitted parameter, is within two standard errors "
                        f"of the MD for {per} modes (median |z| = {s['median_abs_z']:.2g}).")
-        elif name == "cg_rod" and d.get("cg_rod_reason"):
-            out.append("No coarse-grained prediction: " + html.escape(d["cg_rod_reason"]) + ".")
+        elif (d.get("refused") or {}).get(name) and name != "cg_rod_box_twist":
+            out.append(f"No {label} prediction: " + html.escape(d["refused"][name]) + ".")
     dyn = d["fit"]["dynamics"]
     if not dyn.get("reason"):
         out.append(f"From its own bend modes the MD's tension is {dyn['tension_pN']:.3g} &plusmn; "
@@ -123,8 +123,8 @@ def html_section(d: dict | None) -> str:
         return f"<h2 id=\"dispersion\">Dispersion</h2><p>{html.escape(str(d.get('reason')))}</p>"
     body = []
     for r in d["rows"]:
-        z = "".join(f"<td>{_pm(r[f'{n}_omega_per_ps'], r[f'{n}_omega_err_per_ps'])}</td><td>{_f(r[f'z_{n}'], 2)}</td>"
-                    for n, _ in MODELS)
+        z = "".join(f"<td>{_pm(r.get(f'{n}_omega_per_ps'), r.get(f'{n}_omega_err_per_ps'))}</td>"
+                    f"<td>{_f(r.get(f'z_{n}'), 2)}</td>" for n, _ in MODELS)
         md = _pm(r["md_omega0_per_ps"], r["md_omega0_err_per_ps"]) if r["md_omega0_per_ps"] is not None else \
             f"refused: {html.escape(str(r['md_reason']))}"
         body.append(f"<tr><td>{r['kind']}</td><td>{r['n']}</td><td>{_f(r['k_per_A'], 3)}</td><td>{md}</td>{z}</tr>")
@@ -184,10 +184,10 @@ def figure(d: dict | None):
         rows = [r for r in d["rows"] if r["kind"] == kind]
         k = [r["k_per_A"] for r in rows]
         for (name, label), style, color in zip(MODELS, ("-", ":", "--"), ("C0", "C2", "k")):
-            w = [r[f"{name}_omega_per_ps"] for r in rows]
+            w = [r.get(f"{name}_omega_per_ps") for r in rows]
             if all(v is not None for v in w) and w:
                 ax.plot(k, w, style, marker=".", ms=3, color=color, lw=1, label=label)
-                e = [r[f"{name}_omega_err_per_ps"] or 0.0 for r in rows]
+                e = [r.get(f"{name}_omega_err_per_ps") or 0.0 for r in rows]
                 if name != "paper_rod":
                     ax.fill_between(k, [a - b for a, b in zip(w, e)], [a + b for a, b in zip(w, e)],
                                     color=color, alpha=0.2, lw=0)

@@ -132,16 +132,21 @@ def predict_and_compare(modes_json, out, tension_jsons, cg_dirs=(), m: int = 1, 
     duplex = Duplex(int(table["n_bp"]), int(table["helical_repeat"]), temp)
     n_max = int(table["helical_repeat"]) - 1
     paper = paper_material(duplex)
-    predictions = {"paper_rod": predict(paper, duplex, T, T_err, (), n_max)}
     mats, cg_reasons = _materials(cg_dirs, m, n_replicas)
+    predictions, refused = {}, {}
+    # the paper's rod; the coarse-grained one as it is, and with its intrinsic twist at the box's
+    # (torque-free when ligated); a rod that buckles at the MD's tension is refused with the reason
+    models = [("paper_rod", lambda x: x, [(None, paper, [])])]
     if mats:
-        # as coarse-grained, and with its intrinsic twist at the box's (torque-free when ligated)
-        for name, shape in (("cg_rod", lambda x: x), ("cg_rod_box_twist", lambda x: box_twist(x, duplex))):
-            try:
-                predictions[name] = _pool_predictions([predict(shape(c), duplex, T, T_err, [shape(r) for r in reps],
-                                                               n_max) for _, c, reps in mats])
-            except DnarodError as e:
-                cg_reasons.append(f"{name}: {e}")
+        models += [("cg_rod", lambda x: x, mats), ("cg_rod_box_twist", lambda x: box_twist(x, duplex), mats)]
+    for name, shape, seeds in models:
+        try:
+            predictions[name] = _pool_predictions([predict(shape(c), duplex, T, T_err, [shape(r) for r in reps], n_max)
+                                                   for _, c, reps in seeds])
+        except DnarodError as e:
+            refused[name] = f"no prediction at the MD's tension {T:.3g} +- {T_err:.2g} pN: {e}"
+    if not mats:
+        refused["cg_rod"] = refused["cg_rod_box_twist"] = "; ".join(cg_reasons) or "no coarse-graining"
     rows = compare(table["modes"], predictions)
     for r, entry in zip(rows, table["modes"]):
         bend = entry["kind"] == "bend"
@@ -173,8 +178,8 @@ def predict_and_compare(modes_json, out, tension_jsons, cg_dirs=(), m: int = 1, 
            "record_ps": table.get("record_ps"), "temperature_K": temp,
            "tension": {"tension_pN": T, "tension_err_pN": T_err, "per_seed": tensions},
            "rows": rows, "predictions": predictions,
-           "cg_rod_reason": ("; ".join(cg_reasons) or "no coarse-graining") if "cg_rod" not in predictions else None,
-           "cg_notes": cg_reasons if "cg_rod" in predictions else [],
+           "refused": refused, "cg_rod_reason": refused.get("cg_rod"),
+           "cg_notes": cg_reasons if mats else [],
            "fit": {"template": template_name, "n_fit_max": n_fit_max, "dynamics": dyn, "statics": stat,
                    **checks, "materials": refs},
            "definition": "rows: per MD mode, the MD's undamped frequency omega0 = sqrt(omega^2 + gamma^2) "
