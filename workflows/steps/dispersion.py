@@ -136,13 +136,14 @@ def predict_and_compare(modes_json, out, tension_jsons, cg_dirs=(), m: int = 1, 
     predictions, refused = {}, {}
     # the paper's rod; the coarse-grained one as it is, and with its intrinsic twist at the box's
     # (torque-free when ligated); a rod that buckles at the MD's tension is refused with the reason
-    models = [("paper_rod", lambda x: x, [(None, paper, [])])]
+    models: list[tuple[str, list]] = [("paper_rod", [(paper, [])])]     # per seed: (material, replicas)
     if mats:
-        models += [("cg_rod", lambda x: x, mats), ("cg_rod_box_twist", lambda x: box_twist(x, duplex), mats)]
-    for name, shape, seeds in models:
+        models.append(("cg_rod", [(c, reps) for _, c, reps in mats]))
+        models.append(("cg_rod_box_twist", [(box_twist(c, duplex), [box_twist(r, duplex) for r in reps])
+                                            for _, c, reps in mats]))
+    for name, seeds in models:
         try:
-            predictions[name] = _pool_predictions([predict(shape(c), duplex, T, T_err, [shape(r) for r in reps], n_max)
-                                                   for _, c, reps in seeds])
+            predictions[name] = _pool_predictions([predict(c, duplex, T, T_err, reps, n_max) for c, reps in seeds])
         except DnarodError as e:
             refused[name] = f"no prediction at the MD's tension {T:.3g} +- {T_err:.2g} pN: {e}"
     if not mats:
