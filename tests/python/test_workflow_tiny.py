@@ -3,6 +3,7 @@ rod scene -> rodsim -> build-md -> run-md -> analyses -> report, then a resume t
 has nothing left to do. ~3 min on 2 cores."""
 import json
 import subprocess
+import sys
 import time
 from pathlib import Path
 
@@ -104,5 +105,15 @@ def test_dispersion_of_the_equilibrium_run(tiny_run):
             assert r[f"{name}_omega_per_ps"] > 0
             assert (r["md_omega0_per_ps"] is None) == (r["md_reason"] is not None) == (r[f"z_{name}"] is None)
     assert (out / "dispersion" / "box1" / "md_modes" / "modes.json").is_file()
+    # the Markdown table of the same rows (what results/dispersion/ commits)
+    p = subprocess.run([sys.executable, "-m", "dnarod.steps.dispersion", "table",
+                        str(out / "dispersion" / "box1" / "dispersion.json")], capture_output=True, text=True)
+    assert p.returncode == 0, p.stderr
+    lines = [x for x in p.stdout.splitlines() if x.startswith(("| bend ", "| twist ", "| stretch "))]
+    assert [tuple(x.split(" | ")[:2]) for x in lines] == [(f"| {r['kind']}", str(r["n"])) for r in d["rows"]]
+    assert "MD's T and B from the bend frequencies" in p.stdout
+    bad = subprocess.run([sys.executable, "-m", "dnarod.steps.dispersion", "table", str(out / "nothing.json")],
+                         capture_output=True, text=True)
+    assert bad.returncode == 2 and "nothing.json: no such file" in bad.stderr
     page = (out / "report" / "index.html").read_text()
     assert 'id="fig-dispersion"' in page and 'id="dispersion-table"' in page

@@ -173,6 +173,44 @@ def html_section(d: dict | None) -> str:
             f"statics) = {_f(fit.get('z_B_dynamics_vs_statics'), 2)}. The rods' own: {mats}.</p>" + boxes)
 
 
+def markdown_table(d: dict) -> str:
+    """The prediction-vs-MD table of a dispersion.json (workflows/steps/dispersion.py) as
+    Markdown: the tension, one row per mode (MD omega0, each rod's omega, errors, z) and the
+    MD's own T and B; what `python -m dnarod.steps.dispersion table` prints."""
+    def pm(v, e):
+        return "n/a" if v is None else _pm(v, e).replace("&plusmn;", "±")
+    t = d["tension"]
+    names = [(n, label) for n, label in MODELS if n in d["predictions"]]
+    out = [f"{d['n_bp']} bp, {d['turns']} turns, {_f(d.get('record_ps'), 4)} ps of MD at "
+           f"{_f(d['temperature_K'], 4)} K; "
+           f"virial tension {pm(t['tension_pN'], t['tension_err_pN'])} pN; omega in rad/ps, "
+           "z = (MD - rod) / sqrt(err_MD^2 + err_rod^2).", ""]
+    for n, why in (d.get("refused") or {}).items():
+        out += [f"No {n}: {why}", ""]
+    out.append("| kind | n | k [1/A] | MD omega0 | " + " | ".join(f"{label} | z" for _, label in names) + " |")
+    out.append("|---" * (4 + 2 * len(names)) + "|")
+    for r in d["rows"]:
+        md = pm(r["md_omega0_per_ps"], r["md_omega0_err_per_ps"]) if r["md_omega0_per_ps"] is not None else \
+            f"refused ({r['md_reason']})"
+        cells = [r["kind"], str(r["n"]), _f(r["k_per_A"], 3), md]
+        for n, _ in names:
+            cells += [pm(r.get(f"{n}_omega_per_ps"), r.get(f"{n}_omega_err_per_ps")), _f(r.get(f"z_{n}"), 2)]
+        out.append("| " + " | ".join(cells) + " |")
+    out.append("")
+    for key, what in (("dynamics", "from the bend frequencies"), ("statics", "from the static variances")):
+        f = d["fit"][key]
+        out.append(f"- MD's T and B {what}: " + (f"not fitted ({f['reason']})" if f.get("reason") else
+                   f"n = {', '.join(map(str, f['n']))}: T = {pm(f['tension_pN'], f['tension_err_pN'])} pN, "
+                   f"B = {pm(f['B_pN_nm2'], f['B_err_pN_nm2'])} pN nm^2 (persistence length "
+                   f"{pm(f['persistence_length_nm'], f['persistence_length_err_nm'])} nm), "
+                   f"chi2 {_f(f['chi2'], 2)} for {f['dof']} dof"))
+    fit = d["fit"]
+    out.append(f"- z (T, dynamics - virial) = {_f(fit.get('z_T_dynamics_vs_virial'), 2)}; z (T, statics - virial) = "
+               f"{_f(fit.get('z_T_statics_vs_virial'), 2)}; z (B, dynamics - statics) = "
+               f"{_f(fit.get('z_B_dynamics_vs_statics'), 2)}")
+    return "\n".join(out) + "\n"
+
+
 def figure(d: dict | None):
     """omega against k, one panel per kind: MD points (omega0 with errors), the coarse-grained
     rod's and the paper rod's predictions (lines, with the CG rod's error band)."""

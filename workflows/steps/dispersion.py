@@ -4,6 +4,7 @@
     python -m dnarod.steps.dispersion tension MD_DIR OUT.json [--discard-ps T]
     python -m dnarod.steps.dispersion predict MODES.json -o OUT.json --tension T.json... \
         [--cg CG_DIR...] [--m M] [--replicas R] [--n-fit-max N]
+    python -m dnarod.steps.dispersion table DISPERSION.json [-o TABLE.md]
 
 `stretch` copies a build-md folder with its box and coordinates scaled by F along the helix
 axis (mdbridge/md/gromacs/tension.py stretch_box), for a run at another box length.
@@ -19,6 +20,9 @@ compares them with the MD's measured modes (`dnarod modes` -> MODES.json) as z-s
 fits the MD's own T and B to its lowest bend frequencies and, independently, to their static
 variances (mdbridge/analysis/dispersion_prediction.py). A coarse-graining that was refused
 leaves the paper rod's prediction and says why.
+
+`table` prints (or writes) a dispersion.json's prediction-vs-MD table as Markdown
+(dnarod.report.dispersion.markdown_table).
 """
 from __future__ import annotations
 
@@ -214,6 +218,9 @@ def main(argv=None) -> int:
     p.add_argument("--replicas", type=int, default=20)
     p.add_argument("--n-fit-max", type=int, default=4)
     p.add_argument("--temperature", type=float, default=None)
+    p = sub.add_parser("table")
+    p.add_argument("dispersion")
+    p.add_argument("-o", "--output", default=None)
     a = ap.parse_args(argv)
 
     def step():
@@ -222,6 +229,16 @@ def main(argv=None) -> int:
             print(stretch_box(Path(a.md_dir), Path(a.out_dir), a.factor))
         elif a.step == "tension":
             measure_tension(a.md_dir, a.out, a.discard_ps)
+        elif a.step == "table":
+            from dnarod.report.dispersion import markdown_table
+            if not Path(a.dispersion).is_file():
+                raise InputError(f"{a.dispersion}: no such file (the dispersion step writes "
+                                 "dispersion/box1/dispersion.json)")
+            text = markdown_table(json.loads(Path(a.dispersion).read_text()))
+            if a.output:
+                Path(a.output).write_text(text)
+            else:
+                print(text, end="")
         else:
             predict_and_compare(a.modes, a.output, a.tension, a.cg, a.m, a.replicas, a.n_fit_max, a.temperature)
     return run_step(f"dispersion {a.step}", step)
