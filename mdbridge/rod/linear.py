@@ -214,10 +214,12 @@ class LinearRod:
         n = int(round(abs(q) * self.L / (2.0 * np.pi)))
         return kind, n, hand, float(ke[kind] / total) if total > 0 else 0.0
 
-    def modes(self, n_max: int | None = None) -> list[Mode]:
-        """Every normal mode with omega > 0 whose lab mode number is <= n_max."""
+    def modes(self, n_max: int | None = None, body_indices=None) -> list[Mode]:
+        """Every normal mode with omega > 0 whose lab mode number is <= n_max, from every body
+        wavenumber index m (or only those of body_indices: `lab_bend_indices` gives the ones
+        that hold given lab bend modes)."""
         out = []
-        for m in range(self.N):
+        for m in (range(self.N) if body_indices is None else sorted({int(i) % self.N for i in body_indices})):
             w, V = np.linalg.eig(self.operator(m))
             growth = np.abs(w.real).max()
             if growth > 1e-8 * max(1.0, np.abs(w.imag).max()):
@@ -231,6 +233,12 @@ class LinearRod:
                     k = self.k(m if m <= self.N // 2 else m - self.N)
                     out.append(Mode(kind, n, float(lam.imag), float(k), hand, purity))
         return sorted(out, key=lambda x: (x.kind, x.n, x.omega))
+
+
+def lab_bend_indices(ns, turns: int, points: int) -> list[int]:
+    """The body wavenumber indices m (mod points) whose transverse modes are lab mode n of a
+    rod of `turns` helical turns: lab n = |m + turns| or |turns - m| (module doc)."""
+    return sorted({(s * n + t * turns) % points for n in ns for s in (1, -1) for t in (1, -1)})
 
 
 def K_times(mat: UniformMaterial, Gamma, Omega) -> np.ndarray:

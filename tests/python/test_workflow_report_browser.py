@@ -178,3 +178,32 @@ def test_every_axis_is_labelled_with_units(tiny_run):
                 continue
             for label in (ax.get_xlabel(), ax.get_ylabel()):
                 assert label and "[" in label and "]" in label, (name, ax.get_title(), label)
+
+
+DISPERSION_JS = """
+const f = document.getElementById('fig-dispersion'), t = document.getElementById('dispersion-table');
+return {figure: !!f, caption: f ? f.querySelector('figcaption').innerText : '',
+        rows: t ? Array.from(t.rows).map(r => Array.from(r.cells).map(c => c.innerText)) : null,
+        fit: (document.getElementById('dispersion-fit') || {}).innerText || '',
+        verdict: document.getElementById('verdict').innerText};
+"""
+
+
+def test_dispersion_figure_and_table(browser, tiny_run):
+    """The dispersion section: its figure decoded and not blank, with a caption, and the z table
+    with one row per mode of results.json["dispersion"] (MD, the rods, z; a refused MD mode
+    says why)."""
+    page = tiny_run[0] / "report" / "index.html"
+    drv = _open(browser, page)
+    o = drv.execute_script(DISPERSION_JS)
+    assert o["figure"] and "wavenumber" in o["caption"], o["caption"]
+    stats = {s["alt"]: s for s in drv.execute_script(PIXEL_STATS_JS)}
+    s = stats["dispersion"]
+    assert s["w"] > 50 and s["std"] > 5 and s["nonWhite"] > 0.005, s
+    res = json.loads((tiny_run[0] / "results.json").read_text())["dispersion"]
+    assert o["rows"] is not None and len(o["rows"]) == 1 + len(res["rows"]), o["rows"]
+    assert o["rows"][0][:4] == ["kind", "n", "k [1/A]", "MD omega0 [rad/ps]"]
+    for cells, r in zip(o["rows"][1:], res["rows"]):
+        assert cells[0] == r["kind"] and int(cells[1]) == r["n"]
+        assert cells[3].startswith("refused: ") == (r["md_omega0_per_ps"] is None)
+    assert "from the frequencies" in o["fit"] and "tension" in o["verdict"]

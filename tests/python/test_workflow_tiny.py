@@ -3,6 +3,7 @@ rod scene -> rodsim -> build-md -> run-md -> analyses -> report, then a resume t
 has nothing left to do. ~3 min on 2 cores."""
 import json
 import subprocess
+import sys
 import time
 from pathlib import Path
 
@@ -79,3 +80,40 @@ def test_coarse_grained_rod_predicts(tiny_run):
     assert abs(run["material"]["rho_star"] - 1) < 0.15
     page = (out / "report" / "index.html").read_text()
     assert "predicted (CG rod)" in page and 'id="fig-prediction"' in page
+
+
+def test_dispersion_of_the_equilibrium_run(tiny_run):
+    """The dispersion steps of the main job run on the tiny chain: the A_v = 0 MD's modes
+    (21 bp, 2 turns: n = 1 of each kind), its virial tension, the rods' predictions at that
+    tension, one row per mode in results.json["dispersion"] and the figure and table in the
+    report; a mode the 20-ps record cannot resolve is refused with its reason, no z."""
+    import numpy as np
+    out = tiny_run[0]
+    d = json.loads((out / "results.json").read_text())["dispersion"]
+    assert [(r["kind"], r["n"]) for r in d["rows"]] == [("bend", 1), ("twist", 1), ("stretch", 1)]
+    assert np.isfinite(d["tension_pN"]) and d["tension_err_pN"] > 0
+    disp = json.loads((out / "dispersion" / "box1" / "dispersion.json").read_text())
+    # each rod predicts at the MD's tension or is refused with the reason (20 ps of a fresh
+    # duplex can give a compression beyond Euler's load, where the straight rod buckles)
+    for name in ("paper_rod", "cg_rod", "cg_rod_box_twist"):
+        p = disp["predictions"].get(name)
+        assert (p is None) == (name in disp["refused"]), (name, disp["refused"])
+        if p is None:
+            continue
+        assert p["state"]["force_pN"] == pytest.approx(disp["tension"]["tension_pN"], rel=1e-9)
+        for r in d["rows"]:
+            assert r[f"{name}_omega_per_ps"] > 0
+            assert (r["md_omega0_per_ps"] is None) == (r["md_reason"] is not None) == (r[f"z_{name}"] is None)
+    assert (out / "dispersion" / "box1" / "md_modes" / "modes.json").is_file()
+    # the Markdown table of the same rows (what results/dispersion/ commits)
+    p = subprocess.run([sys.executable, "-m", "dnarod.steps.dispersion", "table",
+                        str(out / "dispersion" / "box1" / "dispersion.json")], capture_output=True, text=True)
+    assert p.returncode == 0, p.stderr
+    lines = [x for x in p.stdout.splitlines() if x.startswith(("| bend ", "| twist ", "| stretch "))]
+    assert [tuple(x.split(" | ")[:2]) for x in lines] == [(f"| {r['kind']}", str(r["n"])) for r in d["rows"]]
+    assert "MD's T and B from the bend frequencies" in p.stdout
+    bad = subprocess.run([sys.executable, "-m", "dnarod.steps.dispersion", "table", str(out / "nothing.json")],
+                         capture_output=True, text=True)
+    assert bad.returncode == 2 and "nothing.json: no such file" in bad.stderr
+    page = (out / "report" / "index.html").read_text()
+    assert 'id="fig-dispersion"' in page and 'id="dispersion-table"' in page

@@ -87,8 +87,8 @@ def comparison_block(cfg: dict, data: dict) -> dict:
     md_base_T = base_md["tension_pN"] if base_md else None
     rod_base_T = base_rod["tension_pN"] if base_rod else 0.0
     buck = None
-    if data["rod"]:
-        j = next(j for j, _ in data["rod"].values() if j)
+    j = next((j for j, _ in data["rod"].values() if j), None)     # none: no wave analyses (analysis.waves)
+    if j:
         d = j.get("dispersion", {})
         if d.get("fiducial_length"):
             c = critical_compression(d["fiducial_length"], d.get("D1", u.D_star[0]), u.C_star[2])

@@ -20,7 +20,7 @@ import numpy as np
 
 from mdbridge.md.gromacs.checks import DRIFT_TARGET_KJ_MOL_NS_ATOM as DRIFT_TARGET
 from mdbridge.jsonio import write_json
-from dnarod.report import prediction, verdict
+from dnarod.report import dispersion, prediction, verdict
 from dnarod.report.values import mean_over_seeds, number
 from dnarod.report.prediction import CAPTION as PREDICTION_CAPTION
 
@@ -88,6 +88,7 @@ def collect(cfg: dict, out: Path) -> dict:
     for av in cfg.get("sweep", {}).get("A_v_A_per_ps", []) or []:
         data["sweep"][float(av)] = _load(out / "sweep" / f"Av{fmt_av(av)}" / "analysis")
     data["cgrod"] = prediction.collect(cfg, out)
+    data["dispersion"] = dispersion.collect(cfg, out)
     data["prestrain"] = {}
     for d in sorted((out / "prestrain").glob("Av*")) if (out / "prestrain").is_dir() else []:
         data["prestrain"][d.name] = _load(d / "analysis")
@@ -191,6 +192,9 @@ def results_json(cfg: dict, data: dict) -> dict:
             md_speed, rod_j["dispersion"]["fiducial_length"], rod_j["dispersion"]["Gamma03"])
     if data.get("modulus"):
         res["modulus_fit_for_md_speed"] = data["modulus"]
+    disp = dispersion.results(cfg, data.get("dispersion", {}))
+    if disp is not None:
+        res["dispersion"] = disp
     rmsd = _rmsd_per_seed(data, head, seeds)
     res["rod_md_rmsd"] = rmsd
     res["rod_md_rmsd_A_final"] = float(np.mean([x["rmsd_A"][-1] for x in rmsd])) if rmsd else float("nan")
@@ -212,6 +216,7 @@ CAPTIONS = {
     "rmsd": "RMSD of the rod's helical axis fitted onto the MD's (Kabsch), per MD frame. It starts "
             "near 0 (the MD is built on the rod); look for how fast the two drift apart.",
     "prediction": PREDICTION_CAPTION,
+    "dispersion": dispersion.CAPTION,
     "amplitude": "Rod wave speed against the kick amplitude A_v (sweep), with the small-amplitude "
                  "limit of Eq 39, the paper's values and this run's MD. Look for where the rod leaves "
                  "the linear limit and where the MD point sits on the rod's curve.",
@@ -229,9 +234,13 @@ def figures(cfg: dict, data: dict, res: dict) -> dict:
     md = next((data["md"][(head, s)][1] for s in seeds
                if data["md"].get((head, s), (None, None))[1] is not None), None)
     pairs = [("rod", rod)] + ([("MD", md)] if md is not None else [])
-    figs = {"kymographs": _kymographs(plt, pairs, head, rod is not None),
-            "snapshots": _snapshots(plt, pairs),
-            "planarity_integrity": _planarity_integrity(plt, data)}
+    figs = {}
+    fig = dispersion.figure(res.get("dispersion"))
+    if fig is not None:
+        figs["dispersion"] = fig
+    if rod is not None:     # the wave figures (no wave analyses: analysis.waves is false)
+        figs.update({"kymographs": _kymographs(plt, pairs, head, True), "snapshots": _snapshots(plt, pairs),
+                     "planarity_integrity": _planarity_integrity(plt, data)})
     if res["rod_md_rmsd"]:
         figs["rmsd"] = _rmsd_figure(plt, res["rod_md_rmsd"], head)
     fig = prediction.figure(res)
@@ -343,6 +352,22 @@ def _check_part(x, sep="; ") -> str:
     return f"check {_f(x)}{sep}" if math.isfinite(number(x)) else ""
 
 
+def _wave_sections(table, matched_html, runs) -> str:
+    """The wave-speed part of the page: the summary against the paper, the matched comparison
+    and every run."""
+    return f"""<h2>Summary vs the paper</h2>
+<table id="headline"><tr><th>quantity</th><th>this run</th><th>paper (Sec 6)</th></tr>{table}</table>
+{matched_html}
+<h2>All runs</h2>
+<table><tr><th>kind</th><th>A_v [A/ps]</th><th>seed</th><th>speed [A/ps]</th><th>check</th>
+<th>planarity</th><th>bp intact</th><th>energy drift [kJ/mol/ns/atom]</th><th>t_end [ps]</th></tr>{runs}</table>"""
+
+
+def _not_measured(items: str) -> str:
+    return f"""<h2 id="not-measured">Not measured or refused in this run</h2>
+<ul id="not-measured-list">{items or "<li>nothing: every summary row has a number</li>"}</ul>"""
+
+
 def write_html(cfg: dict, res: dict, figs: dict, path: Path):
     rows = [
         (f"rod {html.escape(res.get('rod_quantity') or 'wave speed')} [A/ps] ({html.escape(str(res.get('rod_regime')))})", f"{_f(res['rod_wave_speed_A_per_ps'])} &plusmn; {_f(res['rod_wave_speed_err_A_per_ps'], 2)}"
@@ -385,15 +410,17 @@ def write_html(cfg: dict, res: dict, figs: dict, path: Path):
     # a refused prediction is said in the verdict and in the "not measured" list, not as a table of n/a
     if math.isfinite(number(res.get("cg_rod_wave_speed_A_per_ps"))):
         matched_html = prediction.html_section(res) + matched_html
+    disp_html = dispersion.html_section(res.get("dispersion"))
     fig_html = {k: (f'<figure id="fig-{html.escape(k)}"><img alt="{html.escape(k)}" '
                     f'src="data:image/png;base64,{_png(fig)}"><figcaption><b>{html.escape(k)}.</b> '
                     f'{html.escape(CAPTIONS[k])}</figcaption></figure>') for k, fig in figs.items()}
     # the figure that shows the headline result comes first, right under the verdict
-    lead = next((k for k in ("prediction", "kymographs") if k in fig_html), next(iter(fig_html), None))
+    lead = next((k for k in ("dispersion", "prediction", "kymographs") if k in fig_html), next(iter(fig_html), None))
     lead_html = fig_html.pop(lead) if lead is not None else ""
     imgs = "\n".join(fig_html.values())
+    waves = bool(res["runs"]["rod"] or res["runs"]["md"])
     note = ""
-    if float(res["md_run_ps"]) < PAPER_MD_RUN_PS:
+    if waves and float(res["md_run_ps"]) < PAPER_MD_RUN_PS:
         note = (f"<p><b>Note:</b> the MD here runs {_f(res['md_run_ps'])} ps, shorter than the paper's "
                 "600 ps, to fit the default configuration's time budget; use "
                 "<code>--config workflows/config/paper.yaml</code> for the paper's length.</p>")
@@ -402,17 +429,13 @@ def write_html(cfg: dict, res: dict, figs: dict, path: Path):
 <style>body{{font-family:sans-serif;max-width:1100px;margin:auto}} td,th{{border:1px solid #ccc;padding:3px 8px}}
 table{{border-collapse:collapse}} img{{max-width:100%}} figcaption{{font-size:90%;color:#333}}</style></head><body>
 <h1>Rod vs all-atom MD: bend-shear wave on a periodic duplex</h1>
-<section id="verdict"><h2>What this run found</h2><p>{verdict.verdict(res)}</p></section>
-{lead_html}{note}
-<h2>Summary vs the paper</h2>
-<table id="headline"><tr><th>quantity</th><th>this run</th><th>paper (Sec 6)</th></tr>{table}</table>
-{matched_html}
-<h2>All runs</h2>
-<table><tr><th>kind</th><th>A_v [A/ps]</th><th>seed</th><th>speed [A/ps]</th><th>check</th>
-<th>planarity</th><th>bp intact</th><th>energy drift [kJ/mol/ns/atom]</th><th>t_end [ps]</th></tr>{runs}</table>
-<h2>Figures</h2>{imgs}
-<h2 id="not-measured">Not measured or refused in this run</h2>
-<ul id="not-measured-list">{not_measured or "<li>nothing: every summary row has a number</li>"}</ul>
+<section id="verdict"><h2>What this run found</h2><p>{dispersion.verdict(res.get("dispersion"))}
+{verdict.verdict(res) if waves else ""}</p></section>
+{lead_html}{disp_html}{note}
+{_wave_sections(table, matched_html, runs) if waves else
+ "<p>No wave-speed analyses in this configuration (analysis.waves is false: no kicked run).</p>"}
+<h2>Figures</h2>{imgs or "<p>(the figure above)</p>"}
+{_not_measured(not_measured) if waves else ""}
 <p>Generated {datetime.datetime.now(datetime.timezone.utc).isoformat(timespec='seconds')} by
 <code>dnarod compare</code>. Headline run: A_v = {_f(res['headline_A_v_A_per_ps'])} A/ps.
 Estimators and definitions: docs/analysis.md.</p>

@@ -1,0 +1,248 @@
+"""The dispersion steps of `dnarod compare` (workflows/Snakefile; docs/dispersion.md):
+
+    python -m dnarod.steps.dispersion stretch MD_DIR OUT_DIR --factor F
+    python -m dnarod.steps.dispersion tension MD_DIR OUT.json [--discard-ps T]
+    python -m dnarod.steps.dispersion predict MODES.json -o OUT.json --tension T.json... \
+        [--cg CG_DIR...] [--m M] [--replicas R] [--n-fit-max N]
+    python -m dnarod.steps.dispersion table DISPERSION.json [-o TABLE.md]
+
+`stretch` copies a build-md folder with its box and coordinates scaled by F along the helix
+axis (mdbridge/md/gromacs/tension.py stretch_box), for a run at another box length.
+
+`tension` measures the MD's axial tension from the virial (mdbridge/md/gromacs/tension.py:
+-P_aa x A from MD_DIR/md.edr, through `gmx energy`) after the discarded start, with its
+blocking error.
+
+`predict` turns the coarse-grained material of each seed (CG_DIR/replicas.h5, through
+mdbridge.coarsegrain.cgrod.materials: the central material and its bootstrap replicas) and
+the paper's rod into every mode's predicted frequency at the MD's tension (seeds pooled),
+compares them with the MD's measured modes (`dnarod modes` -> MODES.json) as z-scores, and
+fits the MD's own T and B to its lowest bend frequencies and, independently, to their static
+variances (mdbridge/analysis/dispersion_prediction.py). A coarse-graining that was refused
+leaves the paper rod's prediction and says why.
+
+`table` prints (or writes) a dispersion.json's prediction-vs-MD table as Markdown
+(dnarod.report.dispersion.markdown_table).
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from dna_models.errors import DnarodError, InputError
+from mdbridge.jsonio import write_json
+
+from dnarod.steps.analyse import run_step
+
+KINDS = ("bend", "twist", "stretch")
+
+
+def measure_tension(md_dir, out, discard_ps: float = 0.0, gmx: str | None = None) -> dict:
+    """OUT.json: the MD's mean axial tension [pN] after discard_ps, with its error."""
+    from mdbridge.md.gromacs.gmx import find_gmx
+    from mdbridge.md.gromacs.tension import mean_with_error, tension_series
+    d = Path(md_dir)
+    s = tension_series(d, find_gmx(gmx))
+    t = np.asarray(s["time"], float)
+    if len(t) < 16 or discard_ps >= t[-1] - t[0]:
+        raise InputError(f"{d / 'md.edr'}: {len(t)} energy frames over {t[-1] - t[0] if len(t) else 0:g} ps; the "
+                         f"tension needs a record longer than the discarded {discard_ps:g} ps")
+    m = mean_with_error(t, s["tension_pN"], discard_ps=discard_ps)
+    rec = {"md_dir": str(d), "tension_pN": m["mean"], "tension_err_pN": m["sem"], "discard_ps": discard_ps,
+           "window_ps": m["window_ps"], "stationary": m["halves"]["stationary"], "halves": m["halves"],
+           "box_length_A": float(np.mean(s["length_nm"])) * 10.0, "axis": s["axis"],
+           "temperature_K": _build_temperature(d),
+           "definition": "F = -P_aa A (virial, kinetic term included; mdbridge/md/gromacs/tension.py); error: "
+                         + m["sem_rule"]}
+    write_json(out, rec)
+    return rec
+
+
+def _build_temperature(d: Path):
+    """The MD's reference temperature (its thermostat's, build.json), None when not recorded."""
+    bj = d / "build.json"
+    t = json.loads(bj.read_text()).get("temperature_K") if bj.is_file() else None
+    return float(t) if t else None
+
+
+def _pooled_tension(records: list[dict]) -> tuple[float, float]:
+    from dnarod.report.values import mean_over_seeds
+    return mean_over_seeds([r["tension_pN"] for r in records], [r["tension_err_pN"] for r in records])
+
+
+def _materials(cg_dirs, m: int, n_replicas: int):
+    """[(seed dir, central, replicas)] of the seeds whose coarse-graining succeeded, and the
+    reasons of those that did not."""
+    from mdbridge.coarsegrain.cgrod import materials, read_replicas
+    from mdbridge.rod.linear import UniformMaterial
+    ok, reasons = [], []
+    for d in map(Path, cg_dirs):
+        rec = json.loads((d / "cg.json").read_text()) if (d / "cg.json").is_file() else {}
+        if not rec.get("ok"):
+            reasons.append(f"{d}: coarse-graining refused: {rec.get('reason', 'cg.json missing')}")
+            continue
+        try:
+            central, boot = materials(read_replicas(d / "replicas.h5"), m, n_replicas)
+        except InputError as e:
+            reasons.append(f"{d}: {e}")
+            continue
+        ok.append((d, UniformMaterial.from_dict(central),
+                   [UniformMaterial.from_dict(b) for b in boot if b is not None]))
+    return ok, reasons
+
+
+def _pool_predictions(preds: list[dict]) -> dict:
+    """The seeds' predictions as one: mean over seeds, error from each seed's error and the
+    between-seed scatter (dnarod.report.values.mean_over_seeds)."""
+    from dnarod.report.values import mean_over_seeds
+    if len(preds) == 1:
+        return preds[0]
+    out = dict(preds[0], seeds=len(preds), modes=[])
+    for i, m0 in enumerate(preds[0]["modes"]):
+        w, e = mean_over_seeds([p["modes"][i]["omega_per_ps"] for p in preds],
+                               [p["modes"][i]["omega_err_per_ps"] for p in preds])
+        out["modes"].append(dict(m0, omega_per_ps=w, omega_err_per_ps=e))
+    return out
+
+
+def _fit(kind_rows, observable, template, duplex, T0):
+    """The T/B fit of one observable, or its refusal."""
+    from mdbridge.analysis.dispersion_prediction import fit_tension_bend
+    key, err = ("md_omega0_per_ps", "md_omega0_err_per_ps") if observable == "omega" else \
+        ("md_variance_A2", "md_variance_err_A2")
+    use = [r for r in kind_rows if r.get(key) is not None and r.get(err)]
+    ns = [r["n"] for r in use]
+    try:
+        return fit_tension_bend(ns, [r[key] for r in use], [r[err] for r in use], template, duplex, observable,
+                                T0)
+    except DnarodError as e:
+        return {"observable": observable, "n": ns, "reason": str(e)}
+
+
+def predict_and_compare(modes_json, out, tension_jsons, cg_dirs=(), m: int = 1, n_replicas: int = 20,
+                        n_fit_max: int = 4, temperature_K: float | None = None) -> dict:
+    from mdbridge.analysis.dispersion_prediction import (Duplex, bend_stiffness_pN_nm2, box_twist, compare,
+                                                         paper_material, persistence_nm, predict, z_score)
+    table = json.loads(Path(modes_json).read_text())
+    tensions = [json.loads(Path(p).read_text()) for p in tension_jsons]
+    if not tensions:
+        raise InputError("no tension file: the prediction is taken at the MD's measured tension")
+    T, T_err = _pooled_tension(tensions)
+    temp = float(temperature_K or tensions[0].get("temperature_K") or 300.0)
+    duplex = Duplex(int(table["n_bp"]), int(table["helical_repeat"]), temp)
+    n_max = int(table["helical_repeat"]) - 1
+    paper = paper_material(duplex)
+    mats, cg_reasons = _materials(cg_dirs, m, n_replicas)
+    predictions, refused = {}, {}
+    # the paper's rod; the coarse-grained one as it is, and with its intrinsic twist at the box's
+    # (torque-free when ligated); a rod that buckles at the MD's tension is refused with the reason
+    models: list[tuple[str, list]] = [("paper_rod", [(paper, [])])]     # per seed: (material, replicas)
+    if mats:
+        models.append(("cg_rod", [(c, reps) for _, c, reps in mats]))
+        models.append(("cg_rod_box_twist", [(box_twist(c, duplex), [box_twist(r, duplex) for r in reps])
+                                            for _, c, reps in mats]))
+    for name, seeds in models:
+        try:
+            predictions[name] = _pool_predictions([predict(c, duplex, T, T_err, reps, n_max) for c, reps in seeds])
+        except DnarodError as e:
+            refused[name] = f"no prediction at the MD's tension {T:.3g} +- {T_err:.2g} pN: {e}"
+    if not mats:
+        refused["cg_rod"] = refused["cg_rod_box_twist"] = "; ".join(cg_reasons) or "no coarse-graining"
+    rows = compare(table["modes"], predictions)
+    for r, entry in zip(rows, table["modes"]):
+        bend = entry["kind"] == "bend"
+        r.update(md_omega_damped_per_ps=entry.get("omega_per_ps"), md_damping_per_ps=entry.get("damping_per_ps"),
+                 md_variance_A2=entry.get("variance") if bend else None,
+                 md_variance_err_A2=entry.get("variance_err") if bend else None,
+                 k_per_A=2 * np.pi * r["n"] / table["length_A"])
+    # the MD's own T and B: the lowest bend modes that are measured
+    # the template: the coarse-grained material (mass, inertia, shear, stretch, couplings of the
+    # MD) with the box's twist, as the MD's mean state is (the ligation's torque is unknown)
+    template, template_name = (box_twist(mats[0][1], duplex), f"the coarse-grained material of {mats[0][0]}, "
+                               "intrinsic twist at the box's") if mats else \
+        (paper, "the paper's rod (no coarse-grained material: " + "; ".join(cg_reasons) + ")")
+    low = [r for r in rows if r["kind"] == "bend" and r["n"] <= n_fit_max]
+    fits = {obs: _fit(low, obs, template, duplex, T) for obs in ("omega", "variance")}
+    dyn, stat = fits["omega"], fits["variance"]
+
+    def z(a, b, key):
+        err = {"tension_pN": "tension_err_pN", "B_pN_nm2": "B_err_pN_nm2"}[key]
+        return z_score(a.get(key), a.get(err), b.get(key), b.get(err))
+    virial = {"tension_pN": T, "tension_err_pN": T_err}
+    checks = {"z_T_dynamics_vs_virial": z(dyn, virial, "tension_pN"),
+              "z_T_statics_vs_virial": z(stat, virial, "tension_pN"),
+              "z_B_dynamics_vs_statics": z(dyn, stat, "B_pN_nm2")}
+    refs = {name: {"B_pN_nm2": bend_stiffness_pN_nm2(mat),
+                   "persistence_length_nm": persistence_nm(bend_stiffness_pN_nm2(mat), temp)}
+            for name, mat in ([("paper_rod", paper)] + ([("cg_rod", mats[0][1])] if mats else []))}
+    rec = {"n_bp": duplex.n_bp, "turns": duplex.turns, "length_A": table["length_A"],
+           "record_ps": table.get("record_ps"), "temperature_K": temp,
+           "tension": {"tension_pN": T, "tension_err_pN": T_err, "per_seed": tensions},
+           "rows": rows, "predictions": predictions,
+           "refused": refused, "cg_rod_reason": refused.get("cg_rod"),
+           "cg_notes": cg_reasons if mats else [],
+           "fit": {"template": template_name, "n_fit_max": n_fit_max, "dynamics": dyn, "statics": stat,
+                   **checks, "materials": refs},
+           "definition": "rows: per MD mode, the MD's undamped frequency omega0 = sqrt(omega^2 + gamma^2) "
+                         "(dnarod modes) and the linear rod's (mdbridge/rod/linear.py) of the coarse-grained "
+                         "and the paper's material at the MD's virial tension; errors: MD fit; rod: material "
+                         "replicas and tension error in quadrature; z = (MD - rod) / sqrt(err_MD^2 + err_rod^2). "
+                         "fit: T and B of the linear rod that reproduce the MD's lowest bend frequencies "
+                         "(dynamics) and static variances (statics), every other constant the template's "
+                         "(docs/dispersion.md)"}
+    write_json(out, rec)
+    return rec
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(prog="python -m dnarod.steps.dispersion", description=__doc__.splitlines()[0])
+    sub = ap.add_subparsers(dest="step", required=True)
+    p = sub.add_parser("stretch")
+    p.add_argument("md_dir")
+    p.add_argument("out_dir")
+    p.add_argument("--factor", type=float, required=True)
+    p = sub.add_parser("tension")
+    p.add_argument("md_dir")
+    p.add_argument("out")
+    p.add_argument("--discard-ps", type=float, default=0.0)
+    p = sub.add_parser("predict")
+    p.add_argument("modes")
+    p.add_argument("-o", "--output", required=True)
+    p.add_argument("--tension", nargs="+", required=True)
+    p.add_argument("--cg", nargs="*", default=[])
+    p.add_argument("--m", type=int, default=1)
+    p.add_argument("--replicas", type=int, default=20)
+    p.add_argument("--n-fit-max", type=int, default=4)
+    p.add_argument("--temperature", type=float, default=None)
+    p = sub.add_parser("table")
+    p.add_argument("dispersion")
+    p.add_argument("-o", "--output", default=None)
+    a = ap.parse_args(argv)
+
+    def step():
+        if a.step == "stretch":
+            from mdbridge.md.gromacs.tension import stretch_box
+            print(stretch_box(Path(a.md_dir), Path(a.out_dir), a.factor))
+        elif a.step == "tension":
+            measure_tension(a.md_dir, a.out, a.discard_ps)
+        elif a.step == "table":
+            from dnarod.report.dispersion import markdown_table
+            if not Path(a.dispersion).is_file():
+                raise InputError(f"{a.dispersion}: no such file (the dispersion step writes "
+                                 "dispersion/box1/dispersion.json)")
+            text = markdown_table(json.loads(Path(a.dispersion).read_text()))
+            if a.output:
+                Path(a.output).write_text(text)
+            else:
+                print(text, end="")
+        else:
+            predict_and_compare(a.modes, a.output, a.tension, a.cg, a.m, a.replicas, a.n_fit_max, a.temperature)
+    return run_step(f"dispersion {a.step}", step)
+
+
+if __name__ == "__main__":
+    sys.exit(main())
