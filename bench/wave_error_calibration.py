@@ -14,16 +14,20 @@ period) and the record length in periods (0.75 to 3), the period 400 ps sampled 
 fitted w about the true w; the RMS of the stated error (total, and its fit and record
 parts) and their ratios to it, with the 68 % interval of the stated ratio from resampling
 the realisations; the bias; how many records were refused (mode_error.refusal) or gave no
-fit. Two errors that are not stated are given beside it: the linearised error with the
-estimated noise (`linear`) and with the true noise covariance (`oracle`); where even the
-oracle is off, the fit is nonlinear there.
+fit, per refusal rule. Errors that are not stated are given beside it: the linearised
+error with the estimated noise (`linear`), with the true noise covariance (`oracle`; where
+even it is off, the fit is nonlinear there) and with the estimated noise taken as white
+(`white`: the error model that ignores the noise's correlation, the calibration test's
+control).
 
     nice -n 10 /usr/bin/python3 bench/wave_error_calibration.py [--n-real 60] [--n-boot 200]
-        [--out bench/results/wave_error_calibration.json]
+        [--out bench/results/wave_error_calibration.json] [--part K/N]
+    /usr/bin/python3 bench/wave_error_calibration.py --merge part0.json part1.json [--out ...]
 """
 from __future__ import annotations
 
 import argparse
+import json
 import math
 import platform
 import time
@@ -46,6 +50,9 @@ NOISE_REL = (0.03, 0.3, 1.0)
 TAU_PS = (2.0, 40.0, 400.0)
 PERIODS = (0.75, 1.5, 3.0)
 BAND = (0.7, 1.4)
+# mode_error.refusal's rules, by a phrase of their reason
+REFUSAL_RULES = {"noise": "exceeds", "detection": "no oscillation", "other_peak": "does not select",
+                 "short": "periods of the fitted", "other": ""}
 
 
 def records(rng, periods: float, noise_rel: float, tau_ps: float, n_real: int):
@@ -78,10 +85,12 @@ def grid_point(periods: float, noise_rel: float, tau_ps: float, n_real: int, see
     tc = t - t.mean()
     rows = []
     refused, no_fit = 0, 0
+    refused_by = {rule: 0 for rule in REFUSAL_RULES}
     for i, ci in enumerate(c):
         f = mode_error.standing_mode_fit(t, ci, K_PER_A, n_boot=n_boot, seed=i)
         if "unreported" in f:
             refused += 1
+            refused_by[next((r for r, key in REFUSAL_RULES.items() if key in f["reason"]), "other")] += 1
             continue
         if not math.isfinite(f["speed_A_per_ps"]):
             no_fit += 1
@@ -91,11 +100,12 @@ def grid_point(periods: float, noise_rel: float, tau_ps: float, n_real: int, see
         J = jacobian(tc, w, A[0])
         oracle = math.sqrt(linear_covariance(t, J, sigma, tau_ps)[0, 0])
         rec = f["omega_err_record_per_ps"]
+        white = math.sqrt(linear_covariance(t, J, f["noise_rms_A"], 0.0)[0, 0])
         rows.append((w - W_TRUE, f["omega_err_per_ps"], f["omega_err_fit_per_ps"],
-                     rec if math.isfinite(rec) else 0.0, f["omega_err_linear_per_ps"], oracle))
+                     rec if math.isfinite(rec) else 0.0, f["omega_err_linear_per_ps"], oracle, white))
     out = {"periods": periods, "noise_rel": noise_rel, "tau_ps": tau_ps, "n_real": n_real,
            "n_boot": n_boot, "seed": seed, "n_reported": len(rows), "n_refused": refused,
-           "n_no_fit": no_fit}
+           "n_no_fit": no_fit, "refused_by": refused_by}
     if len(rows) < 3:
         return out
     a = np.array(rows)
@@ -107,12 +117,26 @@ def grid_point(periods: float, noise_rel: float, tau_ps: float, n_real: int, see
     out.update(rms_error_per_ps=rms, bias_over_rms=float(err.mean() / rms),
                stated_over_rms=ratio(1), stated_over_rms_interval=ratio_interval(a[:, 1], err, rng),
                fit_over_rms=ratio(2), record_over_rms=ratio(3), linear_over_rms=ratio(4),
-               oracle_over_rms=ratio(5))
+               oracle_over_rms=ratio(5), white_over_rms=ratio(6))
     return out
 
 
+MIN_REPORTED = 0.5         # a ratio over fewer than half the realisations is not a measurement
+REFUSED = 0.2              # a point where at most this fraction is reported is refused
+
+
+def status(row: dict) -> str:
+    """"in band": stated / RMS within BAND over at least MIN_REPORTED of the realisations;
+    "refused": at most REFUSED of them give a number; else "out of band" or "too few"."""
+    if row["n_reported"] <= REFUSED * row["n_real"]:
+        return "refused"
+    if row["n_reported"] < MIN_REPORTED * row["n_real"]:
+        return "too few"
+    return "in band" if BAND[0] <= row["stated_over_rms"] <= BAND[1] else "out of band"
+
+
 def in_band(row: dict) -> bool:
-    return "stated_over_rms" in row and BAND[0] <= row["stated_over_rms"] <= BAND[1]
+    return status(row) == "in band"
 
 
 def main(argv=None):
@@ -121,14 +145,29 @@ def main(argv=None):
     ap.add_argument("--n-boot", type=int, default=mode_error.N_BOOT)
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--out", default="bench/results/wave_error_calibration.json")
+    ap.add_argument("--part", default="0/1", help="K/N: run only grid points k with k %% N == K "
+                    "(to spread the grid over processes; --merge joins the parts)")
+    ap.add_argument("--merge", nargs="+", metavar="PART_JSON", help="join these parts into --out and stop")
     a = ap.parse_args(argv)
+    grid = [(P, nr, tau) for P in PERIODS for nr in NOISE_REL for tau in TAU_PS]
+    if a.merge:
+        parts = [json.loads(open(f).read()) for f in a.merge]
+        rows = sorted((r for p in parts for r in p["grid"]),
+                      key=lambda r: grid.index((r["periods"], r["noise_rel"], r["tau_ps"])))
+        merged = dict(parts[0], grid=rows, points_in_band=sum(in_band(r) for r in rows), points=len(rows),
+                      wall_s=round(sum(p["wall_s"] for p in parts), 1), part="merged")
+        write_json(a.out, merged)
+        print(f"wrote {a.out}: {merged['points_in_band']} of {merged['points']} points in band")
+        return
+    part, n_parts = (int(x) for x in a.part.split("/"))
     rows = []
     t0 = time.time()
     print("| periods | noise / mode | tau [ps] | reported | refused / no fit | stated / RMS (68 %) | fit | record "
           "| linear | oracle | bias / RMS |")
     print("|---|---|---|---|---|---|---|---|---|---|---|")
-    grid = [(P, nr, tau) for P in PERIODS for nr in NOISE_REL for tau in TAU_PS]
     for k, (P, nr, tau) in enumerate(grid):
+        if k % n_parts != part:
+            continue
         r = grid_point(P, nr, tau, a.n_real, a.seed + k, a.n_boot)
         rows.append(r)
         if "stated_over_rms" in r:
@@ -146,7 +185,7 @@ def main(argv=None):
                        "points_in_band": sum(in_band(r) for r in rows), "points": len(rows),
                        "command": "nice -n 10 /usr/bin/python3 bench/wave_error_calibration.py "
                                   f"--n-real {a.n_real} --n-boot {a.n_boot} --seed {a.seed}",
-                       "wall_s": round(time.time() - t0, 1),
+                       "wall_s": round(time.time() - t0, 1), "part": a.part,
                        "date": time.strftime("%Y-%m-%d"), "machine": platform.node()})
     print(f"wrote {a.out}")
 

@@ -38,7 +38,9 @@ NaN with the reason, the fit kept under `unreported` -- when
 3. the record does not select one frequency: more than OTHER_PEAK_MAX of the bootstrap
    records find another peak;
 4. a standing mode is shorter than REPORT_MIN_PERIODS even at the upper end of its
-   interval, (w + REFUSE_SIGMA err) span / 2 pi < REPORT_MIN_PERIODS.
+   interval, (w + REFUSE_SIGMA err) span / 2 pi < REPORT_MIN_PERIODS;
+5. the noise rms per part exceeds NOISE_MAX_REL of the mode amplitude |A_+| + |A_-|: there
+   the error model is not calibrated (bench/wave_error_calibration.py, docs/analysis.md).
 Rules 2-4 judge the information in the record, not where the fitted w fell. Refusing every
 record that FITS to fewer than 0.75 periods (the former rule) keeps, of the records that
 truly hold 0.75 periods, only those fitted too fast, and so biases the numbers reported;
@@ -65,6 +67,7 @@ OTHER_PEAK_MAX = 0.1       # refused when more bootstrap records than this find 
 RECORD_WINDOW = 2.0 / 3    # the two sub-records of the record term
 RECORD_SIGMA = 3.0         # ... counted when their difference exceeds this many noise RMS
 N_BOOT = 200               # bootstrap records of the fit error
+NOISE_MAX_REL = 0.45       # refused when the noise rms per part exceeds this of |A_+| + |A_-|
 
 
 def refusal(fit: dict, span_ps: float, min_periods: float = REPORT_MIN_PERIODS) -> str | None:
@@ -78,6 +81,11 @@ def refusal(fit: dict, span_ps: float, min_periods: float = REPORT_MIN_PERIODS) 
         return (f"refused: no oscillation above the noise: the fitted line explains {100 * power:.0f} % of "
                 f"the record's variance, no more than the noise alone gives the same fit ({100 * null:.0f} %, "
                 f"its {100 * DETECTION_QUANTILE:g} % quantile); run longer or kick harder")
+    noise, mode = fit.get("noise_rms_A"), fit.get("amplitude_forward_A", 0.0) + fit.get("amplitude_backward_A", 0.0)
+    if noise is not None and noise > NOISE_MAX_REL * mode:
+        return (f"refused: the noise ({noise:.3g} A rms per part) exceeds {NOISE_MAX_REL:g} of the mode's "
+                f"amplitude ({mode:.3g} A): the error model is not calibrated there (docs/analysis.md, "
+                "bench/results/wave_error_calibration.json); kick harder or average seeds")
     other = fit.get("bootstrap_other_peak_fraction", 0.0)
     if other > OTHER_PEAK_MAX:
         return (f"refused: the record does not select one frequency: {100 * other:.0f} % of the records "
