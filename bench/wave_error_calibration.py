@@ -121,16 +121,16 @@ def grid_point(periods: float, noise_rel: float, tau_ps: float, n_real: int, see
     return out
 
 
-MIN_REPORTED = 0.5         # a ratio over fewer than half the realisations is not a measurement
-REFUSED = 0.2              # a point where at most this fraction is reported is refused
+REFUSED = 0.2              # a point where at most this fraction of the records gives a number is refused
+MIN_REPORTED = 10          # else a ratio needs this many numbers (its 68 % interval is in the row)
 
 
 def status(row: dict) -> str:
-    """"in band": stated / RMS within BAND over at least MIN_REPORTED of the realisations;
-    "refused": at most REFUSED of them give a number; else "out of band" or "too few"."""
+    """"refused": at most REFUSED of the realisations give a number; "in band": stated / RMS
+    within BAND over at least MIN_REPORTED numbers; else "out of band" or "too few"."""
     if row["n_reported"] <= REFUSED * row["n_real"]:
         return "refused"
-    if row["n_reported"] < MIN_REPORTED * row["n_real"]:
+    if row["n_reported"] < MIN_REPORTED:
         return "too few"
     return "in band" if BAND[0] <= row["stated_over_rms"] <= BAND[1] else "out of band"
 

@@ -65,7 +65,7 @@ REPORT_MIN_PERIODS = 0.75  # a standing record shorter than this (at REFUSE_SIGM
 REFUSE_SIGMA = 2.0         # ... judged at the upper end of w + REFUSE_SIGMA err
 OTHER_PEAK_MAX = 0.1       # refused when more bootstrap records than this find another peak
 RECORD_WINDOW = 2.0 / 3    # the two sub-records of the record term
-RECORD_SIGMA = 3.0         # ... counted when their difference exceeds this many noise RMS
+RECORD_SIGMA = 4.0         # ... counted when their difference exceeds this many noise RMS
 N_BOOT = 200               # bootstrap records of the fit error
 NOISE_MAX_REL = 0.45       # refused when the noise rms per part exceeds this of |A_+| + |A_-|
 
