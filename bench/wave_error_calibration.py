@@ -155,6 +155,8 @@ def main(argv=None):
         rows = sorted((r for p in parts for r in p["grid"]),
                       key=lambda r: grid.index((r["periods"], r["noise_rel"], r["tau_ps"])))
         merged = dict(parts[0], grid=rows, points_in_band=sum(in_band(r) for r in rows), points=len(rows),
+                      command="; ".join([p["command"] for p in parts]
+                                        + [f"bench/wave_error_calibration.py --merge {' '.join(a.merge)}"]),
                       wall_s=round(sum(p["wall_s"] for p in parts), 1), part="merged")
         write_json(a.out, merged)
         print(f"wrote {a.out}: {merged['points_in_band']} of {merged['points']} points in band")
@@ -183,8 +185,8 @@ def main(argv=None):
                        "period_ps": PERIOD_PS, "dt_ps": DT_PS, "amplitude_A": AMPLITUDE_A,
                        "offset_A": OFFSET_A, "grid": rows,
                        "points_in_band": sum(in_band(r) for r in rows), "points": len(rows),
-                       "command": "nice -n 10 /usr/bin/python3 bench/wave_error_calibration.py "
-                                  f"--n-real {a.n_real} --n-boot {a.n_boot} --seed {a.seed}",
+                       "command": "/usr/bin/python3 bench/wave_error_calibration.py "
+                                  f"--n-real {a.n_real} --n-boot {a.n_boot} --seed {a.seed} --part {a.part}",
                        "wall_s": round(time.time() - t0, 1), "part": a.part,
                        "date": time.strftime("%Y-%m-%d"), "machine": platform.node()})
     print(f"wrote {a.out}")
