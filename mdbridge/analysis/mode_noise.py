@@ -101,12 +101,21 @@ def fit_ou_noise(times_ps, residual: np.ndarray, columns: np.ndarray) -> dict:
             "noise_phi_median": float(math.exp(-dt / tau))}
 
 
-def ou_correlation(times_ps, tau_ps: float) -> np.ndarray:
-    """R_ij = exp(-|t_i - t_j| / tau) (T, T)."""
-    t = np.asarray(times_ps, float)
+def ou_apply(times_ps, tau_ps: float, X: np.ndarray) -> np.ndarray:
+    """R X (T, ...) with R_ij = exp(-|t_i - t_j| / tau), without forming R: the correlation
+    is a product of the steps' phi_i, so R X = F + B - X with the forward sums
+    F_i = X_i + phi_i F_{i-1} and the backward sums B_i = X_i + phi_{i+1} B_{i+1}
+    (O(T) memory: a 5-ns record of 0.5-ps frames would need 800 MB for R)."""
+    X = np.asarray(X, float)
     if tau_ps <= 0:
-        return np.eye(len(t))
-    return np.exp(-np.abs(t[:, None] - t[None, :]) / tau_ps)
+        return X.copy()
+    phi = np.exp(-np.diff(np.asarray(times_ps, float)) / tau_ps).reshape((-1,) + (1,) * (X.ndim - 1))
+    F, B = X.copy(), X.copy()
+    for i in range(1, len(X)):
+        F[i] += phi[i - 1] * F[i - 1]
+    for i in range(len(X) - 2, -1, -1):
+        B[i] += phi[i] * B[i + 1]
+    return F + B - X
 
 
 def draw_ou(rng: np.random.Generator, times_ps, rms_A: float, tau_ps: float, n_draws: int) -> np.ndarray:

@@ -48,12 +48,13 @@ import math
 import numpy as np
 
 from dna_models.errors import InputError
-from mdbridge.analysis.mode_noise import draw_ou, fit_ou_noise, ou_correlation
+from mdbridge.analysis.mode_noise import draw_ou, fit_ou_noise, ou_apply
 
 MIN_PERIODS = 0.25       # below: no fit (a frequency cannot be told from a slow drift)
 STANDING_SIGMA = 2.0     # |A_+| - |A_-| within this many standard errors -> standing
 STANDING_REL = 0.05      # ... or within 5 % of |A_+| + |A_-| (|c| then dips to 5 % of its peak)
 DETECTION_QUANTILE = 0.99  # a line must exceed this quantile of the noise alone's highest peak
+SCAN_BUDGET = 1_000_000     # frequencies x records of one scan (fit_frequencies)
 GOLDEN_STEPS = 36        # golden-section steps: the bracket (1/8 of the peak width) shrinks by 3e-8
 
 
@@ -179,7 +180,12 @@ def fit_frequencies(times_ps, C, offset: bool) -> tuple[np.ndarray, np.ndarray]:
     C = np.atleast_2d(np.asarray(C, complex))
     grid = frequency_grid(t)
     tc = t - t.mean()
-    j = np.argmin(_rss_scan(tc, C, grid, offset), axis=0)
+    # the scan holds (frequencies x records) numbers: records in chunks keep it to
+    # SCAN_BUDGET (~100 MB) whatever the record length (a 5-ns record of 0.5-ps frames has
+    # ~80000 frequencies)
+    chunk = max(1, SCAN_BUDGET // len(grid))
+    j = np.concatenate([np.argmin(_rss_scan(tc, C[a:a + chunk], grid, offset), axis=0)
+                        for a in range(0, len(C), chunk)])
     lo, hi = grid[np.maximum(j - 1, 0)], grid[np.minimum(j + 1, len(grid) - 1)]
     g = (math.sqrt(5.0) - 1.0) / 2.0
     x1, x2 = hi - g * (hi - lo), lo + g * (hi - lo)
@@ -210,9 +216,8 @@ def linear_covariance(times_ps, J: np.ndarray, rms_A: float, tau_ps: float) -> n
     """Covariance of the real parameters of a least-squares fit with complex columns J (T, p)
     under OU noise (mode_noise.py): (J^T J)^-1 J^T Sigma J (J^T J)^-1, real and imaginary
     parts independent."""
-    R = ou_correlation(times_ps, tau_ps)
     H = np.linalg.pinv(J.real.T @ J.real + J.imag.T @ J.imag)
-    M = J.real.T @ R @ J.real + J.imag.T @ R @ J.imag
+    M = J.real.T @ ou_apply(times_ps, tau_ps, J.real) + J.imag.T @ ou_apply(times_ps, tau_ps, J.imag)
     return rms_A ** 2 * H @ M @ H
 
 
