@@ -1,52 +1,57 @@
 """Frequency of the fundamental mode with an error model that holds for short, standing,
-offset records (the MD's regime), and the classification standing / travelling.
+offset records (the MD's regime), the classification standing / travelling, and the rule
+that refuses a number.
 
 Model of the complex mode amplitude c(t) (wavespeed.mode_amplitude):
 
-    c(t) = A_+ e^{-i w t} + A_- e^{+i w t} + B
+    c(t) = A_+ e^{-i w t} + A_- e^{+i w t} + B + z(t)
 
 B is the static deformation of the mode (intrinsic curvature of a sequence, a bent start):
 it is ALWAYS fitted, for rod and MD alike -- leaving it out biases w by many standard
 errors on a record shorter than a period (tests/python/test_analysis_mode_error.py has
-that control). w comes from `wavespeed.fit_wave_speed` (global scan + refinement);
-everything else is here.
+that control). z is the noise, an Ornstein-Uhlenbeck process estimated from the residual
+(mode_noise.py). w, its fit error and the classification come from
+`wavespeed.fit_with_replicates`; the record term and the refusal are here.
 
 The stated error of w combines three parts, each reported:
 
-1. fit: the linearised least-squares covariance with the residual taken as AR(1) noise
-   (real and imaginary parts independent, same coefficient phi, estimated from the
-   residual's lag-1 autocorrelation), i.e. the sandwich
-   cov = (J^T J)^-1 J^T Sigma J (J^T J)^-1, Sigma_ij = s^2 phi^|i - j|.
-   White-noise least squares understates the error of correlated thermal noise by
-   ~sqrt((1 + phi) / (1 - phi)); the sandwich does not.
-2. record: the finite record. Half the difference of the frequencies fitted to the first
-   and the last RECORD_WINDOW of the record, beyond what the noise alone explains
-   (`_record_term`). A record that holds a fraction of a period of
-   an anharmonic (nonlinear) oscillation, or a frequency that drifts, gives windows that
-   disagree; a long harmonic record gives a small term (noise only).
+1. fit: the parametric bootstrap of wavespeed.py -- records drawn from the fitted model
+   plus the fitted noise, refitted by the same estimator, RMS about the fitted w. It holds
+   where a linearised error does not (noise as large as the mode, a fraction of a period).
+2. record: the finite record. Half the difference Delta of the frequencies fitted to the
+   first and the last RECORD_WINDOW of the record, beyond what the noise alone explains:
+   1/2 sqrt(Delta^2 - (2 d)^2), d the RMS of the same difference over the bootstrap
+   records (which are harmonic, so their Delta is noise only). A record that holds a
+   fraction of a period of an anharmonic (nonlinear) oscillation, or a frequency that
+   drifts, gives windows that disagree. Counted only when |Delta| > RECORD_SIGMA d, so that
+   a harmonic record (where |Delta| is noise) does not inflate the error.
 3. seeds: the between-seed scatter, std / sqrt(n) over n >= 2 seeds (`combine_seeds`); with
    one seed it cannot be estimated and the result says so.
 
 Total = sqrt(fit^2 + record^2) per run; `combine_seeds` adds the seed part.
 
-Refusal. The error model is calibrated for a harmonic oscillation down to 0.3 periods
-(tests/python/test_analysis_mode_error.py). The rod's A_v >= 0.1 A/ps oscillation is not
-harmonic (tension-stiffened): its own noise-free record cut to 0.5 period gives a frequency
-27-36 standard errors off the full-record value (A_v = 0.1, 1, 2, 5), with both sub-records
-agreeing on the wrong value, while records of >= 0.6 period are covered by the stated error
-(tests/python/test_analysis_mode_error.py, test_rod_record_cut_short). A sinusoid fitted to
-less than ~0.6 period of an anharmonic oscillation overestimates the number of periods it
-holds (0.5 true -> ~0.7 fitted), so the number is refused -- `speed_A_per_ps` NaN with the
-reason, the unreportable fit kept under `unreported` -- when the FITTED record holds fewer
-than REPORT_MIN_PERIODS = 0.75 periods and the mode is standing. A travelling wave (|A_+| and
-|A_-| differ) keeps |c| constant and its phase turns uniformly even when the wave is
-nonlinear, so for it only MIN_PERIODS applies. `min_periods` lowers the threshold for
-studies of harmonic data.
-
-Standing or travelling: the fitted |A_+| and |A_-| are compared with the standard error of
-their difference (from the same sandwich); equal within 2 sigma -> "standing": the number is
-the oscillation frequency / phase speed of the standing mode (nothing propagates);
-otherwise "travelling" -> a wave speed.
+Refusal (`refusal`, the one rule of the workflow and of WaveAnalysis). No number -- speed
+NaN with the reason, the fit kept under `unreported` -- when
+1. the fit is a drift (under a quarter period, or the scan's minimum at its lowest step);
+2. no oscillation stands above the noise: the fitted line explains no more of the record's
+   variance than the fitted noise alone gives the same fit (its DETECTION_QUANTILE);
+3. the record does not select one frequency: more than OTHER_PEAK_MAX of the bootstrap
+   records find another peak;
+4. a standing mode is shorter than REPORT_MIN_PERIODS even at the upper end of its
+   interval, (w + REFUSE_SIGMA err) span / 2 pi < REPORT_MIN_PERIODS;
+5. the noise rms per part exceeds NOISE_MAX_REL of the mode amplitude |A_+| + |A_-|: there
+   the error model is not calibrated (bench/wave_error_calibration.py, docs/analysis.md).
+Rules 2-4 judge the information in the record, not where the fitted w fell. Refusing every
+record that FITS to fewer than 0.75 periods (the former rule) keeps, of the records that
+truly hold 0.75 periods, only those fitted too fast, and so biases the numbers reported;
+by the interval only the ~2 % tail is dropped. Why rule 4 at all: the rod's A_v >= 0.1 A/ps
+oscillation is not harmonic (tension-stiffened); its own noise-free record cut to 0.5
+period gives a frequency tens of standard errors off the full-record value, with both
+sub-records agreeing on the wrong value (tests/python/test_analysis_mode_error.py,
+test_rod_record_cut_short), while records of >= 0.75 period are covered by the stated
+error. A travelling wave (|A_+| and |A_-| differ) keeps |c| constant and its phase turns
+uniformly even when the wave is nonlinear, so rule 4 does not apply to it. `min_periods`
+lowers the threshold of rule 4 for studies of harmonic data.
 """
 from __future__ import annotations
 
@@ -54,107 +59,77 @@ import math
 
 import numpy as np
 
-from mdbridge.analysis.wavespeed import fit_wave_speed
+from mdbridge.analysis.wavespeed import DETECTION_QUANTILE, MIN_PERIODS, fit_frequencies, fit_with_replicates, fitted
 
-MIN_PERIODS = 0.25       # below: no fit at all (cannot tell a frequency from a slow drift)
-REPORT_MIN_PERIODS = 0.75  # below: the number is refused (module doc, "Refusal")
-RECORD_WINDOW = 2.0 / 3  # the two sub-records of the record term
-STANDING_SIGMA = 2.0     # |A_+| - |A_-| within this many standard errors -> standing
-
-
-def _design(tc, w):
-    e = np.exp(-1j * w * tc)
-    return np.stack([e, np.conj(e), np.ones_like(e)], axis=1)
+REPORT_MIN_PERIODS = 0.75  # a standing record shorter than this (at REFUSE_SIGMA) is refused
+REFUSE_SIGMA = 2.0         # ... judged at the upper end of w + REFUSE_SIGMA err
+OTHER_PEAK_MAX = 0.1       # refused when more bootstrap records than this find another peak
+RECORD_WINDOW = 2.0 / 3    # the two sub-records of the record term
+RECORD_SIGMA = 4.0         # ... counted when their difference exceeds this many noise RMS
+N_BOOT = 200               # bootstrap records of the fit error
+NOISE_MAX_REL = 0.45       # refused when the noise rms per part exceeds this of |A_+| + |A_-|
 
 
-def _linear_fit(tc, c, w):
-    E = _design(tc, w)
-    A = np.linalg.lstsq(E, c, rcond=None)[0]
-    return A, c - E @ A
+def refusal(fit: dict, span_ps: float, min_periods: float = REPORT_MIN_PERIODS) -> str | None:
+    """Why no number may be reported for the fit `fit` (wavespeed.fit_wave_speed's result)
+    of a record of span_ps (module doc, "Refusal"), or None. WaveAnalysis and
+    standing_mode_fit refuse with it."""
+    if fit.get("reason"):
+        return f"refused: {fit['reason']}"
+    power, null = fit.get("line_power"), fit.get("noise_only_line_power")
+    if power is not None and null is not None and power <= null:
+        return (f"refused: no oscillation above the noise: the fitted line explains {100 * power:.0f} % of "
+                f"the record's variance, no more than the noise alone gives the same fit ({100 * null:.0f} %, "
+                f"its {100 * DETECTION_QUANTILE:g} % quantile); run longer or kick harder")
+    noise, mode = fit.get("noise_rms_A"), fit.get("amplitude_forward_A", 0.0) + fit.get("amplitude_backward_A", 0.0)
+    if noise is not None and noise > NOISE_MAX_REL * mode:
+        return (f"refused: the noise ({noise:.3g} A rms per part) exceeds {NOISE_MAX_REL:g} of the mode's "
+                f"amplitude ({mode:.3g} A): the error model is not calibrated there (docs/analysis.md, "
+                "bench/results/wave_error_calibration.json); kick harder or average seeds")
+    other = fit.get("bootstrap_other_peak_fraction", 0.0)
+    if other > OTHER_PEAK_MAX:
+        return (f"refused: the record does not select one frequency: {100 * other:.0f} % of the records "
+                f"drawn from the fit and its noise find another peak (more than {100 * OTHER_PEAK_MAX:g} %); "
+                "the noise is too large or too slow for this record length (docs/analysis.md); run longer")
+    w, err = fit["omega_per_ps"], fit["omega_err_per_ps"]
+    upper = (w + REFUSE_SIGMA * err) * span_ps / (2 * math.pi)
+    if fit["wave_kind"] == "standing" and upper < min_periods:
+        return (f"refused: the record ({span_ps:.3g} ps) holds {fit['periods_in_record']:.2f} periods "
+                f"of the fitted standing oscillation (at most {upper:.2f} at {REFUSE_SIGMA:g} standard "
+                f"errors), fewer than {min_periods:g}; over less than ~0.6 period a sinusoid fit of an "
+                "anharmonic oscillation is biased far beyond any error it can state (docs/analysis.md); "
+                "run longer")
+    return None
 
 
-def _jacobian(tc, w, A):
-    """d(model)/d(w, Re A_+, Im A_+, Re A_-, Im A_-, Re B, Im B), stacked (real; imag)."""
-    E = _design(tc, w)
-    dw = -1j * tc * A[0] * E[:, 0] + 1j * tc * A[1] * E[:, 1]
-    cols = [dw]
-    for j in range(3):
-        cols += [E[:, j], 1j * E[:, j]]
-    J = np.stack(cols, axis=1)
-    return np.concatenate([J.real, J.imag])
-
-
-def ar1_coefficient(r: np.ndarray) -> float:
-    """Lag-1 autocorrelation of a complex residual (real and imaginary parts pooled)."""
-    r = r - r.mean()
-    den = float(np.vdot(r, r).real)
-    if den == 0 or len(r) < 3:
-        return 0.0
-    return float(np.clip(np.vdot(r[:-1], r[1:]).real / den, 0.0, 0.99))
-
-
-def _sandwich(J, n, s2, phi):
-    idx = np.arange(n)
-    S = s2 * phi ** np.abs(idx[:, None] - idx[None, :])
-    Z = np.zeros_like(S)
-    Sig = np.block([[S, Z], [Z, S]])
-    H = np.linalg.pinv(J.T @ J)
-    return H @ (J.T @ Sig @ J) @ H
-
-
-def _fit_w(t, c, k):
-    return fit_wave_speed(t, c, k, offset=True, n_boot=0)
-
-
-def _w_gradient(tc, w, A):
-    """Row of the linearised LS map giving delta w from the stacked (real; imag) data."""
-    J = _jacobian(tc, w, A)
-    return (np.linalg.pinv(J.T @ J) @ J.T)[0]
-
-
-def _record_term(t, c, k, w_full, s2, phi) -> dict:
+def _record_term(t, c, replicates) -> dict:
     """Frequencies of the first and the last RECORD_WINDOW of the record, their difference
-    Delta and the standard error of Delta that the AR(1) noise alone gives (the two windows
-    share data, so their noise is correlated: the gradients of both fits are embedded in
-    the full record and contracted with one Sigma). The record term is the part of |Delta| / 2
-    beyond 2 of those standard errors, 1/2 sqrt(Delta^2 - (2 sd)^2): zero when the sub-records
-    agree within noise, ~|Delta| / 2 when they disagree by much more (an anharmonic or
-    drifting oscillation)."""
+    Delta, its noise-only RMS d over the bootstrap records, and the record term
+    1/2 sqrt(Delta^2 - (2 d)^2), counted only when |Delta| > RECORD_SIGMA d (module doc)."""
     n = len(t)
     m = max(int(round(RECORD_WINDOW * n)), 8)
     nan = float("nan")
-    gs, ws = [], []
+    ws, wb = [], []
     for sl in (slice(0, m), slice(n - m, n)):
-        f = _fit_w(t[sl], c[sl], k)
-        wa = f.get("omega_per_ps", nan)
-        if not math.isfinite(wa):
+        w, _ = fit_frequencies(t[sl], c[None, sl], True)
+        if not fitted(t[sl], w[0]):
             return {"omega_err_record_per_ps": nan,
                     "reason": f"the sub-records ({RECORD_WINDOW:.2g} of the record) hold fewer "
                               f"than {MIN_PERIODS} periods: the record-length term cannot be "
                               "estimated; the stated error is the fit part only"}
-        ts = t[sl] - t[sl].mean()
-        A, _ = _linear_fit(ts, c[sl], wa)
-        g = np.zeros(2 * n)
-        ga = _w_gradient(ts, wa, A)
-        idx = np.arange(n)[sl]
-        g[idx] = ga[:m]
-        g[n + idx] = ga[m:]
-        gs.append(g)
-        ws.append(wa)
-    d = gs[0] - gs[1]
-    lag = np.abs(np.arange(n)[:, None] - np.arange(n)[None, :])
-    S = s2 * phi ** lag
-    var = float(d[:n] @ S @ d[:n] + d[n:] @ S @ d[n:])
+        ws.append(float(w[0]))
+        wb.append(fit_frequencies(t[sl], replicates[:, sl], True)[0])
     delta = ws[0] - ws[1]
-    sd = math.sqrt(max(var, 0.0))
-    significant = abs(delta) > 2.0 * sd
+    ok = fitted(t[:m], wb[0]) & fitted(t[n - m:], wb[1])
+    d = float(np.sqrt(np.mean((wb[0] - wb[1])[ok] ** 2))) if np.any(ok) else float("inf")
+    significant = bool(abs(delta) > RECORD_SIGMA * d)
     return {"omega_first_per_ps": ws[0], "omega_last_per_ps": ws[1], "delta_per_ps": delta,
-            "delta_noise_err_per_ps": sd, "significant": bool(significant),
-            "omega_err_record_per_ps": 0.5 * math.sqrt(max(delta ** 2 - (2.0 * sd) ** 2, 0.0))}
+            "delta_noise_rms_per_ps": d, "significant": significant,
+            "omega_err_record_per_ps": 0.5 * math.sqrt(delta ** 2 - (2.0 * d) ** 2) if significant else 0.0}
 
 
 def standing_mode_fit(times_ps, c, k_per_A: float, record_term: bool = True,
-                      min_periods: float = REPORT_MIN_PERIODS) -> dict:
+                      min_periods: float = REPORT_MIN_PERIODS, n_boot: int = N_BOOT, seed: int = 0) -> dict:
     """Fit c(t) (always with the static offset B) and state the error model above.
 
     Returns omega [rad/ps], speed = omega / k [A/ps], the three error parts, the amplitudes
@@ -162,80 +137,48 @@ def standing_mode_fit(times_ps, c, k_per_A: float, record_term: bool = True,
     t = np.asarray(times_ps, float)
     c = np.asarray(c, complex)
     nan = float("nan")
-    f = _fit_w(t, c, k_per_A)
     span = float(t[-1] - t[0])
-    w = f.get("omega_per_ps", nan)
-    if not math.isfinite(w):
-        w_b = f.get("omega_at_bound_per_ps", nan)
+    f, replicates = fit_with_replicates(t, c, k_per_A, offset=True, n_boot=max(n_boot, 2), seed=seed)
+    if not math.isfinite(f["speed_A_per_ps"]):
         return {"speed_A_per_ps": nan, "speed_err_A_per_ps": nan, "omega_per_ps": nan,
-                "periods_in_record": f.get("periods_in_record", nan), "offset_fitted": True,
-                "min_periods": MIN_PERIODS, "omega_at_bound_per_ps": w_b,
-                "reason": f"refused: the record ({span:.3g} ps) holds "
-                          f"{f.get('periods_in_record', nan):.2f} periods, fewer than the "
-                          f"{MIN_PERIODS} needed to tell an oscillation from a drift; run longer"}
-    tc = t - t.mean()
-    A, r = _linear_fit(tc, c, w)
-    n = len(t)
-    J = _jacobian(tc, w, A)
-    dof = max(2 * n - J.shape[1], 1)
-    s2 = float(np.vdot(r, r).real) / dof
-    phi = ar1_coefficient(r)
-    cov = _sandwich(J, n, s2, phi)
-    w_err_fit = float(math.sqrt(max(cov[0, 0], 0.0)))
-    w_err_white = float(math.sqrt(max(np.linalg.pinv(J.T @ J)[0, 0] * s2, 0.0)))
-    # |A_+| - |A_-|: gradient wrt (Re, Im) of A_+ and A_-
-    g = np.zeros(J.shape[1])
-    for j, sign in ((0, 1.0), (1, -1.0)):
-        a = abs(A[j])
-        if a > 0:
-            g[1 + 2 * j] = sign * A[j].real / a
-            g[2 + 2 * j] = sign * A[j].imag / a
-    d_amp = float(abs(A[0]) - abs(A[1]))
-    d_amp_err = float(math.sqrt(max(g @ cov @ g, 0.0)))
-    standing = abs(d_amp) <= STANDING_SIGMA * d_amp_err
-    rec = _record_term(t, c, k_per_A, w, s2, phi) if record_term else {}
+                "periods_in_record": f["periods_in_record"], "offset_fitted": True,
+                "min_periods": MIN_PERIODS, "omega_at_bound_per_ps": f["omega_at_bound_per_ps"],
+                "reason": refusal(f, span)}
+    w, w_err_fit = f["omega_per_ps"], f["omega_err_per_ps"]
+    rec = _record_term(t, c, replicates) if record_term else {}
     w_err_rec = rec.get("omega_err_record_per_ps", nan)
-    parts = [w_err_fit] + ([w_err_rec] if math.isfinite(w_err_rec) else [])
-    w_err = float(math.sqrt(sum(p * p for p in parts)))
-    periods = w * span / (2 * math.pi)
-    kind = "standing" if standing else "travelling"
+    w_err = math.hypot(w_err_fit, w_err_rec) if math.isfinite(w_err_rec) else w_err_fit
+    standing = f["wave_kind"] == "standing"
     out = {
         "method": "LS fit of c(t) = A+ e^{-iwt} + A- e^{iwt} + B (offset always fitted); "
-                  "error: AR(1) sandwich (fit) + sub-record difference (record)",
+                  "error: parametric bootstrap with REML OU noise (fit) + sub-record difference (record)",
         "quantity": ("oscillation frequency / phase speed of the standing mode" if standing
                      else "wave speed (travelling wave)"),
-        "wave_kind": kind,
+        "wave_kind": f["wave_kind"],
         "omega_per_ps": w, "omega_err_per_ps": w_err,
         "omega_err_fit_per_ps": w_err_fit, "omega_err_record_per_ps": w_err_rec,
-        "omega_err_white_per_ps": w_err_white, "record_term": rec,
+        "omega_err_linear_per_ps": f["omega_err_cov_per_ps"], "record_term": rec,
         "speed_A_per_ps": w / k_per_A, "speed_err_A_per_ps": w_err / k_per_A,
         "speed_err_fit_A_per_ps": w_err_fit / k_per_A,
         "speed_err_record_A_per_ps": w_err_rec / k_per_A,
-        "period_ps": 2 * math.pi / w, "periods_in_record": periods, "min_periods": MIN_PERIODS,
-        "residual_ar1": phi, "residual_rms": math.sqrt(s2),
-        "amplitude_forward_A": float(abs(A[0])), "amplitude_backward_A": float(abs(A[1])),
-        "amplitude_difference_A": d_amp, "amplitude_difference_err_A": d_amp_err,
-        "mode_amplitude_A": float(abs(A[0]) + abs(A[1])),
-        "offset_A": float(abs(A[2])), "offset_fitted": True,
+        "period_ps": 2 * math.pi / w, "periods_in_record": f["periods_in_record"],
+        "min_periods": MIN_PERIODS, "n_boot": f["n_boot"],
+        "bootstrap_other_peak_fraction": f["bootstrap_other_peak_fraction"],
+        "line_power": f["line_power"], "noise_only_line_power": f["noise_only_line_power"],
+        "noise_rms_A": f["noise_rms_A"], "noise_tau_ps": f["noise_tau_ps"],
+        "amplitude_forward_A": f["amplitude_forward_A"], "amplitude_backward_A": f["amplitude_backward_A"],
+        "amplitude_difference_A": f["amplitude_difference_A"],
+        "amplitude_difference_err_A": f["amplitude_difference_err_A"],
+        "mode_amplitude_A": f["amplitude_forward_A"] + f["amplitude_backward_A"],
+        "offset_A": f["offset_A"], "offset_fitted": True,
     }
-    if periods < min_periods and standing:
+    reason = refusal(dict(f, omega_err_per_ps=w_err), span, min_periods)
+    if reason:
         return {"speed_A_per_ps": nan, "speed_err_A_per_ps": nan, "omega_per_ps": nan,
-                "periods_in_record": periods, "offset_fitted": True, "min_periods": min_periods,
-                "wave_kind": kind, "quantity": out["quantity"],
-                "mode_amplitude_A": out["mode_amplitude_A"],
-                "reason": f"refused: the record ({span:.3g} ps) holds {periods:.2f} periods of the "
-                          f"fitted oscillation, fewer than {min_periods:g}; over less than ~0.6 "
-                          "period a sinusoid fit of an anharmonic oscillation is biased far beyond "
-                          "any error it can state (docs/analysis.md); run longer",
-                "unreported": out}
+                "periods_in_record": out["periods_in_record"], "offset_fitted": True,
+                "min_periods": min_periods, "wave_kind": out["wave_kind"], "quantity": out["quantity"],
+                "mode_amplitude_A": out["mode_amplitude_A"], "reason": reason, "unreported": out}
     return out
-
-
-def refusal(times_ps, c, k_per_A: float) -> str | None:
-    """Why no speed may be reported for the mode amplitude c(t), by the rule the workflow
-    reports with (standing_mode_fit: fewer than MIN_PERIODS, or a standing mode with fewer
-    than REPORT_MIN_PERIODS fitted periods), or None. WaveAnalysis refuses with it."""
-    return standing_mode_fit(times_ps, c, k_per_A, record_term=False).get("reason")
 
 
 def _finite(x) -> bool:

@@ -115,12 +115,12 @@ class WaveAnalysis(AnalysisBase):
         elif len(times) < 8:
             reason = f"only {len(times)} frames; the wave-speed fit needs at least 8"
         else:
-            reason = refusal(times, c, k)
+            wave = fit_wave_speed(times, c, k, offset=self.offset, n_boot=self.n_boot)
+            reason = refusal(wave, float(times[-1] - times[0]))
         if reason:
             none = {"speed_A_per_ps": None, "speed_err_A_per_ps": None, "reason": reason}
             return dict(none), dict(none)
-        return (fit_wave_speed(times, c, k, offset=self.offset, n_boot=self.n_boot),
-                phase_velocity(times, c, k))
+        return wave, phase_velocity(times, c, k)
 
     def summary(self) -> dict:
         """JSON-ready scalars of the results."""

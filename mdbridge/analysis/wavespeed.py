@@ -4,16 +4,35 @@ Estimator 1 (the reported value): nonlinear least squares on the k = 2 pi / L mo
 With c(t) = (2/n) sum_i u(s_i, t) exp(-i k s_i) the complex amplitude of that mode,
 
     u = a_+ cos(k s - w t + p_+) + a_- cos(k s + w t + p_-)
-    <=>  c(t) = A_+ exp(-i w t) + A_- exp(+i w t),   A_pm = a_pm exp(i p_pm),
+    <=>  c(t) = A_+ exp(-i w t) + A_- exp(+i w t) (+ B),   A_pm = a_pm exp(i p_pm),
 
 which is exactly the least-squares fit of the travelling-wave model to u(s, t) restricted
-to that mode (Parseval). The model is linear in A_pm for a given w, so w is found by
-variable projection: a global scan of the residual over w (from a quarter period in the
-record up to the Nyquist frequency), a bounded 1-D refinement, then a full Levenberg-
-Marquardt step on (w, A_+, A_-) whose Jacobian gives the covariance. Uncertainty: the
-larger of the covariance standard error and a moving-block residual bootstrap (block
-length from the residual autocorrelation, so correlated thermal noise in MD is not
-treated as white). Speed = w / k; forward if |A_+| > |A_-|.
+to that mode (Parseval); B, the static deformation of the mode, is fitted with `offset`.
+The model is linear in A_pm for a given w, so w is found by variable projection: a global
+scan of the residual over w (from a quarter period in the record up to the Nyquist
+frequency, steps of 1/16 of the peak width), then a golden-section refinement between the
+scan's neighbours of its minimum. The same estimator runs on many records at once
+(`fit_frequencies`), which is what makes the parametric bootstrap below affordable.
+
+Error of w (`fit_with_replicates`):
+* the noise of c(t) is an Ornstein-Uhlenbeck process estimated by restricted maximum
+  likelihood from the residual, with what the fit absorbs accounted for
+  (mdbridge/analysis/mode_noise.py);
+* the linearised error (`omega_err_cov_per_ps`): the least-squares covariance with that
+  noise covariance (the sandwich (J^T J)^-1 J^T Sigma J (J^T J)^-1);
+* the stated error (`omega_err_bootstrap_per_ps`, = `omega_err_per_ps` when n_boot >= 2):
+  a parametric bootstrap -- records drawn from the fitted model plus the fitted noise
+  process, fitted by this same estimator -- the RMS of the refitted w about the fitted w.
+  It includes the estimator's bias and the nonlinear regime (noise as large as the mode,
+  records under a period), where the linearised error is several times too small; it is
+  right by construction when the noise model is (docs/analysis.md gives the grid on which
+  that was measured). Only the replicates that stay on the fitted peak (within its first
+  zero, 2 pi / span) enter; the fraction that finds another is reported;
+* detection: the same estimator on records of the fitted noise alone gives the height of
+  the highest peak the noise makes (`line_power`, its DETECTION_QUANTILE), against which
+  mode_error.refusal judges the record's own peak.
+Speed = w / k; forward if |A_+| > |A_-|; "standing" when |A_+| - |A_-| is within
+STANDING_SIGMA of its (linearised) standard error.
 
 Estimator 2 (the cross-check): the phase velocity of c(t). For a predominantly travelling
 wave, arg c(t) = p - w t, so the unwrapped phase falls linearly and the crest of the
@@ -24,11 +43,19 @@ Neither estimator looks at the other's result.
 """
 from __future__ import annotations
 
+import math
+
 import numpy as np
-from scipy.optimize import least_squares, minimize_scalar
 
 from dna_models.errors import InputError
-from mdbridge.stats import circular_block_indices, e_folding_lag
+from mdbridge.analysis.mode_noise import draw_ou, fit_ou_noise, ou_apply
+
+MIN_PERIODS = 0.25       # below: no fit (a frequency cannot be told from a slow drift)
+STANDING_SIGMA = 2.0     # |A_+| - |A_-| within this many standard errors -> standing
+STANDING_REL = 0.05      # ... or within 5 % of |A_+| + |A_-| (|c| then dips to 5 % of its peak)
+DETECTION_QUANTILE = 0.99  # a line must exceed this quantile of the noise alone's highest peak
+SCAN_BUDGET = 1_000_000     # frequencies x records of one scan (fit_frequencies)
+GOLDEN_STEPS = 36        # golden-section steps: the bracket (1/8 of the peak width) shrinks by 3e-8
 
 
 def mode_amplitude(u: np.ndarray, mode: int = 1) -> np.ndarray:
@@ -37,131 +64,254 @@ def mode_amplitude(u: np.ndarray, mode: int = 1) -> np.ndarray:
     return 2.0 / u.shape[1] * np.fft.fft(u, axis=1)[:, mode]
 
 
-def _basis(t, w, offset):
-    cols = [np.exp(-1j * w * t), np.exp(1j * w * t)]
+def basis(tc: np.ndarray, w, offset: bool) -> np.ndarray:
+    """The model's columns e^{-iwt}, e^{+iwt} (and 1): (T, m) for one w, (R, T, m) for R."""
+    w = np.asarray(w, float)
+    e = np.exp(-1j * w[..., None] * tc) if w.ndim else np.exp(-1j * w * tc)
+    cols = [e, np.conj(e)] + ([np.ones_like(e)] if offset else [])
+    return np.stack(cols, axis=-1)
+
+
+def _gram(s1, s2, n, offset):
+    """Gram matrices (..., m, m) of the basis from s1 = sum e^{iwt}, s2 = sum e^{2iwt} (...)."""
+    m = 3 if offset else 2
+    G = np.zeros(s1.shape + (m, m), complex)
+    G[..., 0, 0] = G[..., 1, 1] = n
+    G[..., 0, 1] = s2
+    G[..., 1, 0] = np.conj(s2)
     if offset:
-        cols.append(np.ones_like(t, dtype=complex))
-    return np.stack(cols, axis=1)
+        G[..., 2, 2] = n
+        G[..., 0, 2] = G[..., 2, 1] = s1
+        G[..., 2, 0] = G[..., 1, 2] = np.conj(s1)
+    # where the basis degenerates (w at the Nyquist frequency, where e^{-iwt} = e^{iwt}
+    # on the samples) a tiny ridge keeps the solve finite; the residual there is large
+    return G + 1e-12 * n * np.eye(m)
 
 
-def _project(t, c, w, offset):
-    E = _basis(t, w, offset)
-    A = np.linalg.lstsq(E, c, rcond=None)[0]
-    r = c - E @ A
-    return A, r, float(np.vdot(r, r).real)
+def _explained(G, b):
+    """b^H G^-1 b (...,): the part of |c|^2 the projection explains."""
+    x = np.linalg.solve(G, b[..., None])[..., 0]
+    return np.einsum("...i,...i->...", np.conj(b), x).real
 
 
-def _rss_scan(t, c, grid, offset, chunk=1024):
-    """Residual sum of squares of the projected fit at every w of `grid`, vectorised
-    through the normal equations (the basis functions have modulus 1, so the Gram
-    matrix needs only sums of exp(+-i w t) and exp(2 i w t))."""
-    out = np.empty(len(grid))
-    cc = float(np.vdot(c, c).real)
-    n = len(t)
-    for a in range(0, len(grid), chunk):
-        w = grid[a:a + chunk, None]
-        ep = np.exp(1j * w * t[None, :])          # conj(f1) = e^{iwt}, f2 = e^{iwt}
-        m = 3 if offset else 2
-        G = np.zeros((len(w), m, m), complex)
-        G[:, 0, 0] = G[:, 1, 1] = n
-        G[:, 0, 1] = np.sum(ep ** 2, axis=1)      # sum conj(f1) f2
-        G[:, 1, 0] = np.conj(G[:, 0, 1])
-        b = np.zeros((len(w), m), complex)
-        b[:, 0] = ep @ c
-        b[:, 1] = np.conj(ep) @ c
-        if offset:
-            G[:, 2, 2] = n
-            G[:, 0, 2] = np.sum(ep, axis=1)
-            G[:, 2, 0] = np.conj(G[:, 0, 2])
-            G[:, 1, 2] = np.conj(G[:, 0, 2])
-            G[:, 2, 1] = G[:, 0, 2]
-            b[:, 2] = np.sum(c)
-        # where the basis degenerates (w at the Nyquist frequency, where e^{-iwt} = e^{iwt}
-        # on the samples) a tiny ridge keeps the solve finite; the residual there is large
-        G += 1e-12 * n * np.eye(m)
-        x = np.linalg.solve(G, b[..., None])[..., 0]
-        out[a:a + chunk] = cc - np.einsum("gi,gi->g", np.conj(b), x).real
+def _grid_sums(tc, C, grid, h=1):
+    """S(w) = sum_t e^{i h w t} x(t) at every w of `grid` (G,) for each row x of C (R, T):
+    (G, R).
+
+    On uniform times the grid steps are 1/16 of 2 pi / span, so S is a zero-padded FFT of
+    length ~16 T (O(T log T) per record instead of O(T^2)); otherwise a matrix product."""
+    n = len(tc)
+    dt = np.diff(tc)
+    dw = grid[1] - grid[0] if len(grid) > 1 else 0.0
+    N = int(round(2 * np.pi / (dw * dt[0]))) if dw > 0 else 0
+    if len(grid) > 1 and np.allclose(dt, dt[0], rtol=1e-9) and np.isclose(dw * dt[0] * N, 2 * np.pi) \
+            and N >= n and h * (len(grid) - 1) < N:
+        x = C * np.exp(1j * h * grid[0] * dt[0] * np.arange(n))[None, :]
+        S = N * np.fft.ifft(x, N, axis=1)[:, :h * len(grid):h]
+        return (S * np.exp(1j * h * grid[None, :] * tc[0])).T     # tc[0] = -(the centre)
+    out = np.empty((len(grid), len(C)), complex)
+    for a in range(0, len(grid), 512):
+        out[a:a + 512] = np.exp(1j * h * grid[a:a + 512, None] * tc[None, :]) @ C.T
     return out
 
 
-def fit_wave_speed(times_ps, c, k_per_A, offset=False, n_boot=200, seed=0) -> dict:
-    """Estimator 1: nonlinear LS of c(t) = A_+ e^{-iwt} + A_- e^{iwt} (+ B if offset)."""
+def _rss_scan(tc, C, grid, offset):
+    """Residual sum of squares (G, R) of the projected fit of each record C (R, T) at every
+    w of `grid` (G,), through the normal equations: the Gram matrix of the basis depends on
+    w only (its columns have modulus 1: sums of e^{iwt} and e^{2iwt}), the right-hand side
+    is sum e^{+-iwt} c (and sum c)."""
+    ones = np.ones((1, len(tc)))
+    s1 = _grid_sums(tc, ones, grid)[:, 0]
+    s2 = _grid_sums(tc, ones, grid, h=2)[:, 0]
+    Ginv = np.linalg.inv(_gram(s1, s2, len(tc), offset))               # one per w, for all records
+    b = [_grid_sums(tc, C, grid), np.conj(_grid_sums(tc, np.conj(C), grid))]
+    if offset:
+        b.append(np.broadcast_to(C.sum(axis=1), (len(grid), len(C))))
+    bb = np.stack(b, axis=-1)
+    explained = np.einsum("gri,gij,grj->gr", np.conj(bb), Ginv, bb, optimize=True).real
+    return np.sum(np.abs(C) ** 2, axis=1)[None, :] - explained
+
+
+def _rss_at(tc, C, w, offset):
+    """Residual sum of squares (R,) of each record C (R, T) at its own w (R,)."""
+    ep = np.exp(1j * w[:, None] * tc[None, :])
+    G = _gram(ep.sum(axis=1), (ep ** 2).sum(axis=1), len(tc), offset)
+    b = [np.sum(ep * C, axis=1), np.sum(np.conj(ep) * C, axis=1)] + ([C.sum(axis=1)] if offset else [])
+    return np.sum(np.abs(C) ** 2, axis=1) - _explained(G, np.stack(b, axis=-1))
+
+
+def amplitudes(tc, C, w, offset):
+    """Least-squares A (R, m) and residuals (R, T) of each record C (R, T) at its w (R,)."""
+    E = basis(tc, w, offset)
+    G = np.einsum("rti,rtj->rij", np.conj(E), E)
+    b = np.einsum("rti,rt->ri", np.conj(E), C)
+    A = np.linalg.solve(G + 1e-12 * len(tc) * np.eye(E.shape[-1]), b[..., None])[..., 0]
+    return A, C - np.einsum("rti,ri->rt", E, A)
+
+
+def frequency_grid(times_ps) -> np.ndarray:
+    """The scan's w: a quarter period in the record up to Nyquist, steps pi / (8 span)."""
+    t = np.asarray(times_ps, float)
+    span = t[-1] - t[0]
+    dt = np.median(np.diff(t))
+    return np.arange(np.pi / (2 * span), np.pi / dt, np.pi / (8 * span))
+
+
+def fitted(times_ps, w) -> np.ndarray:
+    """Which frequencies w are a fit, not a drift: above a quarter period in the record and
+    off the scan's lowest step (a minimum at the bound is a slow drift, not an oscillation)."""
+    grid = frequency_grid(times_ps)
+    return np.asarray(w) > grid[0] + 0.5 * (grid[1] - grid[0])
+
+
+def line_power(times_ps, C, w, offset: bool) -> np.ndarray:
+    """The fraction (R,) of each record's variance (about its mean with `offset`) that the
+    fitted oscillation at its w explains: the height of the peak the scan found."""
+    t = np.asarray(times_ps, float)
+    C = np.atleast_2d(np.asarray(C, complex))
+    total = np.sum(np.abs(C - (C.mean(axis=1, keepdims=True) if offset else 0.0)) ** 2, axis=1)
+    return 1.0 - _rss_at(t - t.mean(), C, np.asarray(w, float), offset) / total
+
+
+def fit_frequencies(times_ps, C, offset: bool) -> tuple[np.ndarray, np.ndarray]:
+    """Estimator 1 on each record C (R, T): w (R,) [rad/ps] and A (R, m), times centred (the
+    centring decorrelates the frequency from the phase)."""
+    t = np.asarray(times_ps, float)
+    C = np.atleast_2d(np.asarray(C, complex))
+    grid = frequency_grid(t)
+    tc = t - t.mean()
+    # the scan holds (frequencies x records) numbers: records in chunks keep it to
+    # SCAN_BUDGET (~100 MB) whatever the record length (a 5-ns record of 0.5-ps frames has
+    # ~80000 frequencies)
+    chunk = max(1, SCAN_BUDGET // len(grid))
+    j = np.concatenate([np.argmin(_rss_scan(tc, C[a:a + chunk], grid, offset), axis=0)
+                        for a in range(0, len(C), chunk)])
+    lo, hi = grid[np.maximum(j - 1, 0)], grid[np.minimum(j + 1, len(grid) - 1)]
+    g = (math.sqrt(5.0) - 1.0) / 2.0
+    x1, x2 = hi - g * (hi - lo), lo + g * (hi - lo)
+    f1, f2 = _rss_at(tc, C, x1, offset), _rss_at(tc, C, x2, offset)
+    for _ in range(GOLDEN_STEPS):
+        left = f1 < f2                      # the minimum is in [lo, x2]
+        hi = np.where(left, x2, hi)
+        lo = np.where(left, lo, x1)
+        xn = np.where(left, hi - g * (hi - lo), lo + g * (hi - lo))
+        fn = _rss_at(tc, C, xn, offset)
+        x2, f2, x1, f1 = (np.where(left, x1, xn), np.where(left, f1, fn),
+                          np.where(left, xn, x2), np.where(left, fn, f2))
+    w = np.where(f1 < f2, x1, x2)
+    A, _ = amplitudes(tc, C, w, offset)
+    return w, A
+
+
+def jacobian(tc, w: float, A: np.ndarray) -> np.ndarray:
+    """Complex columns (T, p) of d(model)/d(w, Re A_+, Im A_+, Re A_-, Im A_- [, Re B, Im B])."""
+    E = basis(tc, w, len(A) == 3)
+    cols = [-1j * tc * A[0] * E[:, 0] + 1j * tc * A[1] * E[:, 1]]
+    for j in range(len(A)):
+        cols += [E[:, j], 1j * E[:, j]]
+    return np.stack(cols, axis=1)
+
+
+def linear_covariance(times_ps, J: np.ndarray, rms_A: float, tau_ps: float) -> np.ndarray:
+    """Covariance of the real parameters of a least-squares fit with complex columns J (T, p)
+    under OU noise (mode_noise.py): (J^T J)^-1 J^T Sigma J (J^T J)^-1, real and imaginary
+    parts independent."""
+    H = np.linalg.pinv(J.real.T @ J.real + J.imag.T @ J.imag)
+    M = J.real.T @ ou_apply(times_ps, tau_ps, J.real) + J.imag.T @ ou_apply(times_ps, tau_ps, J.imag)
+    return rms_A ** 2 * H @ M @ H
+
+
+def _refused(method, w, span, periods):
+    nan = float("nan")
+    return {"method": method, "speed_A_per_ps": nan, "speed_err_A_per_ps": nan, "omega_per_ps": nan,
+            "omega_at_bound_per_ps": w, "periods_in_record": periods,
+            "reason": f"the record ({span:.3g} ps) holds about a quarter period of the wave or less "
+                      f"({periods:.2f} fitted): a drift, not an oscillation; run longer"}
+
+
+def _noise_at(t, c, w, A, offset):
+    """The fitted model at (w, A) and the REML noise of its residual (mode_noise.py)."""
+    tc = t - t.mean()
+    model = basis(tc, w, offset) @ A
+    return model, fit_ou_noise(t, c - model, jacobian(tc, w, A))
+
+
+def fit_with_replicates(times_ps, c, k_per_A, offset=False, n_boot=200, seed=0):
+    """Estimator 1 with its error (module doc). Returns the result dict and the bootstrap
+    records (n_boot, T) (None when there is no fit), so that a caller can run other fits on
+    the same replicates (mode_error.py: the sub-record term)."""
     t = np.asarray(times_ps, float)
     c = np.asarray(c, complex)
     if len(t) < 8:
         raise InputError(f"wave-speed fit needs at least 8 frames, got {len(t)}")
-    tc = t - t.mean()  # centred time: decorrelates frequency from phase
-    span = t[-1] - t[0]
-    dt = np.median(np.diff(t))
-    w_min, w_max = np.pi / (2 * span), np.pi / dt
-    dw = np.pi / (8 * span)
-    grid = np.arange(w_min, w_max, dw)
-    rss = _rss_scan(tc, c, grid, offset)
-    j = int(np.argmin(rss))
-    lo, hi = grid[max(j - 1, 0)], grid[min(j + 1, len(grid) - 1)]
-    w1 = minimize_scalar(lambda w: _project(tc, c, w, offset)[2], bounds=(lo, hi), method="bounded",
-                         options={"xatol": 1e-12 * w_max}).x
-    A1, _, _ = _project(tc, c, w1, offset)
-
-    def resid(p):
-        w, A = p[0], p[1::2] + 1j * p[2::2]
-        r = c - _basis(tc, w, offset) @ A
-        return np.concatenate([r.real, r.imag])
-
-    p0 = np.concatenate([[w1], np.column_stack([A1.real, A1.imag]).ravel()])
-    sol = least_squares(resid, p0, method="lm", xtol=1e-14, ftol=1e-14)
-    w = float(sol.x[0])
-    A = sol.x[1::2] + 1j * sol.x[2::2]
-    r = c - _basis(tc, w, offset) @ A
-    dof = max(2 * len(t) - len(p0), 1)
-    s2 = float(np.sum(sol.fun ** 2)) / dof
-    try:
-        cov = np.linalg.inv(sol.jac.T @ sol.jac) * s2
-        w_err_cov = float(np.sqrt(max(cov[0, 0], 0.0)))
-    except np.linalg.LinAlgError:
-        w_err_cov = np.inf
-
-    # moving-block residual bootstrap (circular blocks)
-    rng = np.random.default_rng(seed)
-    b = e_folding_lag(r)
-    fitted = c - r
-    n = len(t)
-    half = max(3 * dw, 10 * w_err_cov if np.isfinite(w_err_cov) else 3 * dw)
-    boot = []
-    for _ in range(n_boot):
-        idx = circular_block_indices(n, b, rng)
-        cb = fitted + r[idx]
-        local = np.linspace(max(w - half, w_min / 2), w + half, 41)
-        rl = _rss_scan(tc, cb, local, offset)
-        j = int(np.argmin(rl))
-        wb = minimize_scalar(lambda x: _rss_scan(tc, cb, np.array([x]), offset)[0],
-                             bounds=(local[max(j - 1, 0)], local[min(j + 1, 40)]), method="bounded",
-                             options={"xatol": 1e-10 * w_max}).x
-        boot.append(wb)
-    w_err_boot = float(np.std(boot, ddof=1)) if n_boot > 1 else 0.0
-    w_err = max(w_err_cov, w_err_boot)
-    A_f, A_b = abs(A[0]), abs(A[1])
+    method = ("LS fit of forward+backward k-mode" + (" + static offset" if offset else "")
+              + " (variable projection); error: parametric bootstrap with REML Ornstein-Uhlenbeck noise")
+    tc = t - t.mean()
+    span = float(t[-1] - t[0])
+    w_arr, A_arr = fit_frequencies(t, c[None], offset)
+    w, A = float(w_arr[0]), A_arr[0]
+    periods = w * span / (2 * np.pi)
+    if not fitted(t, w):
+        return _refused(method, w, span, periods), None
+    model, noise = _noise_at(t, c, w, A, offset)
+    r = c - model
+    J = jacobian(tc, w, A)
+    cov = linear_covariance(t, J, noise["noise_rms_A"], noise["noise_tau_ps"])
+    w_err_cov = float(math.sqrt(max(cov[0, 0], 0.0)))
+    # |A_+| - |A_-| and its standard error (gradient wrt Re, Im of A_+ and A_-)
+    g = np.zeros(J.shape[1])
+    for j, sign in ((0, 1.0), (1, -1.0)):
+        a = abs(A[j])
+        if a > 0:
+            g[1 + 2 * j], g[2 + 2 * j] = sign * A[j].real / a, sign * A[j].imag / a
+    d_amp = float(abs(A[0]) - abs(A[1]))
+    d_amp_err = float(math.sqrt(max(g @ cov @ g, 0.0)))
+    standing = abs(d_amp) <= max(STANDING_SIGMA * d_amp_err, STANDING_REL * (abs(A[0]) + abs(A[1])))
+    replicates = None
+    w_err_boot, other, power_null_q = float("nan"), float("nan"), float("nan")
+    if n_boot >= 2:
+        rng = np.random.default_rng(seed)
+        replicates = model[None, :] + draw_ou(rng, t, noise["noise_rms_A"], noise["noise_tau_ps"], n_boot)
+        wb, _ = fit_frequencies(t, replicates, offset)
+        # of the replicates that give a number (a drift at the scan's bound gives none, as in a
+        # real run), those on the fitted peak -- within its first zero, 2 pi / span -- make the
+        # error; the others found another peak and are counted, not averaged
+        ok = fitted(t, wb)
+        on = ok & (np.abs(wb - w) <= 2 * np.pi / span)
+        other = float(1.0 - np.sum(on) / max(np.sum(ok), 1))
+        w_err_boot = float(np.sqrt(np.mean((wb[on] - w) ** 2))) if np.sum(on) >= 2 else float("inf")
+        # detection: what the noise alone (with the offset) gives this estimator as a mode
+        null = basis(tc, w, offset)[:, 2:] @ A[2:] + draw_ou(rng, t, noise["noise_rms_A"],
+                                                              noise["noise_tau_ps"], n_boot)
+        wn, _ = fit_frequencies(t, null, offset)
+        power_null = line_power(t, null, wn, offset)[fitted(t, wn)]
+        power_null_q = float(np.quantile(power_null, DETECTION_QUANTILE)) if len(power_null) else 0.0
+    w_err = w_err_boot if n_boot >= 2 else w_err_cov
     c_var = float(np.vdot(c - c.mean(), c - c.mean()).real)
-    periods = float(w * span / (2 * np.pi))
-    if periods < 0.25:
-        # a record this short cannot tell a frequency from a slow drift: no speed, say why
-        nan = float("nan")
-        return {"method": "NLS fit of forward+backward k-mode (variable projection + LM)",
-                "speed_A_per_ps": nan, "speed_err_A_per_ps": nan, "omega_per_ps": nan,
-                "omega_at_bound_per_ps": w, "periods_in_record": periods,
-                "reason": f"the record ({span:.3g} ps) holds less than a quarter period of the wave; "
-                          "run longer"}
-    return {
-        "method": "NLS fit of forward+backward k-mode (variable projection + LM)",
+    A_f, A_b = abs(A[0]), abs(A[1])
+    out = {
+        "method": method,
         "omega_per_ps": w, "omega_err_per_ps": w_err,
         "omega_err_cov_per_ps": w_err_cov, "omega_err_bootstrap_per_ps": w_err_boot,
-        "bootstrap_block": b, "n_boot": n_boot,
+        "n_boot": n_boot, "bootstrap_other_peak_fraction": other,
+        "line_power": float(line_power(t, c, [w], offset)[0]), "noise_only_line_power": power_null_q,
         "speed_A_per_ps": w / k_per_A, "speed_err_A_per_ps": w_err / k_per_A,
         "amplitude_forward_A": float(A_f), "amplitude_backward_A": float(A_b),
+        "amplitude_difference_A": d_amp, "amplitude_difference_err_A": d_amp_err,
+        "wave_kind": "standing" if standing else "travelling",
         "direction": "forward" if A_f >= A_b else "backward",
         "r2": 1.0 - float(np.vdot(r, r).real) / c_var if c_var > 0 else float("nan"),
-        "periods_in_record": float(w * span / (2 * np.pi)),
+        "periods_in_record": periods, **noise,
     }
+    if offset:
+        out["offset_A"] = float(abs(A[2]))
+    return out, replicates
+
+
+def fit_wave_speed(times_ps, c, k_per_A, offset=False, n_boot=200, seed=0) -> dict:
+    """Estimator 1 and its error (module doc); speed NaN with a reason when the record holds
+    less than a quarter period."""
+    return fit_with_replicates(times_ps, c, k_per_A, offset, n_boot, seed)[0]
 
 
 def _slope(t, y):

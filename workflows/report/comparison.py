@@ -190,7 +190,7 @@ def html_table(comp: dict) -> str:
                         f"{_f(p.get('speed_err_A_per_ps'), 2)}</td><td>{_f(p.get('tension_pN'))}</td></tr>"
                         for p in pre) + "</table>")
     return ("<h2>Matched comparison (amplitude, strain, tension)</h2>"
-            "<p>Frequencies from the fit with the static mode offset; errors = fit (AR(1) noise) "
+            "<p>Frequencies from the fit with the static mode offset; errors = fit (parametric bootstrap) "
             "&oplus; record length &oplus; between seeds (docs/analysis.md). Regime from the tension "
             f"the kick adds above the A_v = 0 baseline (MD baseline: {_f(comp.get('md_baseline_tension_pN'))} pN). "
             f"Rod buckling strain: {_f(b.get('critical_strain'))}.</p>"

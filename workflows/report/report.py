@@ -98,7 +98,8 @@ def collect(cfg: dict, out: Path) -> dict:
 # What each number of results.json means (its "definitions").
 DEFINITIONS = {
     "wave_speed": "NLS fit of forward+backward travelling waves to the k = 2 pi/L mode of u(s,t); "
-                  "error: max(covariance, block bootstrap); *_check: phase velocity of the mode",
+                  "error: parametric bootstrap (fitted model + REML Ornstein-Uhlenbeck noise); "
+                  "*_check: phase velocity of the mode",
     "md_energy_drift": "least-squares slope of the conserved energy from 10 % of the NVE "
                        "run to its end, per atom (mdbridge/md/gromacs/checks.py fit_drift); "
                        "worst headline run",
