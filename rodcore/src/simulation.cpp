@@ -7,8 +7,8 @@
 #include <limits>
 #include <optional>
 
-#include "rodcore/contact.hpp"
 #include "rodcore/closure.hpp"
+#include "rodcore/contact.hpp"
 #include "rodcore/diagnostics.hpp"
 #include "rodcore/error.hpp"
 #include "rodcore/guards.hpp"
