@@ -60,15 +60,105 @@ def oscillator_input(period_ps: float, Q: float, n_real: int, seed: int, record_
         yield x - x.mean(axis=1, keepdims=True), dt_ps, w, g
 
 
+# -- MD-like spectra: dispersive modes on a common background ------------------------------
+# The 158-bp MD's mode spectra (docs/analysis.md, "Mode spectra") are each mode's damped
+# oscillator on top of motion that is the same at every n: slow red noise (an exponential
+# autocovariance, as pairs opening and closing give) and the broad band of the base-pair
+# steps' own vibration (an overdamped oscillator near 1.8 ps), plus a white floor. These
+# records have all three, at every n the same, under dispersive modes of known omega_n, Q.
+LOCAL_BAND = (3.5, 0.9)        # (omega [rad/ps], Q) of the local band
+RED_TAU_PS = 300.0
+
+
+def red_noise(rng, n_series: int, n: int, dt_ps: float, tau_ps: float) -> np.ndarray:
+    """Unit-variance stationary records of the exponential autocovariance exp(-|t| / tau)
+    (the discrete-time AR(1) process, exact at the samples)."""
+    from scipy.signal import lfilter
+    phi = math.exp(-dt_ps / tau_ps)
+    e = rng.standard_normal((n_series, n)) * math.sqrt(1 - phi * phi)
+    e[:, 0] = rng.standard_normal(n_series)
+    return lfilter([1.0], [1.0, -phi], e, axis=1)
+
+
+def md_like_modes(omegas, Qs, peak_over_background, red=1.0, local=1.0, floor=0.05,
+                  record_ps=RECORD_PS, dt_ps=DT_PS, n_series=N_SERIES, tau_ps=RED_TAU_PS):
+    """The truth of an MD-like kind: per mode n (index i) the oscillator's (omega, gamma) and
+    its variance, set so that its expected power at its peak stands peak_over_background[i]
+    times above the background there; the background (red, local, floor variances) is the
+    same for every mode."""
+    from mdbridge.analysis.spectrum import expected_periodogram
+    n = int(round(record_ps / dt_ps))
+    k = np.arange(n)
+    red_acvf = (1 - k / n) * np.exp(-k * dt_ps / tau_ps)
+    G = red * (2 * np.fft.rfft(red_acvf).real - 1.0) + local * expected_periodogram(n, dt_ps, *gamma_of(
+        2 * math.pi / LOCAL_BAND[0], LOCAL_BAND[1])) + floor
+    modes = []
+    for w0, Q, r in zip(omegas, Qs, peak_over_background):
+        w, g = gamma_of(2 * math.pi / w0, Q)
+        F = expected_periodogram(n, dt_ps, w, g)
+        jmax = int(np.argmax(F[1:])) + 1
+        modes.append({"omega": w, "gamma": g, "variance": r * G[jmax] / F[jmax]})
+    return {"modes": modes, "red": red, "local": local, "floor": floor, "n": n, "dt_ps": dt_ps,
+            "n_series": n_series, "tau_ps": tau_ps}
+
+
+def md_like_realisation(rng, truth: dict) -> list:
+    """One realisation: the pooled real series (n_series, N) of every mode (md_like_modes)."""
+    from mdbridge.analysis.spectrum import simulate
+    n, dt, M = truth["n"], truth["dt_ps"], truth["n_series"]
+    wl, gl = gamma_of(2 * math.pi / LOCAL_BAND[0], LOCAL_BAND[1])
+    xs = []
+    for m in truth["modes"]:
+        x = simulate(rng, M, n, dt, m["omega"], m["gamma"], m["variance"], truth["floor"]) \
+            + math.sqrt(truth["local"]) * simulate(rng, M, n, dt, wl, gl) \
+            + math.sqrt(truth["red"]) * red_noise(rng, M, n, dt, truth["tau_ps"])
+        xs.append(x - x.mean(axis=1, keepdims=True))
+    return xs
+
+
+def md_like_input(truth: dict, n_real: int, seed: int, modes, background: bool = True):
+    """{mode index: [(OscillatorFit or None, reason, omega, gamma), ...]}: the modes (indices)
+    of n_real MD-like records (md_like_realisation) fitted as `dnarod modes` fits them (all
+    modes of a realisation together: mdbridge/analysis/mode_spectra.py fit_kind), or, the
+    control, one at a time with today's rule before the common background (background=False:
+    fit_mode alone)."""
+    from mdbridge.analysis.mode_spectra import fit_kind, fit_mode
+    rng = np.random.default_rng(seed)
+    out: dict = {i: [] for i in modes}
+    for _ in range(n_real):
+        xs = md_like_realisation(rng, truth)
+        if background:
+            fits = fit_kind(xs, truth["dt_ps"], wanted=[i in modes for i in range(len(xs))])
+        else:
+            fits = [fit_mode(x, truth["dt_ps"]) if i in modes else None for i, x in enumerate(xs)]
+        for i in modes:
+            m = truth["modes"][i]
+            fit, why = fits[i]
+            out[i].append((fit, why, xs[i].shape[1] * truth["dt_ps"], m["omega"], m["gamma"]))
+    return out
+
+
+def fitted(realisations, line: str = "auto"):
+    """(fit, reason, record_ps, omega, gamma) of each realisation (x, dt_ps, omega, gamma) of
+    one mode, fitted alone (mode_spectra.fit_mode)."""
+    from mdbridge.analysis.mode_spectra import fit_mode
+    for x, dt, w, g in realisations:
+        fit, why = fit_mode(x, dt, errors="hessian", line=line)
+        yield fit, why, x.shape[1] * dt, w, g
+
+
 def calibrate(realisations, line: str = "auto") -> dict:
-    """Bias, RMS error and stated / RMS of omega and gamma over the realisations."""
-    from mdbridge.analysis.mode_spectra import fit_mode, refusal
+    """Bias, RMS error and stated / RMS of omega and gamma over the realisations: records
+    (x, dt_ps, omega, gamma) of one mode, fitted alone, or fits (fit, reason, record_ps,
+    omega, gamma) (md_like_input)."""
+    from mdbridge.analysis.mode_spectra import refusal
     est = []
     refused = []
     lines = 0
-    for x, dt, w, g in realisations:
-        fit, why = fit_mode(x, dt, errors="hessian", line=line)
-        why = why or refusal(fit, x.shape[1] * dt)
+    realisations = list(realisations)
+    items = realisations if realisations and len(realisations[0]) == 5 else fitted(realisations, line)
+    for fit, why, record_ps, w, g in items:
+        why = why or refusal(fit, record_ps)
         if why:
             refused.append(why)
         if fit is not None and fit.line is not None:
