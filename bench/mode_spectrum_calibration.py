@@ -70,6 +70,14 @@ LOCAL_BAND = (3.5, 0.9)        # (omega [rad/ps], Q) of the local band
 RED_TAU_PS = 300.0
 
 
+# Two MD-like kinds: twist-like (omega ~ n, broad: Q = 2, peaks 3x the background under
+# them, as the MD's twist n = 1-8) and bend-like (the MD's bend periods, Q = 3, peaks 10x
+# the background, under red noise 30x stronger that tops the lowest bins of every high n)
+TWIST_LIKE = {"omegas": [0.09 * n for n in range(1, 15)], "Qs": [2.0] * 14, "peak_over_background": [3.0] * 14}
+BEND_LIKE = {"omegas": [2 * math.pi / p for p in (500, 210, 128, 78, 60, 44, 34, 27, 22, 19, 17.5, 15.4, 13, 11)],
+             "Qs": [3.0] * 14, "peak_over_background": [10.0] * 14, "red": 30.0}
+
+
 def red_noise(rng, n_series: int, n: int, dt_ps: float, tau_ps: float) -> np.ndarray:
     """Unit-variance stationary records of the exponential autocovariance exp(-|t| / tau)
     (the discrete-time AR(1) process, exact at the samples)."""
@@ -164,9 +172,10 @@ def calibrate(realisations, line: str = "auto") -> dict:
         if fit is not None and fit.line is not None:
             lines += 1
         if fit is None or why:
-            est.append((np.nan, np.nan, np.nan, np.nan, w, g))
+            est.append((np.nan, np.nan, np.nan, np.nan, w, g, np.nan, np.nan))
             continue
-        est.append((fit.omega_per_ps, fit.omega_err_per_ps, fit.damping_per_ps, fit.damping_err_per_ps, w, g))
+        est.append((fit.omega_per_ps, fit.omega_err_per_ps, fit.damping_per_ps, fit.damping_err_per_ps, w, g,
+                    fit.Q, fit.Q_err))
     e = np.array(est, float)
     w_true, g_true = e[0, 4], e[0, 5]
     ok = np.isfinite(e[:, 0]) & np.isfinite(e[:, 1])
@@ -184,8 +193,47 @@ def calibrate(realisations, line: str = "auto") -> dict:
         out.update(gamma_bias_rel=float(dg.mean() / g_true), gamma_rms_rel=float(np.sqrt(np.mean(dg ** 2)) / g_true),
                    gamma_ratio=float(np.sqrt(np.mean(e[okg, 3] ** 2)) / np.sqrt(np.mean(dg ** 2)))
                    if okg.sum() >= 2 else None)
+        okq = ok & np.isfinite(e[:, 7])
+        Q_true = math.hypot(w_true, g_true) / (2 * g_true)
+        dQ = e[okq, 6] - Q_true
+        out.update(Q_true=Q_true, Q_bias_rel=float(dQ.mean() / Q_true) if okq.any() else None,
+                   Q_ratio=float(np.sqrt(np.mean(e[okq, 7] ** 2)) / np.sqrt(np.mean(dQ ** 2)))
+                   if okq.sum() >= 2 else None)
     out["omega_pass"] = bool(LOW <= out["omega_ratio"] <= HIGH)
     return out
+
+
+def halves_z(records, dt_ps: float, line: str = "auto") -> list:
+    """The halves test of `dnarod modes` (mode_spectra._halves) on records (x, ...) of one
+    mode: the signed z = (omega_2 - omega_1) / sqrt(err_1^2 + err_2^2) of each record's two
+    halves, fitted alone; None where a half is refused."""
+    from mdbridge.analysis.mode_spectra import fit_mode, refusal
+    out = []
+    for x, *_ in records:
+        h = x.shape[1] // 2
+        w, e = [], []
+        for part in (x[:, :h], x[:, h:2 * h]):
+            part = part - part.mean(axis=1, keepdims=True)
+            fit, why = fit_mode(part, dt_ps, line=line)
+            if why or refusal(fit, h * dt_ps):
+                break
+            w.append(fit.omega_per_ps)
+            e.append(fit.omega_err_per_ps)
+        out.append((w[1] - w[0]) / math.hypot(*e) if len(w) == 2 else None)
+    return out
+
+
+def stepped_input(period_ps: float, Q: float, step: float, n_real: int, seed: int, record_ps=RECORD_PS,
+                  dt_ps=DT_PS, n_series=N_SERIES, floor=FLOOR):
+    """Records that are not stationary: the oscillator of period_ps in the first half and of
+    period_ps / (1 + step) in the second (each half its own stationary record)."""
+    from mdbridge.analysis.spectrum import simulate
+    rng = np.random.default_rng(seed)
+    h = int(round(record_ps / dt_ps)) // 2
+    for _ in range(n_real):
+        parts = [simulate(rng, n_series, h, dt_ps, *gamma_of(period_ps / f, Q), 1.0, floor) for f in (1.0, 1.0 + step)]
+        x = np.concatenate(parts, axis=1)
+        yield x - x.mean(axis=1, keepdims=True), dt_ps
 
 
 def _ratio_interval(stated, dev, n_boot=2000, seed=0):

@@ -35,8 +35,8 @@ import numpy as np
 
 from dna_models.errors import InputError
 from mdbridge.analysis.modes import AMPLITUDE_UNIT, KINDS, VARIANCE_UNIT
-from mdbridge.analysis.spectrum import (expected_periodogram, fit_oscillator, frequencies_per_ps, periodogram,
-                                        GAMMA_OVER_OMEGA_MAX, NOT_LINE_MIN_GAMMA_T)
+from mdbridge.analysis.spectrum import (band_indices, expected_periodogram, fit_oscillator, frequencies_per_ps,
+                                        periodogram, GAMMA_OVER_OMEGA_MAX, NOT_LINE_MIN_GAMMA_T)
 from mdbridge.stats import block_sem
 
 MIN_PERIODS = 3.0
@@ -47,6 +47,7 @@ BAND_OVER_PEAK = 3.0       # the fit's band: peak / 3 .. 3 x peak (_band)
 MIN_MODES_FOR_BACKGROUND = 5   # a common background needs this many modes of a kind (common_background)
 SMOOTH_FRACTION = 0.1      # log_smooth: +-10 % in frequency
 BACKGROUND_QUANTILE = 0.25  # common_background: the lowest quarter of the modes at each frequency
+SPIKE_FALSE = 0.01         # noise_peak: the chance that noise alone passes on a band
 OFF_BRANCH_MIN = 2         # off_branch: lower modes above a mode's frequency that refuse it
 NPZ_FORMAT = 1
 
@@ -301,6 +302,18 @@ def fit_kind(xs, dt, errors="hessian", line="auto", skip=None, wanted=None) -> l
             for x, b, sk, w in zip(xs, bg, skip, wanted)]
 
 
+def noise_peak(fit) -> float:
+    """The highest bin that noise alone reaches on the fit's band, over its mean: the
+    1 - SPIKE_FALSE / J quantile of the mean of M exponentials (the periodogram bins of the
+    fit's M series; J bins on the band), Gamma of shape M and mean 1. A fit at the narrowest
+    width allowed (NOT_LINE_MIN_GAMMA_T) whose peak stands no higher above what lies
+    beneath it has found one high bin of noise, not a mode."""
+    from scipy.stats import gamma
+    M = len(fit.variance)
+    J = max(len(band_indices(fit.n_samples, fit.dt_ps, fit.band_per_ps)), 1)
+    return float(gamma.ppf(1.0 - SPIKE_FALSE / J, M, scale=1.0 / M))
+
+
 def refusal(fit, record_ps):
     if fit is None:
         return "no peak"
@@ -310,8 +323,9 @@ def refusal(fit, record_ps):
         return f"fewer than {MIN_PERIODS:g} periods in the record ({periods:.2f})"
     if g >= 0.99 * GAMMA_OVER_OMEGA_MAX * w:
         return "no peak (the fit runs to its overdamped bound)"
-    if fit.line is None and g * record_ps <= 1.01 * NOT_LINE_MIN_GAMMA_T:
-        return "no peak (a spike of the periodogram: narrower than the record resolves, yet not a line)"
+    if fit.line is None and g * record_ps <= 1.01 * NOT_LINE_MIN_GAMMA_T and fit.peak_to_floor() < noise_peak(fit) - 1:
+        return ("no peak (a spike of the periodogram: narrower than the record resolves, not a line, and no "
+                "higher than noise alone reaches on the band)")
     lo, hi = fit.band_per_ps
     if not (lo < w < hi):
         return "no peak (the fitted frequency is outside the band of the periodogram's peak)"
