@@ -511,7 +511,10 @@ def common_drift(entries) -> dict:
     and its z, and how many are positive. A stationary record gives shifts of random sign
     (z of the mean ~ N(0, 1)); an error model too small for the halves inflates each |d| /
     error but not their common sign; a record that drifts (a tension that changes as pairs
-    open) shifts every mode one way. `drifts` is true when |z| > STATIONARY_Z."""
+    open) shifts every mode one way. The mean's error is multiplied by the Birge ratio
+    sqrt(chi^2 / (N - 1)) of the shifts about it when that exceeds 1, so that errors too
+    small for the halves (which inflate the scatter) do not pass for a drift. `drifts` is
+    true when |z| > STATIONARY_Z."""
     d, e = [], []
     for m in entries:
         h = m.get("halves") or {}
@@ -525,10 +528,11 @@ def common_drift(entries) -> dict:
     if d:
         wt = 1.0 / np.square(e)
         mean = float(np.sum(wt * np.array(d)) / np.sum(wt))
-        err = float(1.0 / math.sqrt(np.sum(wt)))
-        out.update(relative_shift=mean, relative_shift_err=err, z=mean / err,
-                   chi2_about_mean=float(np.sum(wt * (np.array(d) - mean) ** 2)),
-                   drifts=bool(abs(mean / err) > STATIONARY_Z))
+        chi2 = float(np.sum(wt * (np.array(d) - mean) ** 2))
+        birge = math.sqrt(chi2 / (len(d) - 1)) if len(d) >= 2 else 1.0
+        err = float(1.0 / math.sqrt(np.sum(wt))) * max(1.0, birge)
+        out.update(relative_shift=mean, relative_shift_err=err, z=mean / err, chi2_about_mean=chi2,
+                   birge_ratio=birge, drifts=bool(abs(mean / err) > STATIONARY_Z))
     return out
 
 

@@ -120,7 +120,7 @@ class OscillatorFit:
         f = expected_periodogram(self.n_samples, self.dt_ps, self.omega_per_ps, self.damping_per_ps)[j]
         i = int(np.argmax(f))
         under = float(np.sum(self.floor))
-        if self.background is not None:
+        if self.background is not None and self.background_amplitude is not None:
             under += float(np.sum(self.background_amplitude)) * float(self.background[i])
         return float(np.sum(self.variance)) * float(f[i]) / max(under, 1e-300)
 
@@ -244,7 +244,7 @@ class _Whittle:
 
     def params(self, fit: "OscillatorFit") -> np.ndarray:
         p = [[math.log(fit.omega_per_ps), math.log(fit.damping_per_ps)], np.log(fit.variance), np.log(fit.floor)]
-        if self.G is not None:
+        if self.G is not None and fit.background_amplitude is not None:
             p.append(np.log(fit.background_amplitude))
         return np.concatenate(p)
 

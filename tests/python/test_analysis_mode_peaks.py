@@ -7,9 +7,10 @@ floor), synthetic with known omega_n and Q (bench/mode_spectrum_calibration.py m
   mode fitted alone with the rule before the common background, locks onto the local band
   or the red noise, as it did on the 158-bp MD (docs/analysis.md, "Mode spectra").
 * The halves test is calibrated on stationary records of the MD's Q and length (signed z of
-  RMS 1, no refusal), and refuses a record whose frequency steps; the control, errors of a
-  sinusoid in white noise, inflates z tenfold.
-* A drift common to a kind's modes is told from scatter of random sign.
+  RMS 0.7-1.4, false refusals at the nominal rate), and refuses a record whose frequency
+  steps; the control, errors half as large, fails the window.
+* A drift common to a kind's modes is told from scatter of random sign, even when the
+  halves' errors are too small; the control, the bare weighted mean, is fooled by that.
 """
 from __future__ import annotations
 
@@ -57,3 +58,49 @@ def test_md_like_modes_are_found_on_their_branch(name):
     assert 0.7 <= math.sqrt(np.mean(z ** 2)) <= 1.4, z
     _, miss_alone, _ = _z_and_misses(truth, 2, 17, background=False)
     assert np.sum(miss_alone > 0.3) >= 4, miss_alone
+
+
+# -- the halves test (mode_spectra._halves): calibrated where the MD's bend modes lie ---------
+@pytest.mark.parametrize("period_ps, Q, step", [(210.0, 3.0, 0.35), (60.0, 30.0, 0.10)])
+def test_halves_test_is_calibrated_on_stationary_records(period_ps, Q, step):
+    """30 stationary records of 2 ns of 0.5-ps frames, 4 series (bend n = 2 and 5 of the
+    158-bp MD: periods 210 and 60 ps, Q 3 and 30): the halves' signed z has RMS within
+    0.7-1.4 (30 values: the RMS's own sampling error is 13 %) and at most one exceeds
+    STATIONARY_Z (false refusals: 0.3 % nominal, 0.08 expected). Controls: the same z with
+    errors half as large fail the RMS window; records whose frequency steps between the halves
+    by about four errors of the difference (35 % at Q = 3, ~5 periods a half; 10 % at Q = 30)
+    are refused in most realisations."""
+    from mdbridge.analysis.mode_spectra import STATIONARY_Z
+    z = np.array([v for v in CAL.halves_z(CAL.oscillator_input(period_ps, Q, 30, 5, record_ps=2000.0), 0.5)
+                  if v is not None])
+    assert len(z) >= 27, len(z)
+    rms = math.sqrt(np.mean(z ** 2))
+    assert 0.7 <= rms <= 1.4, z
+    assert np.sum(np.abs(z) > STATIONARY_Z) <= 1, z
+    assert 2 * rms > 1.4                                  # control: errors too small by 2 are caught
+    stepped = [v for v in CAL.halves_z(CAL.stepped_input(period_ps, Q, step, 10, 6, record_ps=2000.0), 0.5)
+               if v is not None]
+    assert sum(abs(v) > STATIONARY_Z for v in stepped) >= 7, stepped
+
+
+def _halves_entries(shifts, errs, omega=1.0):
+    return [{"halves": {"omega_per_ps": [omega, omega * (1 + d)], "omega_err_per_ps": [omega * e / math.sqrt(2)] * 2}}
+            for d, e in zip(shifts, errs)]
+
+
+def test_common_drift_is_told_from_scatter():
+    """Ten modes' relative shifts between the halves. Scatter of random sign with stated
+    errors 4x too small (each |z| ~ 4: the halves test would refuse most) is no drift, since
+    the mean's error takes the Birge ratio of the scatter; the control, the bare weighted
+    mean, calls it a drift. Every mode shifted by +2 % with 0.5 % errors is a drift."""
+    from mdbridge.analysis.mode_spectra import STATIONARY_Z, common_drift
+    rng = np.random.default_rng(3)
+    true_err = 0.02
+    shifts = rng.standard_normal(10) * true_err
+    shifts += true_err / math.sqrt(10) - shifts.mean()   # a mean of one true error of the mean
+    d = common_drift(_halves_entries(shifts, [true_err / 4] * 10))
+    assert d["modes"] == 10 and not d["drifts"], d
+    assert d["birge_ratio"] > 2.5, d
+    assert abs(d["relative_shift"] / (d["relative_shift_err"] / d["birge_ratio"])) > STATIONARY_Z   # control
+    d = common_drift(_halves_entries(0.02 + rng.standard_normal(10) * 0.005, [0.005] * 10))
+    assert d["drifts"] and d["positive"] == 10, d
