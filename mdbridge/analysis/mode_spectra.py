@@ -457,9 +457,13 @@ def _numbers(fit) -> dict:
 
 
 def _fit_record(fit) -> dict:
-    return {"omega_per_ps": fit.omega_per_ps, "damping_per_ps": fit.damping_per_ps,
-            "variance": [float(v) for v in fit.variance], "floor": [float(v) for v in fit.floor],
-            "nll": fit.nll, "n_samples": fit.n_samples, "dt_ps": fit.dt_ps}
+    out = {"omega_per_ps": fit.omega_per_ps, "damping_per_ps": fit.damping_per_ps,
+           "variance": [float(v) for v in fit.variance], "floor": [float(v) for v in fit.floor],
+           "nll": fit.nll, "n_samples": fit.n_samples, "dt_ps": fit.dt_ps}
+    if fit.background is not None and fit.background_amplitude is not None:
+        # the summed series' common background on the band's bins (spectrum.band_indices)
+        out["background"] = [float(v) for v in float(np.sum(fit.background_amplitude)) * fit.background]
+    return out
 
 
 def _halves(half_fits, half_ps) -> dict:
