@@ -259,26 +259,32 @@ def fit_mode(x, dt, errors="hessian", line="auto", background=None):
         return None, f"no peak ({e})"
 
 
-def backgrounds(xs, oscillators=None) -> list:
+def backgrounds(xs, oscillators=None, skip=None) -> list:
     """Each mode's background alpha_n B (common_background) from the pooled series xs of
-    every mode of one kind, or None for each when there are too few modes. oscillators:
+    every mode of one kind, or None for each when there are too few modes. skip: modes that
+    hold no signal (round-off: a kicked rod's unexcited modes), left out of B and given
+    None, since their spectra say nothing of what the others share. oscillators:
     None (the first estimate: the lower quartile over n of the spectra themselves), or each
     mode's fitted oscillator (or None), whose expected power is taken off its spectrum
     first (the second estimate: the median over n of what is not the modes)."""
-    P = [periodogram(x).mean(axis=0) for x in xs]
+    use = [i for i in range(len(xs)) if skip is None or not skip[i]]
+    P = {i: periodogram(xs[i]).mean(axis=0) for i in use}
     if oscillators is None:
-        cb = common_background(P, xs[0].shape[0])
+        cb = common_background([P[i] for i in use], xs[0].shape[0])
     else:
-        for i, f in enumerate(oscillators):
+        for i in use:
+            f = oscillators[i]
             if f is not None:
                 own = np.mean(f.variance) * expected_periodogram(f.n_samples, f.dt_ps, f.omega_per_ps,
                                                                  f.damping_per_ps)
                 P[i] = np.maximum(P[i] - own, 0.0)
-        cb = common_background(P, xs[0].shape[0], quantile=0.5)
-    if cb is None:
-        return [None] * len(xs)
-    B, alpha = cb
-    return [a * B for a in alpha]
+        cb = common_background([P[i] for i in use], xs[0].shape[0], quantile=0.5)
+    out: list = [None] * len(xs)
+    if cb is not None:
+        B, alpha = cb
+        for i, a in zip(use, alpha):
+            out[i] = a * B
+    return out
 
 
 def fit_kind(xs, dt, errors="hessian", line="auto", skip=None, wanted=None) -> list:
@@ -292,12 +298,12 @@ def fit_kind(xs, dt, errors="hessian", line="auto", skip=None, wanted=None) -> l
     final fit is returned (the others are (None, "not wanted"), yet enter the background)."""
     skip = skip if skip is not None else [False] * len(xs)
     wanted = wanted if wanted is not None else [True] * len(xs)
-    bg = backgrounds(xs)
-    if bg[0] is not None:
+    bg = backgrounds(xs, skip=skip)
+    if any(b is not None for b in bg):
         first = [None if sk else fit_mode(x, dt, "none", line, background=b)[0] for x, b, sk in zip(xs, bg, skip)]
         # only a mode that is not refused is taken off: a fit on noise would carve a hole
         bg = backgrounds(xs, [f if f is not None and refusal(f, x.shape[1] * dt) is None else None
-                              for f, x in zip(first, xs)])
+                              for f, x in zip(first, xs)], skip)
     return [fit_mode(x, dt, errors, line, background=b) if w and not sk else (None, "not wanted")
             for x, b, sk, w in zip(xs, bg, skip, wanted)]
 
