@@ -60,23 +60,122 @@ def oscillator_input(period_ps: float, Q: float, n_real: int, seed: int, record_
         yield x - x.mean(axis=1, keepdims=True), dt_ps, w, g
 
 
+# -- MD-like spectra: dispersive modes on a common background ------------------------------
+# The 158-bp MD's mode spectra (docs/analysis.md, "Mode spectra") are each mode's damped
+# oscillator on top of motion that is the same at every n: slow red noise (an exponential
+# autocovariance, as pairs opening and closing give) and the broad band of the base-pair
+# steps' own vibration (an overdamped oscillator near 1.8 ps), plus a white floor. These
+# records have all three, at every n the same, under dispersive modes of known omega_n, Q.
+LOCAL_BAND = (3.5, 0.9)        # (omega [rad/ps], Q) of the local band
+RED_TAU_PS = 300.0
+
+
+# Two MD-like kinds: twist-like (omega ~ n, broad: Q = 2, peaks 3x the background under
+# them, as the MD's twist n = 1-8) and bend-like (the MD's bend periods, Q = 3, peaks 10x
+# the background, under red noise 30x stronger that tops the lowest bins of every high n)
+TWIST_LIKE = {"omegas": [0.09 * n for n in range(1, 15)], "Qs": [2.0] * 14, "peak_over_background": [3.0] * 14}
+BEND_LIKE = {"omegas": [2 * math.pi / p for p in (500, 210, 128, 78, 60, 44, 34, 27, 22, 19, 17.5, 15.4, 13, 11)],
+             "Qs": [3.0] * 14, "peak_over_background": [10.0] * 14, "red": 30.0}
+
+
+def red_noise(rng, n_series: int, n: int, dt_ps: float, tau_ps: float) -> np.ndarray:
+    """Unit-variance stationary records of the exponential autocovariance exp(-|t| / tau)
+    (the discrete-time AR(1) process, exact at the samples)."""
+    from scipy.signal import lfilter
+    phi = math.exp(-dt_ps / tau_ps)
+    e = rng.standard_normal((n_series, n)) * math.sqrt(1 - phi * phi)
+    e[:, 0] = rng.standard_normal(n_series)
+    return lfilter([1.0], [1.0, -phi], e, axis=1)
+
+
+def md_like_modes(omegas, Qs, peak_over_background, red=1.0, local=1.0, floor=0.05,
+                  record_ps=RECORD_PS, dt_ps=DT_PS, n_series=N_SERIES, tau_ps=RED_TAU_PS):
+    """The truth of an MD-like kind: per mode n (index i) the oscillator's (omega, gamma) and
+    its variance, set so that its expected power at its peak stands peak_over_background[i]
+    times above the background there; the background (red, local, floor variances) is the
+    same for every mode."""
+    from mdbridge.analysis.spectrum import expected_periodogram
+    n = int(round(record_ps / dt_ps))
+    k = np.arange(n)
+    red_acvf = (1 - k / n) * np.exp(-k * dt_ps / tau_ps)
+    G = red * (2 * np.fft.rfft(red_acvf).real - 1.0) + local * expected_periodogram(n, dt_ps, *gamma_of(
+        2 * math.pi / LOCAL_BAND[0], LOCAL_BAND[1])) + floor
+    modes = []
+    for w0, Q, r in zip(omegas, Qs, peak_over_background):
+        w, g = gamma_of(2 * math.pi / w0, Q)
+        F = expected_periodogram(n, dt_ps, w, g)
+        jmax = int(np.argmax(F[1:])) + 1
+        modes.append({"omega": w, "gamma": g, "variance": r * G[jmax] / F[jmax]})
+    return {"modes": modes, "red": red, "local": local, "floor": floor, "n": n, "dt_ps": dt_ps,
+            "n_series": n_series, "tau_ps": tau_ps}
+
+
+def md_like_realisation(rng, truth: dict) -> list:
+    """One realisation: the pooled real series (n_series, N) of every mode (md_like_modes)."""
+    from mdbridge.analysis.spectrum import simulate
+    n, dt, M = truth["n"], truth["dt_ps"], truth["n_series"]
+    wl, gl = gamma_of(2 * math.pi / LOCAL_BAND[0], LOCAL_BAND[1])
+    xs = []
+    for m in truth["modes"]:
+        x = simulate(rng, M, n, dt, m["omega"], m["gamma"], m["variance"], truth["floor"]) \
+            + math.sqrt(truth["local"]) * simulate(rng, M, n, dt, wl, gl) \
+            + math.sqrt(truth["red"]) * red_noise(rng, M, n, dt, truth["tau_ps"])
+        xs.append(x - x.mean(axis=1, keepdims=True))
+    return xs
+
+
+def md_like_input(truth: dict, n_real: int, seed: int, modes, background: bool = True):
+    """{mode index: [(OscillatorFit or None, reason, omega, gamma), ...]}: the modes (indices)
+    of n_real MD-like records (md_like_realisation) fitted as `dnarod modes` fits them (all
+    modes of a realisation together: mdbridge/analysis/mode_spectra.py fit_kind), or, the
+    control, one at a time with today's rule before the common background (background=False:
+    fit_mode alone)."""
+    from mdbridge.analysis.mode_spectra import fit_kind, fit_mode
+    rng = np.random.default_rng(seed)
+    out: dict = {i: [] for i in modes}
+    for _ in range(n_real):
+        xs = md_like_realisation(rng, truth)
+        if background:
+            fits = fit_kind(xs, truth["dt_ps"], wanted=[i in modes for i in range(len(xs))])
+        else:
+            fits = [fit_mode(x, truth["dt_ps"]) if i in modes else None for i, x in enumerate(xs)]
+        for i in modes:
+            m = truth["modes"][i]
+            fit, why = fits[i]
+            out[i].append((fit, why, xs[i].shape[1] * truth["dt_ps"], m["omega"], m["gamma"]))
+    return out
+
+
+def fitted(realisations, line: str = "auto"):
+    """(fit, reason, record_ps, omega, gamma) of each realisation (x, dt_ps, omega, gamma) of
+    one mode, fitted alone (mode_spectra.fit_mode)."""
+    from mdbridge.analysis.mode_spectra import fit_mode
+    for x, dt, w, g in realisations:
+        fit, why = fit_mode(x, dt, errors="hessian", line=line)
+        yield fit, why, x.shape[1] * dt, w, g
+
+
 def calibrate(realisations, line: str = "auto") -> dict:
-    """Bias, RMS error and stated / RMS of omega and gamma over the realisations."""
-    from mdbridge.analysis.mode_spectra import fit_mode, refusal
+    """Bias, RMS error and stated / RMS of omega and gamma over the realisations: records
+    (x, dt_ps, omega, gamma) of one mode, fitted alone, or fits (fit, reason, record_ps,
+    omega, gamma) (md_like_input)."""
+    from mdbridge.analysis.mode_spectra import refusal
     est = []
     refused = []
     lines = 0
-    for x, dt, w, g in realisations:
-        fit, why = fit_mode(x, dt, errors="hessian", line=line)
-        why = why or refusal(fit, x.shape[1] * dt)
+    realisations = list(realisations)
+    items = realisations if realisations and len(realisations[0]) == 5 else fitted(realisations, line)
+    for fit, why, record_ps, w, g in items:
+        why = why or refusal(fit, record_ps)
         if why:
             refused.append(why)
         if fit is not None and fit.line is not None:
             lines += 1
         if fit is None or why:
-            est.append((np.nan, np.nan, np.nan, np.nan, w, g))
+            est.append((np.nan, np.nan, np.nan, np.nan, w, g, np.nan, np.nan))
             continue
-        est.append((fit.omega_per_ps, fit.omega_err_per_ps, fit.damping_per_ps, fit.damping_err_per_ps, w, g))
+        est.append((fit.omega_per_ps, fit.omega_err_per_ps, fit.damping_per_ps, fit.damping_err_per_ps, w, g,
+                    fit.Q, fit.Q_err))
     e = np.array(est, float)
     w_true, g_true = e[0, 4], e[0, 5]
     ok = np.isfinite(e[:, 0]) & np.isfinite(e[:, 1])
@@ -94,8 +193,47 @@ def calibrate(realisations, line: str = "auto") -> dict:
         out.update(gamma_bias_rel=float(dg.mean() / g_true), gamma_rms_rel=float(np.sqrt(np.mean(dg ** 2)) / g_true),
                    gamma_ratio=float(np.sqrt(np.mean(e[okg, 3] ** 2)) / np.sqrt(np.mean(dg ** 2)))
                    if okg.sum() >= 2 else None)
+        okq = ok & np.isfinite(e[:, 7])
+        Q_true = math.hypot(w_true, g_true) / (2 * g_true)
+        dQ = e[okq, 6] - Q_true
+        out.update(Q_true=Q_true, Q_bias_rel=float(dQ.mean() / Q_true) if okq.any() else None,
+                   Q_ratio=float(np.sqrt(np.mean(e[okq, 7] ** 2)) / np.sqrt(np.mean(dQ ** 2)))
+                   if okq.sum() >= 2 else None)
     out["omega_pass"] = bool(LOW <= out["omega_ratio"] <= HIGH)
     return out
+
+
+def halves_z(records, dt_ps: float, line: str = "auto") -> list:
+    """The halves test of `dnarod modes` (mode_spectra._halves) on records (x, ...) of one
+    mode: the signed z = (omega_2 - omega_1) / sqrt(err_1^2 + err_2^2) of each record's two
+    halves, fitted alone; None where a half is refused."""
+    from mdbridge.analysis.mode_spectra import fit_mode, refusal
+    out = []
+    for x, *_ in records:
+        h = x.shape[1] // 2
+        w, e = [], []
+        for part in (x[:, :h], x[:, h:2 * h]):
+            part = part - part.mean(axis=1, keepdims=True)
+            fit, why = fit_mode(part, dt_ps, line=line)
+            if why or refusal(fit, h * dt_ps):
+                break
+            w.append(fit.omega_per_ps)
+            e.append(fit.omega_err_per_ps)
+        out.append((w[1] - w[0]) / math.hypot(*e) if len(w) == 2 else None)
+    return out
+
+
+def stepped_input(period_ps: float, Q: float, step: float, n_real: int, seed: int, record_ps=RECORD_PS,
+                  dt_ps=DT_PS, n_series=N_SERIES, floor=FLOOR):
+    """Records that are not stationary: the oscillator of period_ps in the first half and of
+    period_ps / (1 + step) in the second (each half its own stationary record)."""
+    from mdbridge.analysis.spectrum import simulate
+    rng = np.random.default_rng(seed)
+    h = int(round(record_ps / dt_ps)) // 2
+    for _ in range(n_real):
+        parts = [simulate(rng, n_series, h, dt_ps, *gamma_of(period_ps / f, Q), 1.0, floor) for f in (1.0, 1.0 + step)]
+        x = np.concatenate(parts, axis=1)
+        yield x - x.mean(axis=1, keepdims=True), dt_ps
 
 
 def _ratio_interval(stated, dev, n_boot=2000, seed=0):

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from mdbridge.analysis.modes import KINDS
-from mdbridge.analysis.spectrum import expected_periodogram, frequencies_per_ps, periodogram
+from mdbridge.analysis.spectrum import band_indices, expected_periodogram, frequencies_per_ps, periodogram
 
 
 def _plt():
@@ -17,8 +17,9 @@ def _plt():
 
 def spectra_figure(series, table: dict, path):
     """One panel per mode (rows: bend, twist, stretch): the periodogram summed over the
-    pooled series (grey), the fitted model's expected periodogram on its band (red), the
-    fitted omega (dashed); a refused mode's panel names the reason."""
+    pooled series (grey), the fitted model's expected periodogram on its band, common
+    background included (red), the fitted omega (dashed); a refused mode's panel names the
+    reason."""
     from mdbridge.analysis.mode_spectra import pooled_series
     plt = _plt()
     n_frames, dt = table["n_frames"], table["dt_ps"]
@@ -33,11 +34,12 @@ def spectra_figure(series, table: dict, path):
         ax.loglog(lam[1:], I[1:], color="0.6", lw=0.5)
         f = e.get("fit")
         if f is not None:
-            lo, hi = e["band_per_ps"]
-            j = np.flatnonzero((lam >= lo) & (lam <= hi) & (lam > 0))
+            j = band_indices(n_frames, dt, e["band_per_ps"])
             model = (float(np.sum(f["variance"])) * expected_periodogram(n_frames, dt, f["omega_per_ps"],
                                                                          f["damping_per_ps"])[j]
                      + float(np.sum(f["floor"])))
+            if f.get("background") is not None:
+                model = model + np.asarray(f["background"])
             ax.loglog(lam[j], model, color="C3", lw=1)
         if e["reason"] is None:
             ax.axvline(e["omega_per_ps"], color="C3", ls="--", lw=0.6)

@@ -35,15 +35,20 @@ import numpy as np
 
 from dna_models.errors import InputError
 from mdbridge.analysis.modes import AMPLITUDE_UNIT, KINDS, VARIANCE_UNIT
-from mdbridge.analysis.spectrum import (fit_oscillator, frequencies_per_ps, periodogram,
-                                        GAMMA_OVER_OMEGA_MAX)
+from mdbridge.analysis.spectrum import (band_indices, expected_periodogram, fit_oscillator, frequencies_per_ps,
+                                        periodogram, GAMMA_OVER_OMEGA_MAX, NOT_LINE_MIN_GAMMA_T)
 from mdbridge.stats import block_sem
 
 MIN_PERIODS = 3.0
-MIN_PEAK_TO_FLOOR = 3.0
+MIN_PEAK_TO_FLOOR = 2.0     # the oscillator's peak over what lies beneath it (floor + common background)
 STATIONARY_Z = 3.0
 ROUND_OFF = 1e-8           # rms amplitude / the field's own scale below which a mode holds no signal
 BAND_OVER_PEAK = 3.0       # the fit's band: peak / 3 .. 3 x peak (_band)
+MIN_MODES_FOR_BACKGROUND = 5   # a common background needs this many modes of a kind (common_background)
+SMOOTH_FRACTION = 0.1      # log_smooth: +-10 % in frequency
+BACKGROUND_QUANTILE = 0.25  # common_background: the lowest quarter of the modes at each frequency
+SPIKE_FALSE = 0.01         # noise_peak: the chance that noise alone passes on a band
+OFF_BRANCH_MIN = 2         # off_branch: lower modes above a mode's frequency that refuse it
 NPZ_FORMAT = 1
 
 
@@ -154,33 +159,165 @@ def pooled_series(series, kind, i_mode, n_frames, part=slice(None)):
     return x - x.mean(axis=1, keepdims=True)
 
 
-def _band(x, dt):
-    """The fit's band (peak / BAND_OVER_PEAK, BAND_OVER_PEAK x peak) and the peak [rad/ps].
-    The peak is the maximum of lambda I(lambda), the pooled periodogram smoothed over three
-    bins, per unit log-frequency, at frequencies of at least MIN_PERIODS periods in the
-    record: an oscillator's lambda S(lambda) peaks near omega0 at any Q >~ 1, while the
-    slow, red part of an MD's spectrum (pairs opening, the duplex's drift), which
-    dominates I itself at the lowest frequencies, is flattened; the band then leaves it out
-    (the floor is white, and cannot describe it)."""
+def _smoothing_window(n_bins: int, fraction: float = SMOOTH_FRACTION):
+    """The bins lo_j .. hi_j - 1 that log_smooth averages at each j."""
+    j = np.arange(n_bins)
+    h = np.maximum(1, (fraction * j).astype(int))
+    return np.maximum(1, j - h), np.minimum(n_bins, j + h + 1)
+
+
+def log_smooth(p: np.ndarray, fraction: float = SMOOTH_FRACTION) -> np.ndarray:
+    """The running mean of p over bins j (1 - fraction) .. j (1 + fraction) (at least one
+    bin each side): a constant resolution in log-frequency, where peaks of a given Q are
+    equally wide."""
+    p = np.asarray(p, float)
+    c = np.concatenate([[0.0], np.cumsum(p)])
+    lo, hi = _smoothing_window(len(p), fraction)
+    out = (c[hi] - c[lo]) / np.maximum(hi - lo, 1)
+    out[0] = p[0]
+    return out
+
+
+def common_background(mean_periodograms, n_series: int,
+                      quantile: float = BACKGROUND_QUANTILE) -> tuple[np.ndarray, np.ndarray] | None:
+    """The part of a kind's spectra that is the same at every n, (B (J,), alpha (n_modes,)):
+    mode n's background is alpha_n B. mean_periodograms (n_modes, J): each mode's
+    periodogram averaged over its n_series pooled series. None with fewer than
+    MIN_MODES_FOR_BACKGROUND modes.
+
+    A mode's own peak moves with n (it is dispersive); what does not move, the slow red noise
+    of pairs opening and the broad band of the base-pair steps' own vibration, is found in
+    every n. At each frequency the modes whose peak is not there sit lowest, so B is the
+    lower BACKGROUND_QUANTILE of the log-smoothed spectra over n (each scaled by alpha_n),
+    divided by the same quantile of the sampling distribution of a background-only mode
+    there (the mean of m_j bins of n_series periodograms: Gamma of shape m_j n_series and
+    mean 1), which makes it the background's mean at every j, however few bins are
+    smoothed. alpha_n is the median over frequency of mode n's spectrum over B (alternated
+    to a fixed point): it ignores a peak held by a minority of the bins. A peak that stands
+    at the same frequency in most n is background, and no mode's dispersive peak. Modes
+    broad enough to overlap (Q ~ 1.5 with omega ~ n) cover up to half of the n at one
+    frequency, which a median would take for background."""
+    from scipy.stats import gamma
+    P = np.array([log_smooth(p) for p in np.asarray(mean_periodograms, float)])
+    if P.shape[0] < MIN_MODES_FOR_BACKGROUND:
+        return None
+    P = np.maximum(P, 1e-300)
+    lo, hi = _smoothing_window(P.shape[1])
+    dof = np.maximum(hi - lo, 1) * n_series
+    unbias = gamma.ppf(quantile, dof, scale=1.0 / dof)
+    inner = slice(1, P.shape[1] - 1)           # no mean, no Nyquist bin
+    alpha = np.ones(P.shape[0])
+    for _ in range(20):
+        B = np.quantile(P / alpha[:, None], quantile, axis=0) / unbias
+        new = np.median(P[:, inner] / B[None, inner], axis=1)
+        new /= np.exp(np.mean(np.log(new)))     # B carries the scale
+        if np.allclose(new, alpha, rtol=1e-6):
+            break
+        alpha = new
+    return B, alpha
+
+
+def _band(x, dt, background=None):
+    """The fit's band (peak / BAND_OVER_PEAK, BAND_OVER_PEAK x peak) and the peak [rad/ps],
+    at frequencies of at least MIN_PERIODS periods in the record.
+
+    With the mode's background (common_background), the peak is where the pooled
+    periodogram (log-smoothed) stands most significantly above it: the dispersive peak,
+    whatever red noise or local band lies above it in power. The excess X_j = I_j / G_j - 1
+    is scored in units of its own sampling error, X_j sqrt(m_j M): the mean of m_j bins of
+    M series' periodograms, each exponential about its mean, scatters by 1 / sqrt(m_j M)
+    of it. (The bare ratio would pick the few-bin noise of the lowest frequencies.)
+    Without one (a single mode, fewer than
+    MIN_MODES_FOR_BACKGROUND of a kind), the maximum of lambda I(lambda), the pooled
+    periodogram smoothed over three bins, per unit log-frequency: an oscillator's
+    lambda S(lambda) peaks near omega0 at any Q >~ 1, while a red spectrum is flattened."""
     p = periodogram(x).mean(axis=0)
     lam = frequencies_per_ps(x.shape[1], dt)
-    sm = np.convolve(p, np.ones(3) / 3, mode="same") * lam
     lo = int(np.ceil(MIN_PERIODS))                # Fourier bin j holds j periods of the record
     if len(lam) < lo + 4:
         raise ValueError(f"a record of {x.shape[1]} frames is too short for a spectrum")
-    j = lo + int(np.argmax(sm[lo:-1]))
+    if background is None:
+        score = np.convolve(p, np.ones(3) / 3, mode="same") * lam
+    else:
+        lo_w, hi_w = _smoothing_window(len(p))
+        score = (log_smooth(p) / np.maximum(np.asarray(background, float), 1e-300) - 1.0) \
+            * np.sqrt((hi_w - lo_w) * x.shape[0])
+    j = lo + int(np.argmax(score[lo:-1]))
     peak = float(lam[j])
     return (peak / BAND_OVER_PEAK, min(BAND_OVER_PEAK * peak, lam[-1])), peak
 
 
-def fit_mode(x, dt, errors="hessian", line="auto"):
+def fit_mode(x, dt, errors="hessian", line="auto", background=None):
     """(OscillatorFit, None) or (None, the reason there is none) for the pooled real series
-    x (M, T) of one mode: the band from the periodogram's peak, the fit on it."""
+    x (M, T) of one mode: the band from the periodogram's peak, the fit on it, with the
+    mode's background (common_background) when given."""
     try:
-        band, peak = _band(x, dt)
-        return fit_oscillator(x, dt, band, omega_guess=peak, errors=errors, line=line), None
+        band, peak = _band(x, dt, background)
+        return fit_oscillator(x, dt, band, omega_guess=peak, errors=errors, line=line,
+                              background=background), None
     except ValueError as e:
         return None, f"no peak ({e})"
+
+
+def backgrounds(xs, oscillators=None, skip=None) -> list:
+    """Each mode's background alpha_n B (common_background) from the pooled series xs of
+    every mode of one kind, or None for each when there are too few modes. skip: modes that
+    hold no signal (round-off: a kicked rod's unexcited modes), left out of B and given
+    None, since their spectra say nothing of what the others share. oscillators:
+    None (the first estimate: the lower quartile over n of the spectra themselves), or each
+    mode's fitted oscillator (or None), whose expected power is taken off its spectrum
+    first (the second estimate: the median over n of what is not the modes)."""
+    use = [i for i in range(len(xs)) if skip is None or not skip[i]]
+    P = {i: periodogram(xs[i]).mean(axis=0) for i in use}
+    if oscillators is None:
+        cb = common_background([P[i] for i in use], xs[0].shape[0])
+    else:
+        for i in use:
+            f = oscillators[i]
+            if f is not None:
+                own = np.mean(f.variance) * expected_periodogram(f.n_samples, f.dt_ps, f.omega_per_ps,
+                                                                 f.damping_per_ps)
+                P[i] = np.maximum(P[i] - own, 0.0)
+        cb = common_background([P[i] for i in use], xs[0].shape[0], quantile=0.5)
+    out: list = [None] * len(xs)
+    if cb is not None:
+        B, alpha = cb
+        for i, a in zip(use, alpha):
+            out[i] = a * B
+    return out
+
+
+def fit_kind(xs, dt, errors="hessian", line="auto", skip=None, wanted=None) -> list:
+    """(OscillatorFit, None) or (None, reason) for each mode of one kind, from the pooled
+    series xs of every mode: each mode's oscillator over the common background
+    (common_background), estimated twice: first from the spectra themselves (their lower
+    quartile over n), then from the spectra less the oscillators that first fit found (their
+    median over n). The second estimate is what the modes have in common once their own
+    peaks, however broad (a mode of Q ~ 1.5 has a plateau below its peak reaching every
+    lower n), are taken off. skip: modes never fitted (no signal); wanted: the modes whose
+    final fit is returned (the others are (None, "not wanted"), yet enter the background)."""
+    skip = skip if skip is not None else [False] * len(xs)
+    wanted = wanted if wanted is not None else [True] * len(xs)
+    bg = backgrounds(xs, skip=skip)
+    if any(b is not None for b in bg):
+        first = [None if sk else fit_mode(x, dt, "none", line, background=b)[0] for x, b, sk in zip(xs, bg, skip)]
+        # only a mode that is not refused is taken off: a fit on noise would carve a hole
+        bg = backgrounds(xs, [f if f is not None and refusal(f, x.shape[1] * dt) is None else None
+                              for f, x in zip(first, xs)], skip)
+    return [fit_mode(x, dt, errors, line, background=b) if w and not sk else (None, "not wanted")
+            for x, b, sk, w in zip(xs, bg, skip, wanted)]
+
+
+def noise_peak(fit) -> float:
+    """The highest bin that noise alone reaches on the fit's band, over its mean: the
+    1 - SPIKE_FALSE / J quantile of the mean of M exponentials (the periodogram bins of the
+    fit's M series; J bins on the band), Gamma of shape M and mean 1. A fit at the narrowest
+    width allowed (NOT_LINE_MIN_GAMMA_T) whose peak stands no higher above what lies
+    beneath it has found one high bin of noise, not a mode."""
+    from scipy.stats import gamma
+    M = len(fit.variance)
+    J = max(len(band_indices(fit.n_samples, fit.dt_ps, fit.band_per_ps)), 1)
+    return float(gamma.ppf(1.0 - SPIKE_FALSE / J, M, scale=1.0 / M))
 
 
 def refusal(fit, record_ps):
@@ -192,12 +329,16 @@ def refusal(fit, record_ps):
         return f"fewer than {MIN_PERIODS:g} periods in the record ({periods:.2f})"
     if g >= 0.99 * GAMMA_OVER_OMEGA_MAX * w:
         return "no peak (the fit runs to its overdamped bound)"
+    if fit.line is None and g * record_ps <= 1.01 * NOT_LINE_MIN_GAMMA_T and fit.peak_to_floor() < noise_peak(fit) - 1:
+        return ("no peak (a spike of the periodogram: narrower than the record resolves, not a line, and no "
+                "higher than noise alone reaches on the band)")
     lo, hi = fit.band_per_ps
     if not (lo < w < hi):
         return "no peak (the fitted frequency is outside the band of the periodogram's peak)"
     ratio = fit.peak_to_floor()
     if ratio < MIN_PEAK_TO_FLOOR:
-        return f"no peak (peak / floor {ratio:.2g} < {MIN_PEAK_TO_FLOOR:g})"
+        under = "floor + common background" if fit.background is not None else "floor"
+        return f"no peak (peak / {under} {ratio:.2g} < {MIN_PEAK_TO_FLOOR:g})"
     return None
 
 
@@ -247,42 +388,58 @@ def mode_table(series: list[ModeSeries], errors: str = "hessian") -> dict:
     entries = []
     h = length_A / s0.n_bp
     scale = {"bend": h, "stretch": h, "twist": 2 * np.pi * s0.helical_repeat / length_A}
+    h2 = n_frames // 2
     for kind in KINDS:
+        xs = [pooled_series(series, kind, i, n_frames) for i in range(len(s0.n))]
+        var = [_variance(series, kind, i, n_frames) for i in range(len(s0.n))]
+        no_signal = [math.sqrt(v) < ROUND_OFF * scale[kind] for v, _ in var]
+        fits = fit_kind(xs, dt, errors, skip=no_signal)
+        reasons = off_branch(fits, [why or refusal(f, record_ps) for f, why in fits])
+        passed = [r is None for r in reasons]
+        halves = [fit_kind([pooled_series(series, kind, i, n_frames, part) for i in range(len(s0.n))], dt, errors,
+                           skip=no_signal, wanted=passed)
+                  for part in (slice(0, h2), slice(h2, 2 * h2))] if any(passed) else None
+        seeds = [fit_kind([pooled_series([s], kind, i, n_frames) for i in range(len(s0.n))], dt, errors,
+                          skip=no_signal, wanted=passed)
+                 for s in series] if len(series) >= 2 and any(passed) else None
         for i, n in enumerate(s0.n):
-            x = pooled_series(series, kind, i, n_frames)
-            var, var_err = _variance(series, kind, i, n_frames)
-            if math.sqrt(var) < ROUND_OFF * scale[kind]:
-                fit, reason = None, (f"no signal (rms amplitude {math.sqrt(var):.2g} {AMPLITUDE_UNIT[kind]}, "
+            x = xs[i]
+            var_i, var_err = var[i]
+            if no_signal[i]:
+                fit, reason = None, (f"no signal (rms amplitude {math.sqrt(var_i):.2g} {AMPLITUDE_UNIT[kind]}, "
                                      f"below {ROUND_OFF:g} of the field's scale: round-off)")
             else:
-                fit, why = fit_mode(x, dt, errors)
-                reason = why or refusal(fit, record_ps)
+                fit, reason = fits[i][0], reasons[i]
             e = {"kind": kind, "n": int(n), "k_per_A": 2 * np.pi * int(n) / length_A,
-                 "omega_per_ps": None, "omega_err_per_ps": None, "omega0_per_ps": None,
-                 "damping_per_ps": None, "damping_err_per_ps": None, "Q": None,
-                 "variance": var, "variance_err": _num(var_err), "variance_unit": VARIANCE_UNIT[kind],
+                 "omega_per_ps": None, "omega_err_per_ps": None, "omega0_per_ps": None, "omega0_err_per_ps": None,
+                 "damping_per_ps": None, "damping_err_per_ps": None, "Q": None, "Q_err": None,
+                 "variance": var_i, "variance_err": _num(var_err), "variance_unit": VARIANCE_UNIT[kind],
                  "periods_in_record": None, "reason": reason, "n_series": int(x.shape[0]),
                  "record_ps": record_ps}
             if fit is not None:
                 e["periods_in_record"] = fit.omega_per_ps * record_ps / (2 * np.pi)
+                e["peak_to_background"] = fit.peak_to_floor()
+                e["common_background"] = fit.background is not None
                 e["band_per_ps"] = list(fit.band_per_ps)
                 e["fit"] = _fit_record(fit)
             if reason is None:
                 e.update(_numbers(fit))
-                e["halves"] = _halves(series, kind, i, n_frames, dt, errors)
+                e["halves"] = _halves([h[i] for h in halves], h2 * dt)
                 if e["halves"].get("z") is not None and e["halves"]["z"] > STATIONARY_Z:
                     e["reason"] = (f"not stationary: the halves' frequencies differ by "
                                    f"{e['halves']['z']:.1f} of their combined error (> {STATIONARY_Z:g})")
                     e.update({k: None for k in ("omega_per_ps", "omega_err_per_ps", "omega0_per_ps",
-                                                "damping_per_ps", "damping_err_per_ps", "Q", "variance",
-                                                "variance_err")})
+                                                "omega0_err_per_ps", "damping_per_ps", "damping_err_per_ps",
+                                                "Q", "Q_err", "variance", "variance_err")})
                 elif len(series) >= 2:
-                    e["seeds"] = _seeds(series, kind, i, n_frames, dt, errors, fit)
-                    for k in ("omega_err_per_ps", "damping_err_per_ps"):
+                    e["seeds"] = _seeds([f[i] for f in seeds], record_ps, fit)
+                    for k in ("omega_err_per_ps", "omega0_err_per_ps", "damping_err_per_ps", "Q_err"):
                         if e[k] is not None:
                             e[k] *= e["seeds"]["birge_ratio_applied"]
             entries.append(e)
-    return {"modes": entries, "record_ps": record_ps, "dt_ps": dt, "n_frames": n_frames,
+    return {"modes": entries, "drift": {kind: common_drift([e for e in entries if e["kind"] == kind])
+                                        for kind in KINDS},
+            "record_ps": record_ps, "dt_ps": dt, "n_frames": n_frames,
             "length_A": length_A, "n_bp": s0.n_bp, "helical_repeat": s0.helical_repeat,
             "realisations": [{"source": s.source, "kind": s.kind, "n_frames": len(s.times_ps),
                               "t_start_ps": float(s.times_ps[0]), "t_end_ps": float(s.times_ps[-1]),
@@ -295,8 +452,9 @@ def _numbers(fit) -> dict:
     g_err = _num(fit.damping_err_per_ps)
     undamped = g_err is None or g < 2 * g_err
     out = {"omega_per_ps": w, "omega_err_per_ps": _num(fit.omega_err_per_ps), "omega0_per_ps": fit.omega0_per_ps,
+           "omega0_err_per_ps": _num(fit.omega0_err_per_ps),
            "damping_per_ps": g, "damping_err_per_ps": g_err, "Q": None if undamped else fit.Q,
-           "undamped": bool(undamped)}
+           "Q_err": None if undamped else _num(fit.Q_err), "undamped": bool(undamped)}
     if undamped:
         # damping consistent with zero: Q has only a lower bound
         out["Q_lower_bound"] = fit.omega0_per_ps / (2 * (g + 2 * (g_err or 0.0))) if g + 2 * (g_err or 0) > 0 \
@@ -305,19 +463,21 @@ def _numbers(fit) -> dict:
 
 
 def _fit_record(fit) -> dict:
-    return {"omega_per_ps": fit.omega_per_ps, "damping_per_ps": fit.damping_per_ps,
-            "variance": [float(v) for v in fit.variance], "floor": [float(v) for v in fit.floor],
-            "nll": fit.nll, "n_samples": fit.n_samples, "dt_ps": fit.dt_ps}
+    out = {"omega_per_ps": fit.omega_per_ps, "damping_per_ps": fit.damping_per_ps,
+           "variance": [float(v) for v in fit.variance], "floor": [float(v) for v in fit.floor],
+           "nll": fit.nll, "n_samples": fit.n_samples, "dt_ps": fit.dt_ps}
+    if fit.background is not None and fit.background_amplitude is not None:
+        # the summed series' common background on the band's bins (spectrum.band_indices)
+        out["background"] = [float(v) for v in float(np.sum(fit.background_amplitude)) * fit.background]
+    return out
 
 
-def _halves(series, kind, i, n_frames, dt, errors) -> dict:
-    """The frequencies of the first and the second half of the record, and their z."""
-    h = n_frames // 2
+def _halves(half_fits, half_ps) -> dict:
+    """The frequencies of the first and the second half of the record (each fitted with the
+    common background of its own half: fit_kind), and their z."""
     out: dict = {"omega_per_ps": [], "omega_err_per_ps": [], "z": None, "reason": None}
-    for part in (slice(0, h), slice(h, 2 * h)):
-        x = pooled_series(series, kind, i, n_frames, part)
-        fit, why = fit_mode(x, dt, errors)
-        why = why or refusal(fit, h * dt)
+    for fit, why in half_fits:
+        why = why or refusal(fit, half_ps)
         if why:
             out["reason"] = f"a half cannot be fitted: {why}"
             return out
@@ -330,12 +490,68 @@ def _halves(series, kind, i, n_frames, dt, errors) -> dict:
     return out
 
 
-def _seeds(series, kind, i, n_frames, dt, errors, pooled) -> dict:
-    """Each realisation fitted alone; the Birge ratio of their scatter about the pooled fit."""
+def off_branch(fits, reasons) -> list:
+    """The reasons, with a mode that is off its kind's branch refused: a mode's peak is the
+    dispersive one, and modes n = 1 .. helical repeat - 1 of a rod of 158 steps lie far below
+    the end of the acoustic branch, where omega rises with n for any rod (no material
+    enters). A mode whose frequency lies below those of OFF_BRANCH_MIN lower modes that are
+    not refused, each by more than STATIONARY_Z combined errors, sits on something else
+    (red noise, another kind's mode reaching this series). Two are needed, so that one
+    lower mode on a wrong peak cannot veto the modes above it."""
+    out = list(reasons)
+    for i, (fit, _) in enumerate(fits):
+        if out[i] is not None:
+            continue
+        above = [m for m in range(i) if out[m] is None and fits[m][0].omega_per_ps - fit.omega_per_ps
+                 > STATIONARY_Z * math.hypot(_err(fits[m][0]), _err(fit))]
+        if len(above) >= OFF_BRANCH_MIN:
+            out[i] = (f"off the branch: its frequency lies below those of modes n = "
+                      f"{', '.join(str(m + 1) for m in above)} of its kind (a dispersive mode's rises with n)")
+    return out
+
+
+def _err(fit) -> float:
+    e = fit.omega_err_per_ps
+    return float(e) if e is not None and np.isfinite(e) else 0.0
+
+
+def common_drift(entries) -> dict:
+    """Whether a kind's frequencies move together between the halves of the record: each
+    mode's relative shift d = (omega_2 - omega_1) / mean and its error, their weighted mean
+    and its z, and how many are positive. A stationary record gives shifts of random sign
+    (z of the mean ~ N(0, 1)); an error model too small for the halves inflates each |d| /
+    error but not their common sign; a record that drifts (a tension that changes as pairs
+    open) shifts every mode one way. The mean's error is multiplied by the Birge ratio
+    sqrt(chi^2 / (N - 1)) of the shifts about it when that exceeds 1, so that errors too
+    small for the halves (which inflate the scatter) do not pass for a drift. `drifts` is
+    true when |z| > STATIONARY_Z."""
+    d, e = [], []
+    for m in entries:
+        h = m.get("halves") or {}
+        w, we = h.get("omega_per_ps") or [], h.get("omega_err_per_ps") or []
+        if len(w) == 2 and None not in we:
+            mean = 0.5 * (w[0] + w[1])
+            d.append((w[1] - w[0]) / mean)
+            e.append(math.hypot(we[0], we[1]) / mean)
+    out: dict = {"modes": len(d), "relative_shift": None, "relative_shift_err": None, "z": None,
+                 "positive": int(sum(v > 0 for v in d)), "drifts": None}
+    if d:
+        wt = 1.0 / np.square(e)
+        mean = float(np.sum(wt * np.array(d)) / np.sum(wt))
+        chi2 = float(np.sum(wt * (np.array(d) - mean) ** 2))
+        birge = math.sqrt(chi2 / (len(d) - 1)) if len(d) >= 2 else 1.0
+        err = float(1.0 / math.sqrt(np.sum(wt))) * max(1.0, birge)
+        out.update(relative_shift=mean, relative_shift_err=err, z=mean / err, chi2_about_mean=chi2,
+                   birge_ratio=birge, drifts=bool(abs(mean / err) > STATIONARY_Z))
+    return out
+
+
+def _seeds(seed_fits, record_ps, pooled) -> dict:
+    """Each realisation fitted alone (fit_kind on its own modes); the Birge ratio of their
+    scatter about the pooled fit."""
     w, e = [], []
-    for s in series:
-        fit, why = fit_mode(pooled_series([s], kind, i, n_frames), dt, errors)
-        if why or refusal(fit, n_frames * dt) or not np.isfinite(fit.omega_err_per_ps):
+    for fit, why in seed_fits:
+        if why or refusal(fit, record_ps) or not np.isfinite(fit.omega_err_per_ps):
             continue
         w.append(fit.omega_per_ps)
         e.append(fit.omega_err_per_ps)

@@ -24,8 +24,16 @@ compares the periodogram with the spectrum itself and cannot describe leakage. T
 of one fit share (omega, gamma); each has its own variance and floor (a kicked rod puts
 all of its motion in one quadrature), which are profiled out.
 
+Background. An MD mode's spectrum is the oscillator on top of motion that is not the mode:
+slow red noise (pairs opening, the duplex's drift) and the fast, broad band of the base-pair
+steps' own vibration. Both are the same at every n (non-dispersive); the caller measures
+their shape G(lambda) once from all n of a kind (mdbridge/analysis/mode_spectra.py,
+common_background) and passes it as `background`: each series then gets G with an
+amplitude of its own, E_j = a F_j + c G_j + b.
+
 Errors. The observed information: the inverse Hessian of the negative log-likelihood at
-the fit, every parameter free. A line (a mode that keeps its phase over the record, which
+the fit, every parameter free (Q's and omega0's through the covariance of omega and
+gamma). A line (a mode that keeps its phase over the record, which
 the damping fit cannot resolve) is refined by least squares instead (`line_fit`, with the
 finite-record Cramer-Rao error at the local noise level). Both are calibrated
 (bench/mode_spectrum_calibration.py): stated / RMS error 0.7-1.4 for periods 12-1100 ps
@@ -87,7 +95,11 @@ class OscillatorFit:
     dt_ps: float
     omega_err_per_ps: float = float("nan")
     damping_err_per_ps: float = float("nan")
+    Q_err: float = float("nan")
+    omega0_err_per_ps: float = float("nan")
     line: dict | None = None
+    background: np.ndarray | None = None             # G on the band's bins (module doc)
+    background_amplitude: np.ndarray | None = None   # c of each series
 
     @property
     def omega0_per_ps(self) -> float:
@@ -102,10 +114,15 @@ class OscillatorFit:
         return self.n_samples * self.dt_ps
 
     def peak_to_floor(self) -> float:
-        """The oscillator's largest expected power on the band over the floor's."""
+        """The oscillator's largest expected power on the band over what lies beneath it
+        there: the floor, and the background when there is one."""
         j = band_indices(self.n_samples, self.dt_ps, self.band_per_ps)
         f = expected_periodogram(self.n_samples, self.dt_ps, self.omega_per_ps, self.damping_per_ps)[j]
-        return float(np.sum(self.variance)) * float(f.max()) / max(float(np.sum(self.floor)), 1e-300)
+        i = int(np.argmax(f))
+        under = float(np.sum(self.floor))
+        if self.background is not None and self.background_amplitude is not None:
+            under += float(np.sum(self.background_amplitude)) * float(self.background[i])
+        return float(np.sum(self.variance)) * float(f[i]) / max(under, 1e-300)
 
 
 def band_indices(n: int, dt_ps: float, band_per_ps) -> np.ndarray:
@@ -116,10 +133,12 @@ def band_indices(n: int, dt_ps: float, band_per_ps) -> np.ndarray:
 
 
 def fit_oscillator(x: np.ndarray, dt_ps: float, band_per_ps=None, omega_guess=None,
-                   errors: str = "hessian", line: str = "auto") -> OscillatorFit:
+                   errors: str = "hessian", line: str = "auto", background=None) -> OscillatorFit:
     """Fit the damped oscillator to the rows of x (M, N) (real series, mean removed by the
     caller) sampled every dt_ps, on the band (lo, hi) [rad/ps] (default: all of it).
     omega_guess: where to start (default: the pooled periodogram's peak in the band).
+    background: None, or the shape G (N//2+1,) >= 0 of the motion that is not the mode, on
+    the periodogram's frequencies, entered with a free amplitude per series (module doc).
     errors: "hessian" (observed information) or "none". line: "auto" (a line when the record is one, line_fit)
     or "always": every mode taken as a sinusoid in white noise, the control of the
     calibration (bench/mode_spectrum_calibration.py), whose errors a damped mode defeats."""
@@ -133,7 +152,12 @@ def fit_oscillator(x: np.ndarray, dt_ps: float, band_per_ps=None, omega_guess=No
         raise ValueError(f"the band {band_per_ps} rad/ps holds {len(j)} frequencies of a {n}-sample "
                          "record; at least 6 are needed")
     I = periodogram(x)[:, j]
-    fit = _fit_periodogram(I, j, n, dt_ps, lam, omega_guess)
+    G = None
+    if background is not None:
+        G = np.maximum(np.asarray(background, float)[j], 0.0)
+        # unit mean on the band: the amplitudes are free, and stay O(1) in the fit
+        G = G / G.mean() if np.any(G > 0) else None
+    fit = _fit_periodogram(I, j, n, dt_ps, lam, omega_guess, G=G)
     fit.band_per_ps = (float(band_per_ps[0]), float(band_per_ps[1]))
     if line == "always" or fit.damping_per_ps * fit.record_ps < LINE_GAMMA_T:
         sinusoid = line_fit(x, dt_ps, fit.omega_per_ps)
@@ -141,7 +165,7 @@ def fit_oscillator(x: np.ndarray, dt_ps: float, band_per_ps=None, omega_guess=No
                 and fit.damping_per_ps * fit.record_ps < NOT_LINE_MIN_GAMMA_T:
             # not a line, yet narrower than a damped mode that fails the line test can be:
             # a local minimum on a spike of the periodogram; fit again with gamma above it
-            fit = _fit_periodogram(I, j, n, dt_ps, lam, omega_guess, NOT_LINE_MIN_GAMMA_T / (n * dt_ps))
+            fit = _fit_periodogram(I, j, n, dt_ps, lam, omega_guess, NOT_LINE_MIN_GAMMA_T / (n * dt_ps), G=G)
             fit.band_per_ps = (float(band_per_ps[0]), float(band_per_ps[1]))
         elif line == "always" or sinusoid["residual_near"] < LINE_RESIDUAL:
             fit.line = sinusoid
@@ -151,7 +175,7 @@ def fit_oscillator(x: np.ndarray, dt_ps: float, band_per_ps=None, omega_guess=No
                 fit.damping_err_per_ps = _hessian_errors(fit, I, j)[1]
             return fit
     if errors == "hessian":
-        fit.omega_err_per_ps, fit.damping_err_per_ps = _hessian_errors(fit, I, j)
+        fit.omega_err_per_ps, fit.damping_err_per_ps, fit.Q_err, fit.omega0_err_per_ps = _hessian_errors(fit, I, j)
     elif errors != "none":
         raise ValueError(f"errors: 'hessian' or 'none', got {errors!r}")
     return fit
@@ -173,40 +197,64 @@ def _expected_and_derivatives(n: int, dt_ps: float, omega: float, gamma: float) 
 
 class _Whittle:
     """Negative log-likelihood of the periodograms I (M, J) on the band's bins j, with its
-    gradient, in p = (log omega, log gamma, log a_1..a_M, log b_1..b_M): a_s the variance
-    and b_s the floor of series s."""
+    gradient, in p = (log omega, log gamma, log a_1..a_M, log b_1..b_M[, log c_1..c_M]):
+    a_s the variance, b_s the floor and c_s the background's amplitude of series s (the
+    background G (J,) when given: module doc)."""
 
-    def __init__(self, I, j, n, dt):
-        self.I, self.j, self.n, self.dt = I, j, n, dt
+    def __init__(self, I, j, n, dt, G=None):
+        self.I, self.j, self.n, self.dt, self.G = I, j, n, dt, G
         self.M = I.shape[0]
+
+    def unpack(self, p):
+        M = self.M
+        a, b = np.exp(p[2:2 + M]), np.exp(p[2 + M:2 + 2 * M])
+        c = np.exp(p[2 + 2 * M:]) if self.G is not None else None
+        return a, b, c
 
     def __call__(self, p):
         M, I = self.M, self.I
         F = _expected_and_derivatives(self.n, self.dt, math.exp(p[0]), math.exp(p[1]))[:, self.j]
-        a, b = np.exp(p[2:2 + M]), np.exp(p[2 + M:])
-        E = np.maximum(a[:, None] * F[0][None, :] + b[:, None], 1e-300)
+        a, b, c = self.unpack(p)
+        E = a[:, None] * F[0][None, :] + b[:, None]
+        if c is not None:
+            E = E + c[:, None] * self.G[None, :]
+        E = np.maximum(E, 1e-300)
         r = 1.0 / E - I / E ** 2            # d nll / d E
         g = np.empty(len(p))
         g[0] = np.sum(r * a[:, None] * F[1][None, :])
         g[1] = np.sum(r * a[:, None] * F[2][None, :])
         g[2:2 + M] = a * np.sum(r * F[0][None, :], axis=1)
-        g[2 + M:] = b * np.sum(r, axis=1)
+        g[2 + M:2 + 2 * M] = b * np.sum(r, axis=1)
+        if c is not None:
+            g[2 + 2 * M:] = c * np.sum(r * self.G[None, :], axis=1)
         return float(np.sum(np.log(E) + I / E)), g
 
     def start(self, omega, gamma):
-        """p with each series' variance and floor matched to its mean power on the band."""
+        """p with each series' variance and floor (and background) matched to its mean
+        power on the band."""
         f = expected_periodogram(self.n, self.dt, omega, gamma)[self.j]
         Ibar = np.maximum(self.I.mean(axis=1), 1e-300)
-        return np.concatenate([[math.log(omega), math.log(gamma)],
-                               np.log(0.9 * Ibar / max(f.mean(), 1e-300)), np.log(0.1 * Ibar)])
+        p = [[math.log(omega), math.log(gamma)], np.log(0.9 * Ibar / max(f.mean(), 1e-300)), np.log(0.1 * Ibar)]
+        if self.G is not None:
+            # the background's share: the series' power where the oscillator is weakest
+            k = int(np.argmin(f))
+            p[2] = np.log(0.05 * Ibar)
+            p.append(np.log(np.maximum(0.5 * self.I[:, k], 1e-300 + 0.05 * Ibar) / max(self.G[k], 1e-300)))
+        return np.concatenate(p)
+
+    def params(self, fit: "OscillatorFit") -> np.ndarray:
+        p = [[math.log(fit.omega_per_ps), math.log(fit.damping_per_ps)], np.log(fit.variance), np.log(fit.floor)]
+        if self.G is not None and fit.background_amplitude is not None:
+            p.append(np.log(fit.background_amplitude))
+        return np.concatenate(p)
 
 
-def _fit_periodogram(I, j, n, dt, lam, omega_guess, gamma_min_per_ps=0.0) -> OscillatorFit:
+def _fit_periodogram(I, j, n, dt, lam, omega_guess, gamma_min_per_ps=0.0, G=None) -> OscillatorFit:
     lo_w, hi_w = lam[j[0]], lam[j[-1]]
     if omega_guess is None:
         omega_guess = lam[j[np.argmax(I.sum(axis=0))]]
     omega_guess = float(np.clip(omega_guess, lo_w, hi_w))
-    W = _Whittle(I, j, n, dt)
+    W = _Whittle(I, j, n, dt, G)
     # start from the best of a grid of frequencies around the guess (the periodogram's peak
     # is a noisy guess) and damping ratios (the likelihood is flat in gamma once the peak
     # is narrower than the record resolves)
@@ -219,12 +267,13 @@ def _fit_periodogram(I, j, n, dt, lam, omega_guess, gamma_min_per_ps=0.0) -> Osc
     lw = (math.log(max(lo_w, lam[1]) * 0.5), math.log(min(hi_w * 1.5, lam[-1])))
     lg_min = max(lw[0] + math.log(GAMMA_OVER_OMEGA_MIN), math.log(gamma_min_per_ps) if gamma_min_per_ps > 0 else -1e300)
     bounds = [lw, (lg_min, lw[1] + math.log(GAMMA_OVER_OMEGA_MAX))] \
-        + [(-300.0, 300.0)] * (2 * W.M)    # E^2 stays finite
+        + [(-300.0, 300.0)] * (len(p0) - 2)    # E^2 stays finite
     res = minimize(W, p0, jac=True, method="L-BFGS-B", bounds=bounds,
                    options={"maxiter": 1000, "ftol": 1e-12, "gtol": 1e-7})
-    p, M = res.x, W.M
-    return OscillatorFit(math.exp(p[0]), math.exp(p[1]), np.exp(p[2:2 + M]), np.exp(p[2 + M:]),
-                         (lo_w, hi_w), float(res.fun), n, dt)
+    p = res.x
+    a, b, c = W.unpack(p)
+    return OscillatorFit(math.exp(p[0]), math.exp(p[1]), a, b, (lo_w, hi_w), float(res.fun), n, dt,
+                         background=G, background_amplitude=c)
 
 
 def simulate(rng, n_series: int, n: int, dt_ps: float, omega: float, gamma: float,
@@ -270,13 +319,15 @@ def oscillator_series(rng, n_series: int, n: int, dt_ps: float, omega: float, ga
 
 
 def _hessian_errors(fit: OscillatorFit, I, j):
-    """Observed-information errors of omega and gamma: the inverse Hessian of the negative
-    log-likelihood (central differences of its analytic gradient) at the fit, all
+    """Observed-information errors of omega, gamma, Q and omega0: the inverse Hessian of the
+    negative log-likelihood (central differences of its analytic gradient) at the fit, all
     parameters free. At a line (gamma at its lower bound, where the likelihood is flat in
-    gamma) gamma is held and its error is NaN."""
-    W = _Whittle(I, j, fit.n_samples, fit.dt_ps)
-    p = np.concatenate([[math.log(fit.omega_per_ps), math.log(fit.damping_per_ps)],
-                        np.log(fit.variance), np.log(fit.floor)])
+    gamma) gamma is held and the errors of gamma and Q are NaN (omega0's is omega's).
+    With omega0^2 = omega^2 + gamma^2 and Q = omega0 / (2 gamma),
+    d log omega0 = (omega^2 d log omega + gamma^2 d log gamma) / omega0^2 and
+    d log Q = d log omega0 - d log gamma, through the covariance of omega and gamma."""
+    W = _Whittle(I, j, fit.n_samples, fit.dt_ps, fit.background)
+    p = W.params(fit)
     h = 1e-4
     H = np.empty((len(p), len(p)))
     for i in range(len(p)):
@@ -288,8 +339,15 @@ def _hessian_errors(fit: OscillatorFit, I, j):
     keep = [i for i in range(len(p)) if not (at_line and i == 1)]
     cov = np.linalg.pinv(H[np.ix_(keep, keep)])
     err_w = fit.omega_per_ps * math.sqrt(max(cov[0, 0], 0.0))
-    err_g = float("nan") if at_line else fit.damping_per_ps * math.sqrt(max(cov[1, 1], 0.0))
-    return err_w, err_g
+    if at_line:
+        return err_w, float("nan"), float("nan"), err_w
+    err_g = fit.damping_per_ps * math.sqrt(max(cov[1, 1], 0.0))
+    w2, g2 = fit.omega_per_ps ** 2, fit.damping_per_ps ** 2
+    v0 = np.array([w2, g2]) / (w2 + g2)
+    vQ = v0 - np.array([0.0, 1.0])
+    err_Q = fit.Q * math.sqrt(max(float(vQ @ cov[:2, :2] @ vQ), 0.0))
+    err_w0 = fit.omega0_per_ps * math.sqrt(max(float(v0 @ cov[:2, :2] @ v0), 0.0))
+    return err_w, err_g, err_Q, err_w0
 
 
 def line_fit(x: np.ndarray, dt_ps: float, omega_guess: float) -> dict:

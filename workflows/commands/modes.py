@@ -152,6 +152,11 @@ def run(args):
             print(f"modes: warning: {r['source']}: the open base-pair fraction drifts ({of['halves'][0]:.3f} "
                   f"then {of['halves'][1]:.3f} in the two halves, z = {of['z']:.1f}): the record may not be "
                   "stationary (modes.json realisations[].open_fraction)", file=sys.stderr)
+    for kind, d in table["drift"].items():
+        if d["drifts"]:
+            print(f"modes: warning: the {kind} frequencies move together between the record's halves: "
+                  f"{100 * d['relative_shift']:+.1f} +- {100 * d['relative_shift_err']:.1f} % (z = {d['z']:.1f}; "
+                  f"{d['positive']} of {d['modes']} modes up): the record drifts (modes.json drift)", file=sys.stderr)
     ok = [e for e in table["modes"] if e["reason"] is None]
     counts = ", ".join(f"{kind} {sum(1 for e in ok if e['kind'] == kind)}" for kind in ("bend", "twist", "stretch"))
     print(f"modes: {len(ok)} of {len(table['modes'])} modes measured ({counts}); "
