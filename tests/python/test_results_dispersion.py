@@ -1,0 +1,98 @@
+"""The committed 158-bp MD dispersion (results/dispersion/, docs/dispersion.md).
+
+The reduced results of the 5-ns thermostatted run are the one source of the numbers that
+docs/dispersion.md quotes. Here: the prediction is recomputed from the committed modes.json
+and tension.json by the workflow's own step (no trajectory needed) and equals the committed
+prediction.json; the docs' quoted figures are those of that file; and the two independent
+tensions (virial, and the linear rod fitted to the bend frequencies) agree, which is a
+physical check of the mode analysis that could fail (control: the fit's T against a tension
+5 pN off is rejected).
+"""
+import json
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+ROOT = Path(__file__).resolve().parents[2]
+R = ROOT / "results" / "dispersion"
+DOC = (ROOT / "docs" / "dispersion.md").read_text()
+
+
+@pytest.fixture(scope="module")
+def pred():
+    return json.loads((R / "prediction.json").read_text())
+
+
+def rows(pred, kind):
+    return [r for r in pred["rows"] if r["kind"] == kind and r["md_omega0_per_ps"] is not None]
+
+
+def test_prediction_recomputes_from_the_committed_modes(tmp_path, pred):
+    out = tmp_path / "prediction.json"
+    r = subprocess.run([sys.executable, "-m", "dnarod.steps.dispersion", "predict", str(R / "modes.json"),
+                        "-o", str(out), "--tension", str(R / "tension.json"), "--n-fit-max", "4"],
+                       capture_output=True, text=True, timeout=300)
+    assert r.returncode == 0, r.stderr
+    new = json.loads(out.read_text())
+    for a, b in zip(new["rows"], pred["rows"]):
+        assert (a["kind"], a["n"]) == (b["kind"], b["n"])
+        for key in ("md_omega0_per_ps", "paper_rod_omega_per_ps", "z_paper_rod"):
+            if b.get(key) is None:
+                assert a.get(key) is None
+            else:
+                assert a[key] == pytest.approx(b[key], rel=1e-9)
+
+
+def test_the_series_holds_the_whole_run():
+    z = np.load(R / "mode_series.npz")
+    t = next(z[k] for k in z.files if "time" in k)
+    assert t.max() - t.min() == pytest.approx(5000.0, abs=1.0)
+
+
+def test_docs_quote_the_committed_numbers(pred):
+    T = pred["tension"]
+    dyn = pred["fit"]["dynamics"]
+    assert f"virial gives {T['tension_pN']:.1f} +- {T['tension_err_pN']:.1f} pN" in DOC
+    assert f"T = {dyn['tension_pN']:.1f} +- {dyn['tension_err_pN']:.1f} pN" in DOC
+    assert f"B = {dyn['B_pN_nm2']:.0f} +- {dyn['B_err_pN_nm2']:.0f} pN nm^2" in DOC
+    assert f"chi2 {dyn['chi2']:.1f} for {dyn['dof']} dof" in DOC
+    bend = {r["n"]: r for r in rows(pred, "bend")}
+    ratio = {n: r["md_omega0_per_ps"] / r["paper_rod_omega_per_ps"] for n, r in bend.items()}
+    z = {n: r["z_paper_rod"] for n, r in bend.items()}
+    lo = [n for n in (1, 2, 3)]
+    assert all(1.04 <= ratio[n] <= 1.05 + 5e-4 for n in lo)
+    assert "within 1.4-1.7 combined errors" in DOC
+    assert f"{min(z[n] for n in lo):.1f}" == "1.4" and f"{max(z[n] for n in lo):.1f}" == "1.7"
+    mid = [n for n in bend if 4 <= n <= 10]
+    assert 1.035 <= min(ratio[n] for n in mid) and max(ratio[n] for n in mid) <= 1.075
+    assert f"z {min(z[n] for n in mid):.1f}-{max(z[n] for n in mid):.1f}" in DOC
+    for kind, text in (("twist", "twist n = 1-6 by"), ("stretch", "stretch n = 1-5 by")):
+        rs = rows(pred, kind)
+        r = [x["md_omega0_per_ps"] / x["paper_rod_omega_per_ps"] for x in rs]
+        m = re.search(re.escape(text) + r"\s+([\d.]+)-([\d.]+)x", DOC)
+        assert m and float(m.group(1)) == pytest.approx(min(r), abs=0.005)
+        assert float(m.group(2)) == pytest.approx(max(r), abs=0.005)
+    modes = json.loads((R / "modes.json").read_text())
+    d = modes["drift"]["bend"]
+    assert f"+{100 * d['relative_shift']:.1f} +- {100 * d['relative_shift_err']:.1f} %" in DOC
+    assert f"Birge ratio {d['birge_ratio']:.1f}" in DOC
+    halves = modes["realisations"][0]["open_fraction"]["halves"]
+    assert f"rises {halves[0]:.2f} -> {halves[1]:.2f}" in DOC
+    refused = [m["n"] for m in modes["modes"] if m["kind"] == "bend" and (m["reason"] or "").startswith("not stat")]
+    assert "bend n = " + ", ".join(map(str, refused)) + " are refused as not stationary" in DOC
+
+
+def test_two_tensions_agree_and_a_wrong_one_does_not(pred):
+    """The virial (GROMACS's pressure tensor) and the bend dynamics (the linear rod fitted to
+    the MD's mode frequencies) are independent measurements of the same tension."""
+    T, dyn = pred["tension"], pred["fit"]["dynamics"]
+
+    def z(t_virial):
+        return (dyn["tension_pN"] - t_virial) / np.hypot(dyn["tension_err_pN"], T["tension_err_pN"])
+
+    assert abs(z(T["tension_pN"])) < 2.0
+    assert abs(z(T["tension_pN"] - 5.0)) > 2.0 and abs(z(T["tension_pN"] + 10.0)) > 2.0   # controls
