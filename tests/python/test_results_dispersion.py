@@ -96,3 +96,23 @@ def test_two_tensions_agree_and_a_wrong_one_does_not(pred):
 
     assert abs(z(T["tension_pN"])) < 2.0
     assert abs(z(T["tension_pN"] - 5.0)) > 2.0 and abs(z(T["tension_pN"] + 10.0)) > 2.0   # controls
+
+
+def test_thermostat_invariance_as_quoted():
+    """docs/md.md: NVE against v-rescale, bend n = 3-14, pooled weighted mean of the relative
+    differences (first-order error propagation) with chi2 about it."""
+    inv = json.loads((R / "invariance.json").read_text())
+    doc = (ROOT / "docs" / "md.md").read_text()
+    r, e = [], []
+    for x in inv["rows"]:
+        if x["kind"] == "bend" and 3 <= x["n"] <= 14 and x["nve_omega_per_ps"] and x["vrescale_omega_per_ps"]:
+            a, b = x["nve_omega_per_ps"], x["vrescale_omega_per_ps"]
+            r.append(a / b - 1)
+            e.append(np.hypot(x["nve_omega_err_per_ps"] / a, x["vrescale_omega_err_per_ps"] / b))
+    r, e = np.array(r), np.array(e)
+    w = 1 / e**2
+    mean, se = (w * r).sum() / w.sum(), w.sum() ** -0.5
+    chi2 = (((r - mean) / e) ** 2).sum()
+    assert f"+{100 * mean:.2f} +- {100 * se:.2f} % (chi2 {chi2:.1f} for {len(r) - 1} dof)" in doc
+    assert abs(mean) < 2 * se and se < 0.01
+    assert np.abs(r / e).max() < 1.65
