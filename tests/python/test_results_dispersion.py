@@ -116,3 +116,19 @@ def test_thermostat_invariance_as_quoted():
     assert f"+{100 * mean:.2f} +- {100 * se:.2f} % (chi2 {chi2:.1f} for {len(r) - 1} dof)" in doc
     assert abs(mean) < 2 * se and se < 0.01
     assert np.abs(r / e).max() < 1.65
+
+
+def test_provisional_coarse_grained_rod_as_quoted():
+    """docs/dispersion.md: the ratios MD / coarse-grained rod of the provisional material."""
+    p = json.loads((R / "cg_provisional" / "prediction.json").read_text())
+    cg = json.loads((R / "cg_provisional" / "cg.json").read_text())
+    assert cg["ok"]
+
+    def ratios(kind, nmin=1):
+        return [(x["md_omega0_per_ps"] / x["cg_rod_omega_per_ps"], x["z_cg_rod"]) for x in p["rows"]
+                if x["kind"] == kind and x["n"] >= nmin and x["md_omega0_per_ps"] and x["cg_rod_omega_per_ps"]]
+    tw, st, b = ratios("twist"), ratios("stretch"), ratios("bend", 2)
+    assert f"twist is {min(r for r, _ in tw):.2f}-{max(r for r, _ in tw):.2f}x" in DOC
+    assert f"stretch {min(r for r, _ in st):.2f}-{max(r for r, _ in st):.2f}x faster" in DOC
+    assert (f"bend n = 2-14 {min(r for r, _ in b):.2f}-{max(r for r, _ in b):.2f}x "
+            f"(z {min(z for _, z in b):.1f}-{max(z for _, z in b):.1f})") in re.sub(r"\s+", " ", DOC)

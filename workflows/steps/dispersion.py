@@ -74,7 +74,7 @@ def _pooled_tension(records: list[dict]) -> tuple[float, float]:
     return mean_over_seeds([r["tension_pN"] for r in records], [r["tension_err_pN"] for r in records])
 
 
-def _materials(cg_dirs, m: int, n_replicas: int):
+def _materials(cg_dirs, m: int | None, n_replicas: int):
     """[(seed dir, central, replicas)] of the seeds whose coarse-graining succeeded, and the
     reasons of those that did not."""
     from mdbridge.coarsegrain.cgrod import materials, read_replicas
@@ -123,7 +123,7 @@ def _fit(kind_rows, observable, template, duplex, T0):
         return {"observable": observable, "n": ns, "reason": str(e)}
 
 
-def predict_and_compare(modes_json, out, tension_jsons, cg_dirs=(), m: int = 1, n_replicas: int = 20,
+def predict_and_compare(modes_json, out, tension_jsons, cg_dirs=(), m: int | None = None, n_replicas: int = 20,
                         n_fit_max: int = 4, temperature_K: float | None = None) -> dict:
     from mdbridge.analysis.dispersion_prediction import (Duplex, bend_stiffness_pN_nm2, box_twist, compare,
                                                          paper_material, persistence_nm, predict, z_score)
@@ -214,7 +214,8 @@ def main(argv=None) -> int:
     p.add_argument("-o", "--output", required=True)
     p.add_argument("--tension", nargs="+", required=True)
     p.add_argument("--cg", nargs="*", default=[])
-    p.add_argument("--m", type=int, default=1)
+    p.add_argument("--m", type=int, default=None,
+                   help="the m-step compliance average as the rod's K (default: K(q -> 0), docs/coarse-graining.md)")
     p.add_argument("--replicas", type=int, default=20)
     p.add_argument("--n-fit-max", type=int, default=4)
     p.add_argument("--temperature", type=float, default=None)
