@@ -116,6 +116,10 @@ def test_thermostat_invariance_as_quoted():
     assert f"+{100 * mean:.2f} +- {100 * se:.2f} % (chi2 {chi2:.1f} for {len(r) - 1} dof)" in doc
     assert abs(mean) < 2 * se and se < 0.01
     assert np.abs(r / e).max() < 1.65
+    en = inv["nve_energy"]
+    T = en["temperature_K"]
+    assert (f"drifts by {en['drift_kJ_mol_per_ns_per_atom']:.2f} kJ/mol/ns per atom and it heats from "
+            f"{T['start']:.0f} K to {T['end']:.0f} K") in re.sub(r"\s+", " ", doc)
 
 
 def test_provisional_coarse_grained_rod_as_quoted():
