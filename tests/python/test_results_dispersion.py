@@ -27,8 +27,15 @@ def pred():
     return json.loads((R / "prediction.json").read_text())
 
 
-def rows(pred, kind):
-    return [r for r in pred["rows"] if r["kind"] == kind and r["md_omega0_per_ps"] is not None]
+def rows(pred, kind, rod="paper_rod", nmin=1):
+    """The modes of KIND both the MD and ROD give a frequency for."""
+    return [r for r in pred["rows"] if r["kind"] == kind and r["n"] >= nmin
+            and r["md_omega0_per_ps"] is not None and r.get(f"{rod}_omega_per_ps") is not None]
+
+
+def ratios(pred, kind, rod="paper_rod", nmin=1):
+    """[(MD omega / ROD omega, z)] of those modes."""
+    return [(r["md_omega0_per_ps"] / r[f"{rod}_omega_per_ps"], r[f"z_{rod}"]) for r in rows(pred, kind, rod, nmin)]
 
 
 def test_prediction_recomputes_from_the_committed_modes(tmp_path, pred):
@@ -63,7 +70,7 @@ def test_docs_quote_the_committed_numbers(pred):
     bend = {r["n"]: r for r in rows(pred, "bend")}
     ratio = {n: r["md_omega0_per_ps"] / r["paper_rod_omega_per_ps"] for n, r in bend.items()}
     z = {n: r["z_paper_rod"] for n, r in bend.items()}
-    lo = [n for n in (1, 2, 3)]
+    lo = (1, 2, 3)
     assert all(1.04 <= ratio[n] <= 1.05 + 5e-4 for n in lo)
     assert "within 1.4-1.7 combined errors" in DOC
     assert f"{min(z[n] for n in lo):.1f}" == "1.4" and f"{max(z[n] for n in lo):.1f}" == "1.7"
@@ -71,8 +78,7 @@ def test_docs_quote_the_committed_numbers(pred):
     assert 1.035 <= min(ratio[n] for n in mid) and max(ratio[n] for n in mid) <= 1.075
     assert f"z {min(z[n] for n in mid):.1f}-{max(z[n] for n in mid):.1f}" in DOC
     for kind, text in (("twist", "twist n = 1-6 by"), ("stretch", "stretch n = 1-5 by")):
-        rs = rows(pred, kind)
-        r = [x["md_omega0_per_ps"] / x["paper_rod_omega_per_ps"] for x in rs]
+        r = [q for q, _ in ratios(pred, kind)]
         m = re.search(re.escape(text) + r"\s+([\d.]+)-([\d.]+)x", DOC)
         assert m and float(m.group(1)) == pytest.approx(min(r), abs=0.005)
         assert float(m.group(2)) == pytest.approx(max(r), abs=0.005)
@@ -128,10 +134,7 @@ def test_provisional_coarse_grained_rod_as_quoted():
     cg = json.loads((R / "cg_provisional" / "cg.json").read_text())
     assert cg["ok"]
 
-    def ratios(kind, nmin=1):
-        return [(x["md_omega0_per_ps"] / x["cg_rod_omega_per_ps"], x["z_cg_rod"]) for x in p["rows"]
-                if x["kind"] == kind and x["n"] >= nmin and x["md_omega0_per_ps"] and x["cg_rod_omega_per_ps"]]
-    tw, st, b = ratios("twist"), ratios("stretch"), ratios("bend", 2)
+    tw, st, b = (ratios(p, k, "cg_rod", nmin) for k, nmin in (("twist", 1), ("stretch", 1), ("bend", 2)))
     assert f"twist is {min(r for r, _ in tw):.2f}-{max(r for r, _ in tw):.2f}x" in DOC
     assert f"stretch {min(r for r, _ in st):.2f}-{max(r for r, _ in st):.2f}x faster" in DOC
     assert (f"bend n = 2-14 {min(r for r, _ in b):.2f}-{max(r for r, _ in b):.2f}x "
