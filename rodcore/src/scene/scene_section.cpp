@@ -194,9 +194,12 @@ std::string Section::path(const std::string& k, const std::string& what) {
   std::string p = string_of(k, *n, {});
   fs::path full = fs::path(p).is_absolute() ? fs::path(p) : ctx_->base_dir / p;
   full = full.lexically_normal();
-  if (!fs::exists(full))
+  // the non-throwing overload: a name the OS cannot look up (too long, found by
+  // fuzz/scene_reader_fuzz.cpp) is bad input like a missing file, not a crash
+  std::error_code ec;
+  if (!fs::exists(full, ec))
     fail(k, n,
-         what + " '" + full.string() + "' does not exist" +
+         what + " '" + full.string() + "' does not exist" + (ec ? " (" + ec.message() + ")" : "") +
              (fs::path(p).is_absolute() ? "" : " (relative paths are relative to the scene file's folder)"));
   return fs::absolute(full).string();
 }
