@@ -1,7 +1,8 @@
 """checks.json's side-image distance (mdbridge/md/gromacs/checks.py) against brute force.
 
-The fast path (a bounded tree search) and the fallback (unbounded) must both give
-the exact smallest distance between an atom and an image across the side walls."""
+The face-slab search must give the exact smallest distance between an atom and an image
+across the side walls, whether the first slabs already hold the closest pair (a compact
+chain far from its images) or must widen (a chain whose atoms reach across the box)."""
 import numpy as np
 import pytest
 
@@ -23,18 +24,16 @@ def brute_force(y, box, axis):
     return best
 
 
-@pytest.mark.parametrize("bound", [30.0, 1.0])  # 1.0: below the true distance, so the fallback runs
-def test_side_image_distance_is_exact(monkeypatch, bound):
-    rng = np.random.default_rng(3)
+@pytest.mark.parametrize("axis, n_atoms, step_A", [(1, 400, 1.5), (0, 400, 1.5), (2, 600, 4.0)])
+def test_side_image_distance_is_exact(axis, n_atoms, step_A):
+    rng = np.random.default_rng(3 + axis)
     box = np.array([40.0, 60.0, 45.0])
-    axis = 1
-    # a chain of atoms 1.5 A apart (the function follows the atom order), wound along the axis
-    steps = rng.normal(size=(400, 3))
-    steps *= 1.5 / np.linalg.norm(steps, axis=1, keepdims=True)
-    y = np.array([20.0, 0.0, 22.0]) + np.cumsum(steps, axis=0)
+    # a chain of atoms step_A apart (the function follows the atom order), wound along the axis;
+    # 4-A steps make it wander across the box, so the slabs must widen
+    steps = rng.normal(size=(n_atoms, 3))
+    steps *= step_A / np.linalg.norm(steps, axis=1, keepdims=True)
+    y = np.array([20.0, 10.0, 22.0]) + np.cumsum(steps, axis=0)
     y[:, axis] %= box[axis]
-    monkeypatch.setattr(checks, "SIDE_SEARCH_A", bound)
     got = checks.min_side_image_distance(y, box, axis)
     want = brute_force(y, box, axis)
-    assert want > bound or bound == 30.0   # the fallback case really is one
     assert got == pytest.approx(want, rel=1e-12)

@@ -89,46 +89,49 @@ def _transverse_whole(x, box, axis):
     return y
 
 
-# The bounded first pass of min_side_image_distance: above any cut-off in use (1.0-1.2 nm).
-SIDE_SEARCH_A = 30.0
+# Width of the slices along the helix axis in min_side_image_distance's branch and bound.
+SLICE_A = 10.0
 
 
 def min_side_image_distance(x_A, box_A, axis: int) -> float:
     """Smallest distance between any atom and any atom of an image displaced
-    across the axis (by +-1 box edge in one or both transverse directions)."""
-    from scipy.spatial import cKDTree
+    across the axis (by +-1 box edge in one or both transverse directions); exact.
+
+    Branch and bound over slices of the duplex along the axis: the bounding boxes of two
+    slices give a lower bound on any distance between their atoms, slice pairs are searched
+    in order of that bound, and the search stops when the bound exceeds the closest pair
+    found. On the 158-bp duplex (10,000 atoms, images ~100 A away) this visits a few slice
+    pairs, where a whole-structure tree search took ~1 s a frame."""
     box = np.asarray(box_A, float)
     y = _transverse_whole(np.asarray(x_A, float), box, axis)
     y[:, axis] %= box[axis]
-    size = np.full(3, 0.0)
-    size[axis] = box[axis]
     perp = [k for k in range(3) if k != axis]
-    span = y[:, perp].max(axis=0) - y[:, perp].min(axis=0)
-    # non-periodic transverse directions: an unbounded box (larger than any shift)
-    bounds = np.where(size > 0, size, 0.0)
-    for k in perp:
-        bounds[k] = 4.0 * (span.max() + box[perp].max()) + 1.0
-    lo = y.min(axis=0)
-    lo[axis] = 0.0
-    tree = cKDTree(y - lo, boxsize=bounds)
-
-    def nearest(upper):
-        best = np.inf
-        for a in (-1, 0, 1):
-            for b in (-1, 0, 1):
-                if a == 0 and b == 0:
-                    continue
-                shift = np.zeros(3)
-                shift[perp[0]] = a * box[perp[0]]
-                shift[perp[1]] = b * box[perp[1]]
-                dist, _ = tree.query(np.mod(y - lo + shift, bounds), distance_upper_bound=upper)
-                best = min(best, float(dist.min()))
-        return best
-    # Exact either way: a bounded search prunes the tree (~30x faster on 158 bp, where an
-    # unbounded one took 0.8 s a frame) and finds the true minimum whenever it lies
-    # below the bound; only when no image comes that close is the full search needed.
-    best = nearest(SIDE_SEARCH_A)
-    return best if np.isfinite(best) else nearest(np.inf)
+    n_slices = max(1, int(box[axis] // SLICE_A))
+    index = np.minimum((y[:, axis] / box[axis] * n_slices).astype(int), n_slices - 1)
+    slices = [y[index == m] for m in range(n_slices)]
+    slices = [a for a in slices if len(a)]
+    lo = np.array([a.min(axis=0) for a in slices])
+    hi = np.array([a.max(axis=0) for a in slices])
+    best = np.inf
+    # the image shifted by -S pairs the same atoms with their roles swapped: four shifts cover all eight
+    for signs in ((1, 0), (0, 1), (1, 1), (1, -1)):
+        shift = np.zeros(3)
+        shift[perp[0]], shift[perp[1]] = signs[0] * box[perp[0]], signs[1] * box[perp[1]]
+        # lower bound between slice m's atoms and slice n's image: box-to-box gaps per direction
+        gap = np.maximum(0.0, np.maximum(lo[None, :] + shift - hi[:, None], lo[:, None] - hi[None, :] - shift))
+        ax = np.abs(0.5 * (lo[None, :, axis] + hi[None, :, axis]) - 0.5 * (lo[:, None, axis] + hi[:, None, axis]))
+        ax = np.minimum(ax, box[axis] - ax)   # centre separation, minimum image along the axis
+        half = 0.5 * (hi[:, axis] - lo[:, axis])
+        gap[..., axis] = np.maximum(0.0, ax - half[:, None] - half[None, :])
+        bound = np.linalg.norm(gap, axis=-1)
+        for flat in np.argsort(bound, axis=None):
+            m, n = np.unravel_index(flat, bound.shape)
+            if bound[m, n] >= best:
+                break
+            d = slices[n][None, :, :] + shift - slices[m][:, None, :]
+            d[..., axis] -= box[axis] * np.round(d[..., axis] / box[axis])
+            best = min(best, float(np.sqrt((d * d).sum(axis=-1)).min()))
+    return best
 
 
 class DuplexFrameChecks(AnalysisBase):
