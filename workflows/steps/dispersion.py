@@ -5,6 +5,8 @@
     python -m dnarod.steps.dispersion predict MODES.json -o OUT.json --tension T.json... \
         [--cg CG_DIR...] [--m M] [--replicas R] [--n-fit-max N]
     python -m dnarod.steps.dispersion table DISPERSION.json [-o TABLE.md]
+    python -m dnarod.steps.dispersion invariance REF=MODES.json NAME=MODES.json... -o OUT.json \
+        [--checks NAME=CHECKS.json...]
 
 `stretch` copies a build-md folder with its box and coordinates scaled by F along the helix
 axis (mdbridge/md/gromacs/tension.py stretch_box), for a run at another box length.
@@ -23,6 +25,11 @@ leaves the paper rod's prediction and says why.
 
 `table` prints (or writes) a dispersion.json's prediction-vs-MD table as Markdown
 (dnarod.report.dispersion.markdown_table).
+
+`invariance` sets the modes of runs that differ from a reference run in one setting only (a
+thermostat switched off, a shorter time step) against the reference's, mode by mode, and pools
+the bend modes n >= 3 (docs/md.md, "The thermostat against the modes"); each run's energy
+record (run-md's checks.json) goes beside it.
 """
 from __future__ import annotations
 
@@ -198,6 +205,56 @@ def predict_and_compare(modes_json, out, tension_jsons, cg_dirs=(), m: int | Non
     return rec
 
 
+def _named(pairs: list[str], what: str) -> dict[str, Path]:
+    named = {}
+    for pair in pairs:
+        name, sep, path = pair.partition("=")
+        if not sep or not name or not Path(path).is_file():
+            raise InputError(f"{what} {pair!r}: expected NAME=FILE with an existing FILE")
+        named[name] = Path(path)
+    return named
+
+
+def pooled_relative_difference(rows: list[dict], name: str, reference: str, n_min: int = 3) -> dict | None:
+    """Weighted mean of omega_name / omega_reference - 1 over the bend modes n >= N_MIN that
+    both records resolve (first-order error propagation), its standard error, and the chi2
+    of the differences about it."""
+    r, e = [], []
+    for x in rows:
+        a, b = x.get(f"{name}_omega_per_ps"), x.get(f"{reference}_omega_per_ps")
+        if x["kind"] == "bend" and x["n"] >= n_min and a and b:
+            r.append(a / b - 1)
+            e.append(np.hypot(x[f"{name}_omega_err_per_ps"] / a, x[f"{reference}_omega_err_per_ps"] / b))
+    if len(r) < 2:
+        return None
+    r, e = np.array(r), np.array(e)
+    w = 1 / e**2
+    mean = float((w * r).sum() / w.sum())
+    return {"modes": len(r), "mean": mean, "err": float(w.sum() ** -0.5),
+            "chi2": float((((r - mean) / e) ** 2).sum()), "dof": len(r) - 1,
+            "max_abs_z": float(np.abs(r / e).max())}
+
+
+def compare_runs(modes: dict[str, Path], reference: str, out, checks: dict[str, Path] | None = None) -> dict:
+    """The invariance record: one row per mode with every run's omega, error and reason."""
+    if reference not in modes:
+        raise InputError(f"invariance: the reference {reference!r} is not among the runs {sorted(modes)}")
+    rows: dict[tuple, dict] = {}
+    for name, path in modes.items():
+        for m in json.loads(path.read_text())["modes"]:
+            row = rows.setdefault((KINDS.index(m["kind"]), m["n"]), {"kind": m["kind"], "n": m["n"]})
+            row[f"{name}_omega_per_ps"] = m["omega_per_ps"]
+            row[f"{name}_omega_err_per_ps"] = m["omega_err_per_ps"]
+            row[f"{name}_reason"] = m["reason"]
+    ordered = [rows[k] for k in sorted(rows)]
+    rec = {"reference": reference, "modes": {k: str(v) for k, v in modes.items()}, "rows": ordered,
+           "pooled_bend_n3": {name: pooled_relative_difference(ordered, name, reference)
+                              for name in modes if name != reference},
+           "energy": {name: json.loads(p.read_text())["energy"] for name, p in (checks or {}).items()}}
+    write_json(out, rec)
+    return rec
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(prog="python -m dnarod.steps.dispersion", description=__doc__.splitlines()[0])
     sub = ap.add_subparsers(dest="step", required=True)
@@ -222,6 +279,10 @@ def main(argv=None) -> int:
     p = sub.add_parser("table")
     p.add_argument("dispersion")
     p.add_argument("-o", "--output", default=None)
+    p = sub.add_parser("invariance")
+    p.add_argument("runs", nargs="+", help="NAME=MODES.json; the first is the reference")
+    p.add_argument("-o", "--output", required=True)
+    p.add_argument("--checks", nargs="*", default=[], help="NAME=CHECKS.json (run-md's), for the energy record")
     a = ap.parse_args(argv)
 
     def step():
@@ -230,6 +291,9 @@ def main(argv=None) -> int:
             print(stretch_box(Path(a.md_dir), Path(a.out_dir), a.factor))
         elif a.step == "tension":
             measure_tension(a.md_dir, a.out, a.discard_ps)
+        elif a.step == "invariance":
+            runs = _named(a.runs, "invariance: run")
+            compare_runs(runs, next(iter(runs)), a.output, _named(a.checks, "invariance: --checks"))
         elif a.step == "table":
             from dnarod.report.dispersion import markdown_table
             if not Path(a.dispersion).is_file():
