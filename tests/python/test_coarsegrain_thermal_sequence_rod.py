@@ -28,6 +28,7 @@ independent grid strains N(x0_i, kT K_i^-1 / h). Known answers:
   and with a box they are the box's. Control: the sequence-averaged shape must fail.
 """
 import json
+import shutil
 import subprocess
 
 import h5py
@@ -93,7 +94,7 @@ friction_rotational = 0.05
     out = d / "cg"
     assert main(["coarse-grain", str(h5), "-o", str(out), "--discard", "0", "--m-max", "2", "--bootstrap", "100"]) == 0
     return {"params": json.loads((out / "params.json").read_text()), "sequence": sequence,
-            "material": material, "L": L, "kT": kT}
+            "material": material, "L": L, "kT": kT, "h5": h5}
 
 
 def olson_steps(sequence):
@@ -203,3 +204,16 @@ def test_control_sequence_averaged_shape_is_rejected(rest_shape):
     chi2 = (without_closure_modes(mean - uniform, turns) ** 2 / err ** 2).mean(axis=0)
     print("chi2 / n per parameter, sequence-averaged shape:", np.round(chi2, 1))
     assert np.all(chi2 > 30.0), chi2
+
+
+def test_missing_material_file_is_an_input_error(loop, tmp_path, capsys):
+    """A sequence rod's base pairs come from the material file its run names: when that file
+    is gone, exit 2 naming the attribute, before any work."""
+    h5 = tmp_path / "moved.h5"
+    shutil.copy(loop["h5"], h5)
+    with h5py.File(h5, "r+") as f:
+        f.attrs["material.material_file"] = str(tmp_path / "gone.h5")
+    assert main(["coarse-grain", str(h5), "-o", str(tmp_path / "cg")]) == 2
+    err = capsys.readouterr().err
+    assert "gone.h5" in err and "material.material_file" in err
+    assert not (tmp_path / "cg").exists()
