@@ -190,7 +190,7 @@ def read_rod_ensemble(path, start=None, stop=None, step=None):
     from dna_models.units import AMU, ANGSTROM
     run = RodRun.read(path)
     run.require("time", "s", "centerline", "directors", "fields/Gamma")
-    material = _material_file(path, run)
+    material = None if "initial.bp" in run.attrs else _material_file(path, run)
     if "initial.bp" in run.attrs:
         n_bp = int(run.attrs["initial.bp"])
         sequence = str(run.attrs.get("initial.sequence", "A" * n_bp))
