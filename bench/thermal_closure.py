@@ -29,9 +29,23 @@ vanish, the drift would be the reconstruction's; it does not for any of them.
    the period vector |r(L) - r(0) - (its value at t = 0)| / L and of the holonomy angle, over
    all frames, for the projection every 0.5, every 0.1 and every step, and without it.
 
-    /usr/bin/python3 bench/thermal_closure.py [--part source|cost|wander|all] [--out bench/results/thermal_closure.json]
+4. interval: does the box's breathing between projections change what the run measures?
+   The same rod over 3200 time units (a frame every 2, the first 200 dropped), projected every
+   0.5 (the default) and every step, SEEDS independent seeds each: the slack tension on the
+   box (the force of the constraint per frame, as tests/python/test_thermal_closure.py
+   measures it) and the effective frequencies of the lab bending modes n = 2, 4, 8,
+   w_n^2 = <|da_n/dt|^2> / <|a_n|^2> with a_n the Fourier amplitude of the centerline's
+   displacement across the box axis (for a harmonic mode in equilibrium this is its
+   frequency, whatever the friction). Errors from the scatter over the seeds. Each run keeps
+   the box of its initial sample, which is the scene's only where the sampler's nonlinear
+   closure converged (at 300 K it does not for every seed: `box_over_L` per run); the two
+   runs of a seed share it, and their noise, so the comparison is paired by seed.
 
-Needs the Python module rodcore on PYTHONPATH (build/python) and scipy; about two minutes.
+    /usr/bin/python3 bench/thermal_closure.py [--part source|cost|wander|interval|all]
+        [--out bench/results/thermal_closure.json]
+
+Needs the Python module rodcore on PYTHONPATH (build/python) and scipy; parts 1-3 about two
+minutes, part 4 about five CPU minutes.
 """
 from __future__ import annotations
 
@@ -187,13 +201,93 @@ def wander_study() -> dict:
     return out
 
 
+SEEDS = (3, 4, 5, 6, 7, 8)
+MODES = (2, 4, 8)
+FORCE_PN = U.C * 1e12
+
+
+def box_observables(interval: float, seed: int, t_end: float = 3200.0, frame: float = 2.0,
+                    skip: int = 100) -> dict:
+    """Mean box tension [pN] and effective bending-mode frequencies [rad per time unit] of one run."""
+    sc = dna300(True, interval, t_end, int(round(t_end / frame)) + 1)
+    sc["thermal"]["seed"] = seed
+    sc["output"]["fields"] = ["internal", "centerline", "directors"]
+    C3 = U.C_star[2]
+    phase = np.exp(-2j * np.pi * np.outer(MODES, np.arange(N)) / N)        # (modes, N)
+    F, a2, v2, box = [], [], [], []
+
+    def observe(f):
+        if f["index"] == 0:
+            box.append(float(np.linalg.norm(f["end_to_end"])) / L)
+        if f["index"] < skip:
+            return
+        e = np.asarray(f["end_to_end"])
+        e = e / np.linalg.norm(e)
+        R = f["directors"]
+        F.append(C3 * (f["fields"]["Gamma"][:, 2].mean() - 1.0) / (R[:, :, 2] @ e).mean())
+        across = np.eye(3) - np.outer(e, e)
+        u = f["centerline"] @ across                                        # (N, 3)
+        v = np.einsum("nij,nj->ni", R, f["fields"]["gamma"]) @ across       # lab velocity across
+        a2.append(np.sum(np.abs(phase @ u) ** 2, axis=1))
+        v2.append(np.sum(np.abs(phase @ v) ** 2, axis=1))
+
+    sim = rodcore.Simulation(sc)
+    sim.add_observer(observe)
+    sim.run()
+    w = np.sqrt(np.mean(v2, axis=0) / np.mean(a2, axis=0))
+    return {"tension_pN": float(np.mean(F) * FORCE_PN), "omega": [float(x) for x in w], "box_over_L": box[0]}
+
+
+def interval_study() -> dict:
+    out: dict = {"seeds": list(SEEDS), "modes": list(MODES), "t_end": 3200.0, "frame": 2.0,
+                 "skipped_frames": 100}
+    for name, interval in (("every 0.5", 0.5), ("every step", 0.0)):
+        runs = [box_observables(interval, seed) for seed in SEEDS]
+        F = np.array([r["tension_pN"] for r in runs])
+        W = np.array([r["omega"] for r in runs])
+        se = math.sqrt(len(SEEDS))
+        out[name] = {"tension_pN": float(F.mean()), "tension_err_pN": float(F.std(ddof=1) / se),
+                     "omega": W.mean(axis=0).tolist(), "omega_err": (W.std(ddof=1, axis=0) / se).tolist(),
+                     "runs": runs}
+        print(f"{name:10s}: tension {F.mean():.2f} +- {F.std(ddof=1) / se:.2f} pN; omega_n (n = {MODES}) "
+              + ", ".join(f"{m:.5f} +- {s:.5f}" for m, s in zip(W.mean(axis=0), W.std(ddof=1, axis=0) / se)),
+              flush=True)
+    # the box a run keeps is that of its initial sample, which is the scene's only when the
+    # sampler's nonlinear closure converged (summary.thermal_note); the tension of the runs
+    # that hold the scene's box, for comparison with theory
+    held = [i for i, r in enumerate(out["every step"]["runs"]) if abs(r["box_over_L"] - 1.0) < 1e-6]
+    F = np.array([out["every step"]["runs"][i]["tension_pN"] for i in held])
+    out["scene_box_seeds"] = [SEEDS[i] for i in held]
+    out["scene_box_tension_pN"] = float(F.mean())
+    out["scene_box_tension_err_pN"] = float(F.std(ddof=1) / math.sqrt(len(F)))
+    print(f"runs that hold the scene's box (seeds {out['scene_box_seeds']}): tension "
+          f"{F.mean():.2f} +- {F.std(ddof=1) / math.sqrt(len(F)):.2f} pN; boxes / L of all runs: "
+          + ", ".join(f"{r['box_over_L']:.4f}" for r in out["every step"]["runs"]), flush=True)
+    # the two runs of a seed share their noise, so they are paired: the error of the difference
+    # is the scatter of the per-seed differences (independent realisations of it)
+    a, b = out["every 0.5"]["runs"], out["every step"]["runs"]
+    dF = np.array([x["tension_pN"] - y["tension_pN"] for x, y in zip(a, b)])
+    dW = np.array([np.array(x["omega"]) / np.array(y["omega"]) - 1.0 for x, y in zip(a, b)])
+    se = math.sqrt(len(SEEDS))
+    out["difference"] = {"tension_pN": float(dF.mean()), "tension_err_pN": float(dF.std(ddof=1) / se),
+                         "omega_relative": dW.mean(axis=0).tolist(),
+                         "omega_relative_err": (dW.std(ddof=1, axis=0) / se).tolist(),
+                         "note": "0.5 minus every step, paired by seed; errors from the scatter of the pairs"}
+    print(f"0.5 - every step (paired): tension {dF.mean():+.3f} +- {dF.std(ddof=1) / se:.3f} pN; "
+          "omega_n / omega_n(every step) - 1: "
+          + ", ".join(f"{m:+.5f} +- {e:.5f}" for m, e in zip(dW.mean(axis=0), dW.std(ddof=1, axis=0) / se)),
+          flush=True)
+    return out
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--part", choices=["source", "cost", "wander", "all"], default="all")
+    ap.add_argument("--part", choices=["source", "cost", "wander", "interval", "all"], default="all")
     ap.add_argument("--out", type=Path, default=HERE / "results" / "thermal_closure.json")
     args = ap.parse_args(argv)
     result = json.loads(args.out.read_text()) if args.out.is_file() else {}
-    for part, study in (("source", source_study), ("cost", cost_study), ("wander", wander_study)):
+    for part, study in (("source", source_study), ("cost", cost_study), ("wander", wander_study),
+                         ("interval", interval_study)):
         if args.part in (part, "all"):
             result[part] = study()
     result["rod"] = "the paper's 158-bp rod, 15 turns, 158 points"

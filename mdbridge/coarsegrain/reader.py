@@ -151,6 +151,29 @@ def is_hdf5(path) -> bool:
         return f.read(8) == b"\x89HDF\r\n\x1a\n"
 
 
+def _material_file(path, run) -> dict | None:
+    """The grid material file a rod run names (attribute `material.material_file`, written by
+    `dnarod dna-rod`): its sequence, rho (N,) and I (N, 3, 3) in rod units; None without one."""
+    import h5py
+    from pathlib import Path
+    name = run.attrs.get("material.material_file")
+    if name is None or str(name) == "":
+        return None
+    mpath = Path(str(name))
+    if not mpath.is_file():
+        raise InputError(f"{path}: its material file '{mpath}' (attribute 'material.material_file') does not "
+                         "exist; the base pairs of a sequence rod come from it")
+    with h5py.File(mpath, "r") as f:
+        if "sequence" not in f.attrs or "rho" not in f or "I" not in f:
+            raise InputError(f"{mpath}: a material file without the attribute 'sequence' or the datasets "
+                             "'rho', 'I' (allowed: the dnarod-material/1 file of `dnarod dna-rod`)")
+        sequence = str(f.attrs["sequence"])
+        rho, inertia = np.asarray(f["rho"], float), np.asarray(f["I"], float)
+    if len(rho) % len(sequence):
+        raise InputError(f"{mpath}: {len(rho)} grid points are not a multiple of its {len(sequence)} base pairs")
+    return {"sequence": sequence, "rho": rho, "I": inertia}
+
+
 def read_rod_ensemble(path, start=None, stop=None, step=None):
     """StepEnsemble of the base pairs a rod run carries (a `rodsim run` file of a DNA scene:
     `initial.bp` base pairs at s_i = i L / n_bp, mdbridge.rod.run.RodRun.trajectory), closed
@@ -167,10 +190,17 @@ def read_rod_ensemble(path, start=None, stop=None, step=None):
     from dna_models.units import AMU, ANGSTROM
     run = RodRun.read(path)
     run.require("time", "s", "centerline", "directors", "fields/Gamma")
-    if "initial.bp" not in run.attrs:
-        raise InputError(f"{path}: a rod file without the attribute 'initial.bp': not a DNA scene, so its "
-                         "base pairs are unknown (a DNA scene's kind, e.g. dna_planar, records them)")
-    n_bp = int(run.attrs["initial.bp"])
+    material = None if "initial.bp" in run.attrs else _material_file(path, run)
+    if "initial.bp" in run.attrs:
+        n_bp = int(run.attrs["initial.bp"])
+        sequence = str(run.attrs.get("initial.sequence", "A" * n_bp))
+    elif material is not None:
+        sequence = material["sequence"]
+        n_bp = len(sequence)
+    else:
+        raise InputError(f"{path}: a rod file without the attribute 'initial.bp' nor a material file with a "
+                         "sequence: not a DNA scene, so its base pairs are unknown (a DNA scene's kind, e.g. "
+                         "dna_planar, or the material file of `dnarod dna-rod` records them)")
     u = run.units()
     traj = run.trajectory(n_bp, u)
     sl = slice(start, stop, step)
@@ -181,15 +211,23 @@ def read_rod_ensemble(path, start=None, stop=None, step=None):
     source = str(path)
     closing = np.zeros(n_bp, dtype=bool)
     closing[-1] = True
-    ens = StepEnsemble(q=q, sequence=str(run.attrs.get("initial.sequence", "A" * n_bp)), closed=True,
+    ens = StepEnsemble(q=q, sequence=sequence, closed=True,
                        times_ps=traj.times_ps[sl], excluded=closing, source=source)
     extras = {"open_fraction": np.zeros(n_bp), "opened_pairs": np.array([], dtype=int),
               "temperature_K": run.attrs.get("temperature_K"), "n_bp": n_bp}
-    if "material.rho" in run.attrs and "material.I" in run.attrs:
-        h_m = float(run.L) / n_bp * u.ell_A * ANGSTROM
-        mass = float(run.attrs["material.rho"]) * u.rho * h_m / AMU
-        inertia = np.diag(np.asarray(run.attrs["material.I"], float)) * u.I * h_m / (AMU * ANGSTROM ** 2)
-        extras["mass_inertia"] = {"mass": np.full(n_bp, mass), "inertia": np.tile(inertia, (n_bp, 1, 1)),
-                                  "slice_inertia": np.tile(inertia, (n_bp, 1, 1)),
-                                  "slice_inertia_err": np.zeros((n_bp, 3, 3)), "hydrogens": True, "frames": 0}
+    h_m = float(run.L) / n_bp * u.ell_A * ANGSTROM
+    if material is not None:
+        # the grid material per base pair: base pair i sits on grid point i m (docs/scenes.md,
+        # "On the grid"), its mass and inertia the density and inertia there over one rise
+        at_bp = slice(None, None, len(material["rho"]) // n_bp)
+        mass = material["rho"][at_bp] * u.rho * h_m / AMU
+        inertia = material["I"][at_bp] * u.I * h_m / (AMU * ANGSTROM ** 2)
+    elif "material.rho" in run.attrs and "material.I" in run.attrs:
+        mass = np.full(n_bp, float(run.attrs["material.rho"]) * u.rho * h_m / AMU)
+        inertia = np.tile(np.diag(np.asarray(run.attrs["material.I"], float)) * u.I * h_m / (AMU * ANGSTROM ** 2),
+                          (n_bp, 1, 1))
+    else:
+        return ens, extras
+    extras["mass_inertia"] = {"mass": mass, "inertia": inertia, "slice_inertia": inertia,
+                              "slice_inertia_err": np.zeros((n_bp, 3, 3)), "hydrogens": True, "frames": 0}
     return ens, extras
