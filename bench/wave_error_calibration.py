@@ -27,11 +27,13 @@ so that other refusal thresholds can be judged on the same records without refit
     nice -n 10 /usr/bin/python3 bench/wave_error_calibration.py [--n-real 60] [--n-boot 200]
         [--out bench/results/wave_error_calibration.json] [--part K/N] [--points K ...]
     /usr/bin/python3 bench/wave_error_calibration.py --merge part0.json part1.json [--out ...]
-    /usr/bin/python3 bench/wave_error_calibration.py --rescore 0 1 2 3 [--out ...]
+    /usr/bin/python3 bench/wave_error_calibration.py --rescore 0 1 2 3 | --scan | --slipped [--out ...]
+    /usr/bin/python3 bench/wave_error_calibration.py --table [--out ...]
 """
 from __future__ import annotations
 
 import argparse
+import itertools
 import json
 import math
 import platform
@@ -172,6 +174,24 @@ def in_band(row: dict) -> bool:
     return status(row) == "in band"
 
 
+def table_lines(rows: list[dict]) -> list[str]:
+    """The grid as the markdown table of docs/analysis.md (held to it by
+    tests/python/test_wave_error_calibration.py)."""
+    lines = ["| periods | noise / mode | tau [ps] | numbers / refused / no fit | stated / RMS (68 %) | linear | "
+             "white | bias / RMS | status |", "|---|---|---|---|---|---|---|---|---|"]
+    for r in rows:
+        head = (f"| {r['periods']:g} | {r['noise_rel']:g} | {r['tau_ps']:g} | "
+                f"{r['n_reported']} / {r['n_refused']} / {r['n_no_fit']} | ")
+        if "stated_over_rms" in r:
+            lo, hi = r["stated_over_rms_interval"]
+            head += (f"{r['stated_over_rms']:.2f} ({lo:.2f}-{hi:.2f}) | {r['linear_over_rms']:.2f} | "
+                     f"{r['white_over_rms']:.2f} | {r['bias_over_rms']:+.2f} | ")
+        else:
+            head += "- | - | - | - | "
+        lines.append(head + status(r) + " |")
+    return lines
+
+
 def rms_rel_err(n_frames: int, phi: float) -> float:
     """Relative standard error u of the rms of complex AR(1) noise (coefficient phi per
     frame) estimated over n_frames: the sample variance of one part has relative variance
@@ -189,23 +209,26 @@ def rescore(row: dict, noise_sigma: float = 0.0, noise_max_rel: float = mode_err
     compares the fitted noise / mode raised by noise_sigma of its relative sampling error
     (rms_rel_err at the fitted correlation time, at most rel_err_max, one independent sample
     per part) with noise_max_rel; noise_sigma = 0 is mode_error.refusal's rule. The rules
-    before it (drift, detection) keep their verdicts; the later ones (another peak, too
-    short) are judged again from the diagnostics. With the module's constants it
-    reproduces the committed counts (tests/python/test_wave_error_calibration.py)."""
+    before it (drift, detection) and the last (too short, which does not depend on these
+    constants) keep their verdicts; a record they did not reach is judged by the last one
+    as a standing mode. With the module's constants it reproduces the committed counts
+    (tests/python/test_wave_error_calibration.py)."""
     span_ps = row["periods"] * PERIOD_PS
     n_frames = int(round(span_ps / DT_PS)) + 1
     kept = []
     for x in row["records"]:
-        if x["rule"] not in (None, "noise") or "noise_over_mode" not in x:
-            continue
+        if x["rule"] not in (None, "noise", "other_peak") or "noise_over_mode" not in x:
+            continue                  # refused by a rule that does not depend on these constants
         phi = math.exp(-DT_PS / x["tau_ps"]) if x["tau_ps"] > 0 else 0.0
         u = min(rms_rel_err(n_frames, min(phi, mode_noise.PHI_MAX)), rel_err_max)
         if x["noise_over_mode"] * (1 + noise_sigma * u) > noise_max_rel:
             continue
+        if x["other_peak"] > other_peak_max:
+            continue
         w, err = W_TRUE + x["omega_error_per_ps"], x["omega_err_per_ps"]
         upper = (w + mode_error.REFUSE_SIGMA * err) * span_ps / (2 * math.pi)
-        if x["other_peak"] > other_peak_max or upper < mode_error.REPORT_MIN_PERIODS:
-            continue
+        if x["rule"] is not None and upper < mode_error.REPORT_MIN_PERIODS:
+            continue                  # (a record that gave a number passed it: it may be travelling)
         kept.append((x["omega_error_per_ps"], err))
     out = {"n_reported": len(kept), "n_real": row["n_real"]}
     if len(kept) >= 3:
@@ -228,9 +251,40 @@ def main(argv=None):
                     help="print, from the records of --out, what the noise rule raised by these "
                          "many sampling errors of the fitted noise would keep at each grid point "
                          "(rescore), and stop")
+    ap.add_argument("--scan", action="store_true",
+                    help="print, from the records of --out, how many grid points are neither in band nor "
+                         "refused under each noise limit 0.3-0.5, NOISE_SIGMA 0-4 and other-peak limit 2 or 10 %%")
+    ap.add_argument("--slipped", action="store_true",
+                    help="print, from --out, what the records that give a number show of themselves: "
+                         "each one at noise as large as the mode, the 5-95 %% range at noise 0.3")
+    ap.add_argument("--table", action="store_true", help="print the grid of --out as docs/analysis.md's table")
     ap.add_argument("--merge", nargs="+", metavar="PART_JSON", help="join these parts into --out and stop")
     a = ap.parse_args(argv)
     grid = [(P, nr, tau) for P in PERIODS for nr in NOISE_REL for tau in TAU_PS]
+    if a.scan:
+        rows = json.loads(open(a.out).read())["grid"]
+        print("| noise limit | NOISE_SIGMA | other-peak limit | points neither in band nor refused |")
+        print("|---|---|---|---|")
+        for limit, sigma, other in itertools.product((0.3, 0.35, 0.4, 0.45, 0.5), range(5), (0.02, 0.1)):
+            bad = [r for r in rows if status(dict(r, **rescore(r, sigma, limit, other))) not in ("in band", "refused")]
+            print(f"| {limit:g} | {sigma} | {other:g} | {len(bad)} |")
+        return
+    if a.slipped:
+        keys = ("noise_over_mode", "detection_margin", "tau_ps")
+        for r in json.loads(open(a.out).read())["grid"]:
+            kept = [x for x in r["records"] if x["rule"] is None and "noise_over_mode" in x]
+            if r["noise_rel"] == 0.3 and kept:
+                rng5_95 = {k: np.percentile([x[k] for x in kept], [5, 95]).round(3).tolist() for k in keys}
+                print(f"{r['periods']:g} periods, noise 0.3, tau {r['tau_ps']:g} ps: 5-95 % {rng5_95}")
+            elif r["noise_rel"] == 1.0:
+                for x in kept:
+                    z = x["omega_error_per_ps"] / x["omega_err_per_ps"]
+                    print(f"{r['periods']:g} periods, noise 1, tau {r['tau_ps']:g} ps: "
+                          + ", ".join(f"{k} {x[k]:.3g}" for k in keys) + f", error / stated {z:+.2f}")
+        return
+    if a.table:
+        print("\n".join(table_lines(json.loads(open(a.out).read())["grid"])))
+        return
     if a.rescore:
         rows = json.loads(open(a.out).read())["grid"]
         print("| periods | noise / mode | tau [ps] | " + " | ".join(f"NOISE_SIGMA = {x:g}" for x in a.rescore) + " |")

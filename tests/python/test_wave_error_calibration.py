@@ -123,3 +123,12 @@ def test_noise_as_large_as_the_mode_is_refused():
     assert CAL.status(r) == "refused", r
     assert r["refused_by"]["noise"] > r["n_refused"] // 2, r
     assert all(x["rule"] is not None for x in r["records"]), r["records"]
+
+
+def test_docs_quote_the_committed_grid(grid):
+    """docs/analysis.md's calibration table is the committed grid, line for line
+    (`bench/wave_error_calibration.py --table`)."""
+    docs = set((ROOT / "docs/analysis.md").read_text().splitlines())
+    rows = sorted(grid.values(), key=lambda r: (r["periods"], r["noise_rel"], r["tau_ps"]))
+    missing = [line for line in CAL.table_lines(rows) if line not in docs]
+    assert not missing, "docs/analysis.md does not quote the committed grid:\n" + "\n".join(missing)
