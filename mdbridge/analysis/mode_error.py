@@ -36,7 +36,9 @@ NaN with the reason, the fit kept under `unreported` -- when
 2. no oscillation stands above the noise: the fitted line explains no more of the record's
    variance than the fitted noise alone gives the same fit (its DETECTION_QUANTILE);
 3. the record does not select one frequency: more than OTHER_PEAK_MAX of the bootstrap
-   records find another peak;
+   records find another peak (the stated error, the RMS over the records on the fitted
+   peak, then leaves out a second mode of the error; every record that gives a number at
+   the calibrated grid points has none on another peak);
 4. a standing mode is shorter than REPORT_MIN_PERIODS even at the upper end of its
    interval, (w + REFUSE_SIGMA err) span / 2 pi < REPORT_MIN_PERIODS;
 5. the noise rms per part exceeds NOISE_MAX_REL of the mode amplitude |A_+| + |A_-|: there
@@ -63,7 +65,7 @@ from mdbridge.analysis.wavespeed import DETECTION_QUANTILE, MIN_PERIODS, fit_fre
 
 REPORT_MIN_PERIODS = 0.75  # a standing record shorter than this (at REFUSE_SIGMA) is refused
 REFUSE_SIGMA = 2.0         # ... judged at the upper end of w + REFUSE_SIGMA err
-OTHER_PEAK_MAX = 0.1       # refused when more bootstrap records than this find another peak
+OTHER_PEAK_MAX = 0.02      # refused when more bootstrap records than this find another peak
 RECORD_WINDOW = 2.0 / 3    # the two sub-records of the record term
 RECORD_SIGMA = 4.0         # ... counted when their difference exceeds this many noise RMS
 N_BOOT = 200               # bootstrap records of the fit error

@@ -139,3 +139,20 @@ def test_provisional_coarse_grained_rod_as_quoted():
     assert f"stretch {min(r for r, _ in st):.2f}-{max(r for r, _ in st):.2f}x faster" in DOC
     assert (f"bend n = 2-14 {min(r for r, _ in b):.2f}-{max(r for r, _ in b):.2f}x "
             f"(z {min(z for _, z in b):.1f}-{max(z for _, z in b):.1f})") in re.sub(r"\s+", " ", DOC)
+
+
+def test_the_workflow_reproduces_the_committed_prediction(pred):
+    """`dnarod compare --config workflows/config/dispersion.yaml` run end to end on the 5-ns MD
+    (docs/dispersion.md, "Adopting a run made outside the workflow") reads the trajectory itself;
+    the committed prediction.json came from the mode series (float32 amplitudes) by the steps
+    run by hand. The same modes are refused, and every frequency agrees to 1e-5."""
+    wf = json.loads((R / "workflow" / "dispersion.json").read_text())
+    rows = {(r["kind"], r["n"]): r for r in wf["rows"]}
+    for r in pred["rows"]:
+        w = rows[(r["kind"], r["n"])]
+        assert (w["md_reason"] is None) == (r["md_reason"] is None), (r["kind"], r["n"])
+        for key in ("md_omega0_per_ps", "paper_rod_omega_per_ps"):
+            if r[key] is not None:
+                assert w[key] == pytest.approx(r[key], rel=1e-5), (r["kind"], r["n"], key)
+    assert wf["tension"]["tension_pN"] == pytest.approx(pred["tension"]["tension_pN"], rel=1e-9)
+    assert "refused" in wf["cg_rod_reason"] and "21.9 independent samples" in wf["cg_rod_reason"]
