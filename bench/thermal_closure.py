@@ -36,10 +36,9 @@ vanish, the drift would be the reconstruction's; it does not for any of them.
    measures it) and the effective frequencies of the lab bending modes n = 2, 4, 8,
    w_n^2 = <|da_n/dt|^2> / <|a_n|^2> with a_n the Fourier amplitude of the centerline's
    displacement across the box axis (for a harmonic mode in equilibrium this is its
-   frequency, whatever the friction). Errors from the scatter over the seeds. Each run keeps
-   the box of its initial sample, which is the scene's only where the sampler's nonlinear
-   closure converged (at 300 K it does not for every seed: `box_over_L` per run); the two
-   runs of a seed share it, and their noise, so the comparison is paired by seed.
+   frequency, whatever the friction). Errors from the scatter over the seeds. Each run holds
+   the scene's box (`box_over_L` per run checks it); the two runs of a seed share their
+   noise, so the comparison is paired by seed.
 
     /usr/bin/python3 bench/thermal_closure.py [--part source|cost|wander|interval|all]
         [--out bench/results/thermal_closure.json]
