@@ -494,15 +494,17 @@ def mode_table(series: list[ModeSeries], errors: str = "hessian") -> dict:
 def _numbers(fit) -> dict:
     w, g = fit.omega_per_ps, fit.damping_per_ps
     g_err = _num(fit.damping_err_per_ps)
-    undamped = g_err is None or g < 2 * g_err
+    # A line is undamped over the record: one sinusoid leaves under LINE_RESIDUAL of the
+    # power near it, and a damped mode leaves ~gamma T / 3 (spectrum.line_fit)
+    undamped = fit.line is not None or g_err is None or g < 2 * g_err
     out = {"omega_per_ps": w, "omega_err_per_ps": _num(fit.omega_err_per_ps), "omega0_per_ps": fit.omega0_per_ps,
            "omega0_err_per_ps": _num(fit.omega0_err_per_ps),
            "damping_per_ps": g, "damping_err_per_ps": g_err, "Q": None if undamped else fit.Q,
            "Q_err": None if undamped else _num(fit.Q_err), "undamped": bool(undamped)}
     if undamped:
         # damping consistent with zero: Q has only a lower bound
-        out["Q_lower_bound"] = fit.omega0_per_ps / (2 * (g + 2 * (g_err or 0.0))) if g + 2 * (g_err or 0) > 0 \
-            else None
+        g_max = 3 * LINE_RESIDUAL / fit.record_ps if fit.line is not None else g + 2 * (g_err or 0.0)
+        out["Q_lower_bound"] = fit.omega0_per_ps / (2 * g_max) if g_max > 0 else None
     return out
 
 
