@@ -13,7 +13,7 @@ a mode that
     the periodogram's peak, or its peak stands less than MIN_PEAK_TO_FLOOR above the floor,
   * is not stationary: the frequencies fitted to the two halves of the record differ by more
     than STATIONARY_Z of their combined error (tested when each half holds MIN_PERIODS).
-    Not a line (an undamped mode, taken as a sinusoid: spectrum.line_fit): its halves'
+    A line (an undamped mode, taken as a sinusoid: spectrum.line_fit) is not: its halves'
     errors are the noise's alone, while the frequency of an undamped mode of a real rod
     wanders (the other modes modulate it through the rod's nonlinearity: the cold thermal
     rod's halves differ by ~1e-5 of the frequency, tests/python/test_modes_cold_rod.py).
