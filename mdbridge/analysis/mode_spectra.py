@@ -13,6 +13,13 @@ a mode that
     the periodogram's peak, or its peak stands less than MIN_PEAK_TO_FLOOR above the floor,
   * is not stationary: the frequencies fitted to the two halves of the record differ by more
     than STATIONARY_Z of their combined error (tested when each half holds MIN_PERIODS).
+    A line (an undamped mode, taken as a sinusoid: spectrum.line_fit) is not: its halves'
+    errors are the noise's alone, while the frequency of an undamped mode of a real rod
+    wanders (the other modes modulate it through the rod's nonlinearity: the cold thermal
+    rod's halves differ by ~1e-5 of the frequency, tests/python/test_modes_cold_rod.py).
+    With one record a slow drift of a line's frequency cannot be told from such a wander,
+    so the halves' scatter |omega_1 - omega_2| / 2 (the error of the mean of two) enters a
+    line's error in quadrature instead of refusing it.
   * holds no signal: its rms amplitude is below ROUND_OFF of the field's own scale (the
     rise for bend and stretch, the mean twist density for twist): a deterministic run (a
     kicked rod) leaves the modes it does not excite at round-off, where a fit means nothing.
@@ -36,7 +43,8 @@ import numpy as np
 from dna_models.errors import InputError
 from mdbridge.analysis.modes import AMPLITUDE_UNIT, KINDS, VARIANCE_UNIT
 from mdbridge.analysis.spectrum import (band_indices, expected_periodogram, fit_oscillator, frequencies_per_ps,
-                                        periodogram, GAMMA_OVER_OMEGA_MAX, NOT_LINE_MIN_GAMMA_T)
+                                        line_fit, periodogram, GAMMA_OVER_OMEGA_MAX, LINE_RESIDUAL,
+                                        NOT_LINE_MIN_GAMMA_T)
 from mdbridge.stats import block_sem
 
 MIN_PERIODS = 3.0
@@ -247,12 +255,35 @@ def _band(x, dt, background=None):
     return (peak / BAND_OVER_PEAK, min(BAND_OVER_PEAK * peak, lam[-1])), peak
 
 
+def line_near(x, dt, peak) -> float | None:
+    """The frequency of the line near `peak` [rad/ps], or None when there is none: the
+    pooled periodogram's highest bin within a factor 1 +- 2 SMOOTH_FRACTION of the peak, and
+    the sinusoid there (spectrum.line_fit) if it leaves less than LINE_RESIDUAL of the power
+    near it. _band finds a line only to within its smoothing window (log_smooth spreads the
+    line's one bin over +-SMOOTH_FRACTION of frequency, and the score peaks where the
+    background is lowest under that plateau), while the sinusoid is sought within a bin of
+    its start."""
+    p = periodogram(x).mean(axis=0)
+    lam = frequencies_per_ps(x.shape[1], dt)
+    near = np.flatnonzero((lam >= peak / (1 + 2 * SMOOTH_FRACTION)) & (lam <= peak * (1 + 2 * SMOOTH_FRACTION)))
+    near = near[(near > 0) & (near < len(lam) - 1)]
+    if not len(near):
+        return None
+    sinusoid = line_fit(x, dt, float(lam[near[np.argmax(p[near])]]))
+    return sinusoid["omega_per_ps"] if sinusoid["residual_near"] < LINE_RESIDUAL else None
+
+
 def fit_mode(x, dt, errors="hessian", line="auto", background=None):
     """(OscillatorFit, None) or (None, the reason there is none) for the pooled real series
     x (M, T) of one mode: the band from the periodogram's peak, the fit on it, with the
     mode's background (common_background) when given."""
     try:
         band, peak = _band(x, dt, background)
+        if line == "auto":
+            w = line_near(x, dt, peak)
+            if w is not None:
+                lam = frequencies_per_ps(x.shape[1], dt)
+                band, peak = (w / BAND_OVER_PEAK, min(BAND_OVER_PEAK * w, lam[-1])), w
         return fit_oscillator(x, dt, band, omega_guess=peak, errors=errors, line=line,
                               background=background), None
     except ValueError as e:
@@ -301,9 +332,14 @@ def fit_kind(xs, dt, errors="hessian", line="auto", skip=None, wanted=None) -> l
     bg = backgrounds(xs, skip=skip)
     if any(b is not None for b in bg):
         first = [None if sk else fit_mode(x, dt, "none", line, background=b)[0] for x, b, sk in zip(xs, bg, skip)]
+        # A line (an undamped mode) keeps the first background and is left out of the second:
+        # its periodogram is not its expected power (its sidelobes fall by its phase), so
+        # what would be left of it after the subtraction would stand in the others' background.
+        is_line = [f is not None and f.line is not None for f in first]
         # only a mode that is not refused is taken off: a fit on noise would carve a hole
-        bg = backgrounds(xs, [f if f is not None and refusal(f, x.shape[1] * dt) is None else None
-                              for f, x in zip(first, xs)], skip)
+        second = backgrounds(xs, [f if f is not None and refusal(f, x.shape[1] * dt) is None else None
+                                  for f, x in zip(first, xs)], [sk or ln for sk, ln in zip(skip, is_line)])
+        bg = [b1 if ln else b2 for b1, b2, ln in zip(bg, second, is_line)]
     return [fit_mode(x, dt, errors, line, background=b) if w and not sk else (None, "not wanted")
             for x, b, sk, w in zip(xs, bg, skip, wanted)]
 
@@ -425,7 +461,15 @@ def mode_table(series: list[ModeSeries], errors: str = "hessian") -> dict:
             if reason is None:
                 e.update(_numbers(fit))
                 e["halves"] = _halves([h[i] for h in halves], h2 * dt)
-                if e["halves"].get("z") is not None and e["halves"]["z"] > STATIONARY_Z:
+                z_halves = e["halves"].get("z")
+                if z_halves is not None and z_halves > STATIONARY_Z and fit.line is not None:
+                    # a line's frequency wanders (module doc): the halves' scatter enters its error
+                    w1, w2 = e["halves"]["omega_per_ps"]
+                    e["halves"]["scatter_per_ps"] = abs(w1 - w2) / 2
+                    for k in ("omega_err_per_ps", "omega0_err_per_ps"):
+                        if e[k] is not None:
+                            e[k] = math.hypot(e[k], e["halves"]["scatter_per_ps"])
+                elif z_halves is not None and z_halves > STATIONARY_Z:
                     e["reason"] = (f"not stationary: the halves' frequencies differ by "
                                    f"{e['halves']['z']:.1f} of their combined error (> {STATIONARY_Z:g})")
                     e.update({k: None for k in ("omega_per_ps", "omega_err_per_ps", "omega0_per_ps",
@@ -450,15 +494,17 @@ def mode_table(series: list[ModeSeries], errors: str = "hessian") -> dict:
 def _numbers(fit) -> dict:
     w, g = fit.omega_per_ps, fit.damping_per_ps
     g_err = _num(fit.damping_err_per_ps)
-    undamped = g_err is None or g < 2 * g_err
+    # A line is undamped over the record: one sinusoid leaves under LINE_RESIDUAL of the
+    # power near it, and a damped mode leaves ~gamma T / 3 (spectrum.line_fit)
+    undamped = fit.line is not None or g_err is None or g < 2 * g_err
     out = {"omega_per_ps": w, "omega_err_per_ps": _num(fit.omega_err_per_ps), "omega0_per_ps": fit.omega0_per_ps,
            "omega0_err_per_ps": _num(fit.omega0_err_per_ps),
            "damping_per_ps": g, "damping_err_per_ps": g_err, "Q": None if undamped else fit.Q,
            "Q_err": None if undamped else _num(fit.Q_err), "undamped": bool(undamped)}
     if undamped:
         # damping consistent with zero: Q has only a lower bound
-        out["Q_lower_bound"] = fit.omega0_per_ps / (2 * (g + 2 * (g_err or 0.0))) if g + 2 * (g_err or 0) > 0 \
-            else None
+        g_max = 3 * LINE_RESIDUAL / fit.record_ps if fit.line is not None else g + 2 * (g_err or 0.0)
+        out["Q_lower_bound"] = fit.omega0_per_ps / (2 * g_max) if g_max > 0 else None
     return out
 
 

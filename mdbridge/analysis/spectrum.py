@@ -157,6 +157,14 @@ def fit_oscillator(x: np.ndarray, dt_ps: float, band_per_ps=None, omega_guess=No
         G = np.maximum(np.asarray(background, float)[j], 0.0)
         # unit mean on the band: the amplitudes are free, and stay O(1) in the fit
         G = G / G.mean() if np.any(G > 0) else None
+    if line == "auto" and omega_guess is not None:
+        sinusoid = line_fit(x, dt_ps, omega_guess)
+        if sinusoid["residual_near"] < LINE_RESIDUAL:
+            # a line at the guess (an undamped mode): the Whittle fit starts on it, where
+            # its narrow start wins, rather than on a broad start elsewhere on the band
+            fit = _fit_periodogram(I, j, n, dt_ps, lam, sinusoid["omega_per_ps"], G=G)
+            fit.band_per_ps = (float(band_per_ps[0]), float(band_per_ps[1]))
+            return _as_line(fit, sinusoid, errors, I, j)
     fit = _fit_periodogram(I, j, n, dt_ps, lam, omega_guess, G=G)
     fit.band_per_ps = (float(band_per_ps[0]), float(band_per_ps[1]))
     if line == "always" or fit.damping_per_ps * fit.record_ps < LINE_GAMMA_T:
@@ -168,16 +176,22 @@ def fit_oscillator(x: np.ndarray, dt_ps: float, band_per_ps=None, omega_guess=No
             fit = _fit_periodogram(I, j, n, dt_ps, lam, omega_guess, NOT_LINE_MIN_GAMMA_T / (n * dt_ps), G=G)
             fit.band_per_ps = (float(band_per_ps[0]), float(band_per_ps[1]))
         elif line == "always" or sinusoid["residual_near"] < LINE_RESIDUAL:
-            fit.line = sinusoid
-            fit.omega_per_ps = sinusoid["omega_per_ps"]
-            if errors != "none":
-                fit.omega_err_per_ps = sinusoid["omega_err_per_ps"]
-                fit.damping_err_per_ps = _hessian_errors(fit, I, j)[1]
-            return fit
+            return _as_line(fit, sinusoid, errors, I, j)
     if errors == "hessian":
         fit.omega_err_per_ps, fit.damping_err_per_ps, fit.Q_err, fit.omega0_err_per_ps = _hessian_errors(fit, I, j)
     elif errors != "none":
         raise ValueError(f"errors: 'hessian' or 'none', got {errors!r}")
+    return fit
+
+
+def _as_line(fit: OscillatorFit, sinusoid: dict, errors: str, I, j) -> OscillatorFit:
+    """The fit as a line: line_fit's frequency and error; the damping's error from the
+    Whittle fit's Hessian."""
+    fit.line = sinusoid
+    fit.omega_per_ps = sinusoid["omega_per_ps"]
+    if errors != "none":
+        fit.omega_err_per_ps = sinusoid["omega_err_per_ps"]
+        fit.damping_err_per_ps = _hessian_errors(fit, I, j)[1]
     return fit
 
 
