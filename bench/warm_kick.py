@@ -37,6 +37,7 @@ enter, and the box ratio does the rest length's work.
 
     /usr/bin/python3 bench/warm_kick.py [--runs 20] [--tension-pN 5] [--material paper cg]
         [--out results/warm_kick/warm_kick.json]
+    /usr/bin/python3 bench/warm_kick.py --cold --out results/warm_kick/cold.json   # the 0-K rods
 
 Needs rodcore on PYTHONPATH (build/python). About 15 s per run on one core.
 """
@@ -65,6 +66,7 @@ TURNS = 15
 L = N_BP * U.rise_A / U.ell_A                 # the 0-K rod's rest length, rod units
 FORCE_PN = U.C * 1e12
 CG_PARAMS = HERE.parent / "results/dispersion/cg_provisional/params.json"
+MACHINE = "2 cores shared with a GROMACS run and other jobs (wall times per run are not timings)"
 DT = 0.0531                                   # 20 steps per 1-ps frame (1.062 time units)
 
 
@@ -231,6 +233,13 @@ def ensemble(mat_name: str, tension_pN: float, runs: int, seed0: int, t_eq: floa
             "rest_length_A": L * U.ell_A, "summary": summarise(per_run), "runs": per_run}
 
 
+def cold_reference(mat_name: str, run_ps: float, A_v: float, workdir: Path) -> dict:
+    """The same kick on the same rod at 0 K in its built box (Gamma03 = 1: no slack, no
+    tension at rest), through the same analysis: the 0-K rod of the comparison."""
+    r = kicked(material(mat_name), straight(1.0), A_v, run_ps, workdir, 0, temperature_K=0.0)
+    return dict(r, material=mat_name, temperature_K=0.0, Gamma03=1.0)
+
+
 def _dist(x) -> dict:
     x = np.asarray([v for v in x if v is not None and math.isfinite(v)], float)
     if len(x) < 2:
@@ -252,6 +261,48 @@ def summarise(per_run: list[dict]) -> dict:
             "standing": sum(1 for r in per_run if r["wave_kind"] == "standing")}
 
 
+MD_BOX_A = N_BP * U.rise_A         # the MD's box: the duplex as built
+MD_AMPLITUDE_A = 35.9              # the main job's kicked mode amplitude (docs/analysis.md, "The main job, measured")
+
+
+def speed_in_md_box(omega_per_ps: float) -> float:
+    """The phase speed the MD's analysis would print for this frequency: omega L_box / 2 pi
+    with the MD's box (the warm rod's box is shorter or longer by its Gamma03)."""
+    return omega_per_ps * MD_BOX_A / (2 * math.pi)
+
+
+def table(paths: list[str], md_speed: float, md_speed_err: float, md_amplitude_A: float) -> str:
+    """The docs' table from the result files: per ensemble the tension it held, the speed and
+    the amplitude (mean, sd over the runs, sem), the speed in the MD's box, and where the MD's
+    single record falls among the runs (the fraction of runs below it)."""
+    rows = ["| rod | T [pN] held (set) | speed [A/ps] mean +- sd (sem) | in the MD's box | amplitude [A] "
+            "mean +- sd (sem) | runs below the MD: speed, amplitude | refused by the noise test |",
+            "|---|---|---|---|---|---|---|"]
+    for p in paths:
+        d = json.loads(Path(p).read_text())
+        for c in d.get("cold", []):
+            rows.append(f"| {c['material']}, 0 K, built box | 0 (0) | {c['speed_A_per_ps']:.3f} +- "
+                        f"{c['speed_err_A_per_ps']:.3f} (fit) | {speed_in_md_box(c['omega_per_ps']):.3f} | "
+                        f"{c['mode_amplitude_A']:.1f} | | {'no' if c['reason'] is None else 'yes'} |")
+        for e in d.get("ensembles", []):
+            runs = e["runs"]
+            sp = np.array([r["speed_A_per_ps"] for r in runs], float)
+            am = np.array([r["mode_amplitude_A"] for r in runs], float)
+            md_box = np.array([speed_in_md_box(r["omega_per_ps"]) for r in runs], float)
+            ft = e["summary"]["equilibrium_tension_pN"]
+            n = len(runs)
+            rows.append(
+                f"| {e['material']}, 300 K, box {e['box_length_A']:.1f} A, {n} runs | {ft['mean']:.1f} +- "
+                f"{ft['sem']:.1f} ({e['target_tension_pN']:g}) | {sp.mean():.2f} +- {sp.std(ddof=1):.2f} "
+                f"({sp.std(ddof=1) / math.sqrt(n):.2f}) | {md_box.mean():.2f} | {am.mean():.1f} +- "
+                f"{am.std(ddof=1):.1f} ({am.std(ddof=1) / math.sqrt(n):.1f}) | "
+                f"{np.sum(sp < md_speed)}/{n}, {np.sum(am < md_amplitude_A)}/{n} | "
+                f"{e['summary']['refused']}/{n} |")
+    rows.append(f"| the MD (main job, one record) | 5 +- 13 (unkicked baseline) | {md_speed:.2f} +- {md_speed_err:.2f} | "
+                f"{md_speed:.2f} | {md_amplitude_A:.1f} | | no |")
+    return "\n".join(rows)
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--runs", type=int, default=20)
@@ -264,16 +315,30 @@ def main(argv=None) -> int:
                     help="translational friction of the equilibration [per time unit]")
     ap.add_argument("--run-ps", type=float, default=600.0)
     ap.add_argument("--A-v", type=float, default=1.0, help="kick [A/ps]")
+    ap.add_argument("--cold", action="store_true",
+                    help="instead: the 0-K rods in their built box, one run per material")
     ap.add_argument("--out", default=str(HERE.parent / "results/warm_kick/warm_kick.json"))
+    ap.add_argument("--table", nargs="+", metavar="JSON",
+                    help="instead: print the docs' table from these result files")
     a = ap.parse_args(argv)
-    if a.runs < 2:
+    if a.table:
+        mj = json.loads((HERE.parent / "results/main_job.json").read_text())
+        print(table(a.table, mj["md_phase_speed_A_per_ps"], mj["md_phase_speed_err_A_per_ps"],
+                    MD_AMPLITUDE_A))
+        return 0
+    if a.runs < 2 and not a.cold:
         raise SystemExit("warm_kick: --runs must be >= 2 (a distribution)")
     out = {"what": "the paper's kick (A_v sin(2 pi s / L)) on box-held 158-bp rods equilibrated at 300 K, "
                    "box set to hold the MD's tension; the MD's wave analysis (bench/warm_kick.py)",
            "command": "/usr/bin/python3 bench/warm_kick.py " + " ".join(sys.argv[1:] if argv is None else argv),
-           "date": time.strftime("%Y-%m-%d"), "settings": vars(a), "ensembles": []}
+           "date": time.strftime("%Y-%m-%d"), "machine": MACHINE, "settings": vars(a), "ensembles": []}
     Path(a.out).parent.mkdir(parents=True, exist_ok=True)
     with tempfile.TemporaryDirectory() as tmp:
+        if a.cold:
+            out["what"] = "the paper's kick on the 0-K 158-bp rods in their built box, the MD's wave analysis"
+            out["cold"] = [cold_reference(m, a.run_ps, a.A_v, Path(tmp)) for m in a.material]
+            write_json(a.out, out)
+            return 0
         for m in a.material:
             out["ensembles"].append(ensemble(m, a.tension_pN, a.runs, a.seed, a.equilibrate, a.run_ps,
                                              a.friction, a.A_v, Path(tmp)))
