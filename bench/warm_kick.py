@@ -298,8 +298,8 @@ def table(paths: list[str], md_speed: float, md_speed_err: float, md_amplitude_A
                 f"{am.std(ddof=1):.1f} ({am.std(ddof=1) / math.sqrt(n):.1f}) | "
                 f"{np.sum(sp < md_speed)}/{n}, {np.sum(am < md_amplitude_A)}/{n} | "
                 f"{e['summary']['refused']}/{n} |")
-    rows.append(f"| the MD (main job, one record) | 5 +- 13 (unkicked baseline) | {md_speed:.2f} +- {md_speed_err:.2f} | "
-                f"{md_speed:.2f} | {md_amplitude_A:.1f} | | no |")
+    rows.append(f"| the MD (main job, one record) | 5 +- 13 (unkicked baseline) | {md_speed:.2f} +- "
+                f"{md_speed_err:.2f} | {md_speed:.2f} | {md_amplitude_A:.1f} | | no |")
     return "\n".join(rows)
 
 
