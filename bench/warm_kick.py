@@ -263,6 +263,7 @@ def summarise(per_run: list[dict]) -> dict:
 
 MD_BOX_A = N_BP * U.rise_A         # the MD's box: the duplex as built
 MD_AMPLITUDE_A = 35.9              # the main job's kicked mode amplitude (docs/analysis.md, "The main job, measured")
+MD_KICKED_TENSION_PN = (31.0, 8.0)  # and its mean tension while kicked (the same table)
 
 
 def speed_in_md_box(omega_per_ps: float) -> float:
@@ -276,30 +277,33 @@ def table(paths: list[str], md_speed: float, md_speed_err: float, md_amplitude_A
     the amplitude (mean, sd over the runs, sem), the speed in the MD's box, and where the MD's
     single record falls among the runs (the fraction of runs below it)."""
     rows = ["| rod | T [pN] held (set) | speed [A/ps] mean +- sd (sem) | in the MD's box | amplitude [A] "
-            "mean +- sd (sem) | runs below the MD: speed, amplitude | refused by the noise test |",
-            "|---|---|---|---|---|---|---|"]
+            "mean +- sd (sem) | T [pN] kicked, mean +- sd | runs below the MD: speed, amplitude | "
+            "refused by the noise test |",
+            "|---|---|---|---|---|---|---|---|"]
     for p in paths:
         d = json.loads(Path(p).read_text())
         for c in d.get("cold", []):
             rows.append(f"| {c['material']}, 0 K, built box | 0 (0) | {c['speed_A_per_ps']:.3f} +- "
                         f"{c['speed_err_A_per_ps']:.3f} (fit) | {speed_in_md_box(c['omega_per_ps']):.3f} | "
-                        f"{c['mode_amplitude_A']:.1f} | | {'no' if c['reason'] is None else 'yes'} |")
+                        f"{c['mode_amplitude_A']:.1f} | {c['kicked_tension_mean_pN']:.1f} | | "
+                        f"{'no' if c['reason'] is None else 'yes'} |")
         for e in d.get("ensembles", []):
             runs = e["runs"]
             sp = np.array([r["speed_A_per_ps"] for r in runs], float)
             am = np.array([r["mode_amplitude_A"] for r in runs], float)
             md_box = np.array([speed_in_md_box(r["omega_per_ps"]) for r in runs], float)
-            ft = e["summary"]["equilibrium_tension_pN"]
+            ft, fk = e["summary"]["equilibrium_tension_pN"], e["summary"]["kicked_tension_mean_pN"]
             n = len(runs)
             rows.append(
                 f"| {e['material']}, 300 K, box {e['box_length_A']:.1f} A, {n} runs | {ft['mean']:.1f} +- "
                 f"{ft['sem']:.1f} ({e['target_tension_pN']:g}) | {sp.mean():.2f} +- {sp.std(ddof=1):.2f} "
                 f"({sp.std(ddof=1) / math.sqrt(n):.2f}) | {md_box.mean():.2f} | {am.mean():.1f} +- "
-                f"{am.std(ddof=1):.1f} ({am.std(ddof=1) / math.sqrt(n):.1f}) | "
+                f"{am.std(ddof=1):.1f} ({am.std(ddof=1) / math.sqrt(n):.1f}) | {fk['mean']:.1f} +- {fk['sd']:.1f} | "
                 f"{np.sum(sp < md_speed)}/{n}, {np.sum(am < md_amplitude_A)}/{n} | "
                 f"{e['summary']['refused']}/{n} |")
     rows.append(f"| the MD (main job, one record) | 5 +- 13 (unkicked baseline) | {md_speed:.2f} +- "
-                f"{md_speed_err:.2f} | {md_speed:.2f} | {md_amplitude_A:.1f} | | no |")
+                f"{md_speed_err:.2f} | {md_speed:.2f} | {md_amplitude_A:.1f} | {MD_KICKED_TENSION_PN[0]:g} +- "
+                f"{MD_KICKED_TENSION_PN[1]:g} (its error) | | no |")
     return "\n".join(rows)
 
 
