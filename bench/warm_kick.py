@@ -278,15 +278,15 @@ def table(paths: list[str], md_speed: float, md_speed_err: float, md_amplitude_A
     single record falls among the runs (the fraction of runs below it)."""
     rows = ["| rod | T [pN] held (set) | speed [A/ps] mean +- sd (sem) | in the MD's box | amplitude [A] "
             "mean +- sd (sem) | T [pN] kicked, mean +- sd | runs below the MD: speed, amplitude | "
-            "refused by the noise test |",
-            "|---|---|---|---|---|---|---|---|"]
+            "refused by the noise test | a run's stated speed error, median |",
+            "|---|---|---|---|---|---|---|---|---|"]
     for p in paths:
         d = json.loads(Path(p).read_text())
         for c in d.get("cold", []):
             rows.append(f"| {c['material']}, 0 K, built box | 0 (0) | {c['speed_A_per_ps']:.3f} +- "
                         f"{c['speed_err_A_per_ps']:.3f} (fit) | {speed_in_md_box(c['omega_per_ps']):.3f} | "
                         f"{c['mode_amplitude_A']:.1f} | {c['kicked_tension_mean_pN']:.1f} | | "
-                        f"{'no' if c['reason'] is None else 'yes'} |")
+                        f"{'no' if c['reason'] is None else 'yes'} | {c['speed_err_A_per_ps']:.3f} |")
         for e in d.get("ensembles", []):
             runs = e["runs"]
             sp = np.array([r["speed_A_per_ps"] for r in runs], float)
@@ -300,10 +300,11 @@ def table(paths: list[str], md_speed: float, md_speed_err: float, md_amplitude_A
                 f"({sp.std(ddof=1) / math.sqrt(n):.2f}) | {md_box.mean():.2f} | {am.mean():.1f} +- "
                 f"{am.std(ddof=1):.1f} ({am.std(ddof=1) / math.sqrt(n):.1f}) | {fk['mean']:.1f} +- {fk['sd']:.1f} | "
                 f"{np.sum(sp < md_speed)}/{n}, {np.sum(am < md_amplitude_A)}/{n} | "
-                f"{e['summary']['refused']}/{n} |")
+                f"{e['summary']['refused']}/{n} | "
+                f"{np.median([r['speed_err_A_per_ps'] for r in runs]):.2f} |")
     rows.append(f"| the MD (main job, one record) | 5 +- 13 (unkicked baseline) | {md_speed:.2f} +- "
                 f"{md_speed_err:.2f} | {md_speed:.2f} | {md_amplitude_A:.1f} | {MD_KICKED_TENSION_PN[0]:g} +- "
-                f"{MD_KICKED_TENSION_PN[1]:g} (its error) | | no |")
+                f"{MD_KICKED_TENSION_PN[1]:g} (its error) | | no | {md_speed_err:.2f} |")
     return "\n".join(rows)
 
 
