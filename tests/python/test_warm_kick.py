@@ -14,6 +14,7 @@ kicked as the MD was, through the MD's wave analysis.
 """
 import json
 import math
+import re
 from pathlib import Path
 
 import numpy as np
@@ -80,3 +81,64 @@ def test_two_short_warm_runs(tmp_path):
     assert again["mode_amplitude_A"] == runs[1]["mode_amplitude_A"]              # a seed repeats
     assert again["equilibrium_tension_pN"] == runs[1]["equilibrium_tension_pN"]
     assert e["summary"]["mode_amplitude_A"]["n"] == 2
+
+
+RESULT_FILES = ["results/warm_kick/cold.json", "results/warm_kick/warm_kick_5pN.json"]
+
+
+def test_the_committed_ensembles_are_what_the_docs_quote():
+    """The ensembles as the docs describe them (20 runs per material, seeds 1-20, the paper's
+    kick, 600 ps) and docs/results.md's table rendered from them by `--table`."""
+    for name in RESULT_FILES[1:]:
+        d = json.loads((ROOT / name).read_text())
+        assert d["settings"]["A_v"] == 1.0 and d["settings"]["run_ps"] == 600.0
+        assert [e["material"] for e in d["ensembles"]] == ["paper", "cg"]
+        for e in d["ensembles"]:
+            assert [r["seed"] for r in e["runs"]] == list(range(1, 21))
+            assert e["box_length_A"] == pytest.approx(e["Gamma03"] * WK.L * WK.U.ell_A, rel=1e-12)
+            for r in e["runs"]:          # every run kept its box (the projection converges to ~1e-5)
+                assert r["box_length_A"] == pytest.approx(e["box_length_A"], rel=5e-5)   # 0.03 A
+    mj = json.loads((ROOT / "results/main_job.json").read_text())
+    table = WK.table([str(ROOT / p) for p in RESULT_FILES], mj["md_phase_speed_A_per_ps"],
+                     mj["md_phase_speed_err_A_per_ps"], WK.MD_AMPLITUDE_A)
+    doc = (ROOT / "docs/results.md").read_text()
+    for row in table.splitlines():
+        assert row in doc, row
+
+
+def test_the_prose_quotes_the_5pN_ensembles():
+    """docs/results.md's sentences about the 5-pN ensembles, formatted from the result files."""
+    cold = {c["material"]: c for c in json.loads((ROOT / RESULT_FILES[0]).read_text())["cold"]}
+    ens = {e["material"]: e for e in json.loads((ROOT / RESULT_FILES[1]).read_text())["ensembles"]}
+    md_speed = json.loads((ROOT / "results/main_job.json").read_text())["md_phase_speed_A_per_ps"]
+
+    def col(e, key):
+        return np.array([r[key] for r in e["runs"]], float)
+
+    p, g = ens["paper"], ens["cg"]
+    sp, am, gs = col(p, "speed_A_per_ps"), col(p, "mode_amplitude_A"), col(g, "speed_A_per_ps")
+    fk = {m: e["summary"]["kicked_tension_mean_pN"] for m, e in ens.items()}
+    fe = {m: e["summary"]["equilibrium_tension_pN"] for m, e in ens.items()}
+    c = WK.iso_constants(WK.material("cg"))
+    slack_cg = slack_tension(WK.L, 158, WK.U.kT_to_rod(300.0), c["B"], c["C1"], c["C3"]).exact * WK.FORCE_PN
+    quotes = [
+        f"{p['box_length_A']:.1f} A (paper) and {g['box_length_A']:.1f} A (coarse-grained)",
+        f"{slack_cg:.1f} pN (this coarse-grained material)",
+        f"{sp.mean():.2f} +- {sp.std(ddof=1):.2f} A/ps (mean +- sd over 20 seeds) and {am.mean():.1f} +- "
+        f"{am.std(ddof=1):.1f} A, against {cold['paper']['speed_A_per_ps']:.3f} A/ps and "
+        f"{cold['paper']['mode_amplitude_A']:.1f} A at 0 K",
+        f"{np.sum(sp < md_speed)} of 20 runs are slower and {np.sum(am < WK.MD_AMPLITUDE_A)} of 20 are smaller",
+        f"{fk['paper']['mean']:.1f} +- {fk['paper']['sd']:.1f} pN against the MD's 31 +- 8, and "
+        f"{cold['paper']['kicked_tension_mean_pN']:.1f} for the 0-K rod",
+        f"in all 20 runs ({gs.mean():.2f} +- {gs.std(ddof=1):.2f} A/ps)",
+        f"({fk['cg']['mean']:.1f} +- {fk['cg']['sd']:.1f} pN)",
+        f"already slower at 0 K ({cold['cg']['speed_A_per_ps']:.3f} A/ps)",
+        f"scatters by {sp.std(ddof=1):.2f} A/ps (sd)",
+        f"median of {np.median(col(p, 'speed_err_A_per_ps')):.2f} A/ps",
+        f"{p['summary']['refused']} of the 20 warm records fail",
+        f"{fe['paper']['mean']:.1f} +- {fe['paper']['sem']:.1f} pN (paper) and {fe['cg']['mean']:.1f} +- "
+        f"{fe['cg']['sem']:.1f} pN (coarse-grained)",
+    ]
+    assert np.all(gs < md_speed)
+    doc = re.sub(r"\s+", " ", (ROOT / "docs/results.md").read_text())
+    assert [q for q in quotes if q not in doc] == []
