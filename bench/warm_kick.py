@@ -288,19 +288,22 @@ def table(paths: list[str], md_speed: float, md_speed_err: float, md_amplitude_A
                         f"{c['mode_amplitude_A']:.1f} | {c['kicked_tension_mean_pN']:.1f} | | "
                         f"{'no' if c['reason'] is None else 'yes'} | {c['speed_err_A_per_ps']:.3f} |")
         for e in d.get("ensembles", []):
-            runs = e["runs"]
+            # a run whose fit found no frequency at all (fewer than a quarter period) has none
+            runs = [r for r in e["runs"] if r["omega_per_ps"] is not None and math.isfinite(r["omega_per_ps"])]
             sp = np.array([r["speed_A_per_ps"] for r in runs], float)
             am = np.array([r["mode_amplitude_A"] for r in runs], float)
             md_box = np.array([speed_in_md_box(r["omega_per_ps"]) for r in runs], float)
             ft, fk = e["summary"]["equilibrium_tension_pN"], e["summary"]["kicked_tension_mean_pN"]
             n = len(runs)
+            no_fit = "" if n == len(e["runs"]) else f" ({len(e['runs']) - n} without a frequency)"
             rows.append(
-                f"| {e['material']}, 300 K, box {e['box_length_A']:.1f} A, {n} runs | {ft['mean']:.1f} +- "
+                f"| {e['material']}, 300 K, box {e['box_length_A']:.1f} A, {len(e['runs'])} runs{no_fit} | "
+                f"{ft['mean']:.1f} +- "
                 f"{ft['sem']:.1f} ({e['target_tension_pN']:g}) | {sp.mean():.2f} +- {sp.std(ddof=1):.2f} "
                 f"({sp.std(ddof=1) / math.sqrt(n):.2f}) | {md_box.mean():.2f} | {am.mean():.1f} +- "
                 f"{am.std(ddof=1):.1f} ({am.std(ddof=1) / math.sqrt(n):.1f}) | {fk['mean']:.1f} +- {fk['sd']:.1f} | "
                 f"{np.sum(sp < md_speed)}/{n}, {np.sum(am < md_amplitude_A)}/{n} | "
-                f"{e['summary']['refused']}/{n} | "
+                f"{e['summary']['refused']}/{len(e['runs'])} | "
                 f"{np.median([r['speed_err_A_per_ps'] for r in runs]):.2f} |")
     rows.append(f"| the MD (main job, one record) | 5 +- 13 (unkicked baseline) | {md_speed:.2f} +- "
                 f"{md_speed_err:.2f} | {md_speed:.2f} | {md_amplitude_A:.1f} | {MD_KICKED_TENSION_PN[0]:g} +- "

@@ -83,7 +83,8 @@ def test_two_short_warm_runs(tmp_path):
     assert e["summary"]["mode_amplitude_A"]["n"] == 2
 
 
-RESULT_FILES = ["results/warm_kick/cold.json", "results/warm_kick/warm_kick_5pN.json"]
+RESULT_FILES = ["results/warm_kick/cold.json", "results/warm_kick/warm_kick_5pN.json",
+                "results/warm_kick/warm_kick_38pN.json"]
 
 
 def test_the_committed_ensembles_are_what_the_docs_quote():
@@ -140,5 +141,28 @@ def test_the_prose_quotes_the_5pN_ensembles():
         f"{fe['cg']['sem']:.1f} pN (coarse-grained)",
     ]
     assert np.all(gs < md_speed)
+    doc = re.sub(r"\s+", " ", (ROOT / "docs/results.md").read_text())
+    assert [q for q in quotes if q not in doc] == []
+
+
+def test_the_prose_quotes_the_38pN_ensembles():
+    ens = {e["material"]: e for e in json.loads((ROOT / RESULT_FILES[2]).read_text())["ensembles"]}
+    md_speed = json.loads((ROOT / "results/main_job.json").read_text())["md_phase_speed_A_per_ps"]
+    out = {}
+    for m, e in ens.items():
+        runs = [r for r in e["runs"] if r["omega_per_ps"] is not None and math.isfinite(r["omega_per_ps"])]
+        sp = np.array([r["speed_A_per_ps"] for r in runs])
+        am = np.array([r["mode_amplitude_A"] for r in runs])
+        out[m] = (e["summary"]["equilibrium_tension_pN"]["mean"], sp, am, e["summary"]["kicked_tension_mean_pN"])
+    (Fp, sp, _, kp), (Fg, sg, ag, kg) = out["paper"], out["cg"]
+    quotes = [
+        f"paper rod at {Fp:.1f} pN is faster ({sp.mean():.2f} +- {sp.std(ddof=1):.2f} A/ps; "
+        f"{np.sum(sp < md_speed)} of 20 runs slower than the MD) and pulls {kp['mean']:.1f} +- {kp['sd']:.1f} pN",
+        f"coarse-grained rod at {Fg:.1f} pN",
+        f"({sg.mean():.2f} +- {sg.std(ddof=1):.2f} A/ps; {np.sum(sg < md_speed)} of {len(sg)} runs slower) and pulls "
+        f"{kg['mean']:.1f} +- {kg['sd']:.1f} pN",
+        f"smaller than the MD's in all {len(ag)} runs ({ag.mean():.1f} +- {ag.std(ddof=1):.1f} A)",
+    ]
+    assert np.all(ag < WK.MD_AMPLITUDE_A)
     doc = re.sub(r"\s+", " ", (ROOT / "docs/results.md").read_text())
     assert [q for q in quotes if q not in doc] == []
