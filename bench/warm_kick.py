@@ -39,7 +39,7 @@ enter, and the box ratio does the rest length's work.
         [--out results/warm_kick/warm_kick.json]
     /usr/bin/python3 bench/warm_kick.py --cold --out results/warm_kick/cold.json   # the 0-K rods
 
-Needs rodcore on PYTHONPATH (build/python). About 15 s per run on one core.
+Needs rodcore on PYTHONPATH (build/python). 30-60 s per run on the shared 2-core machine.
 """
 from __future__ import annotations
 
