@@ -14,9 +14,9 @@ transverse velocity A_v sin(2 pi s / L), A_v = 1 A/ps. The paper's rod gets the 
    the rod then holds is measured during its equilibration and reported (the check of the box).
 2. **Equilibration.** The straight twisted rod at Gamma3 = Gamma03, at rest, run as a Langevin
    rod at 300 K with the box kept (closure projection, docs/thermal.md): the bath heats it and
-   it buckles into its thermal slack. Not from the [thermal] sample: about a compressed
-   straight rod the sample's closure holds at linear order only (its nonlinear gap is 0.27 at
-   Gamma03 = 0.965) and the run then keeps the sample's box, 489 A instead of 515 A.
+   it buckles into its thermal slack. Not from the [thermal] sample, which is exact only about
+   a stress-free state (the compressed straight rod is pre-stressed; docs/thermal.md); its
+   closure there held at linear order only (nonlinear gap 0.27 at Gamma03 = 0.965).
    Rotations in water; translations with a weak friction (`--friction`, per time unit), near
    the critical damping of the slowest bending mode. The equilibrium state does not depend on
    the friction, only the time to reach it: in water (0.84 /ps across) the n = 1 bend of the
