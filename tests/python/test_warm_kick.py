@@ -122,7 +122,10 @@ def test_the_prose_quotes_the_5pN_ensembles():
     fe = {m: e["summary"]["equilibrium_tension_pN"] for m, e in ens.items()}
     c = WK.iso_constants(WK.material("cg"))
     slack_cg = slack_tension(WK.L, 158, WK.U.kT_to_rod(300.0), c["B"], c["C1"], c["C3"]).exact * WK.FORCE_PN
+    half = col(p, "equilibrium_tension_first_half_pN")
     quotes = [
+        f"from {half.mean():.1f} +- {half.std(ddof=1) / math.sqrt(len(half)):.1f} to {fe['paper']['mean']:.1f} +- "
+        f"{fe['paper']['sem']:.1f} pN",
         f"{p['box_length_A']:.1f} A (paper) and {g['box_length_A']:.1f} A (coarse-grained)",
         f"{slack_cg:.1f} pN (this coarse-grained material)",
         f"{sp.mean():.2f} +- {sp.std(ddof=1):.2f} A/ps (mean +- sd over 20 seeds) and {am.mean():.1f} +- "
@@ -155,7 +158,10 @@ def test_the_prose_quotes_the_38pN_ensembles():
         am = np.array([r["mode_amplitude_A"] for r in runs])
         out[m] = (e["summary"]["equilibrium_tension_pN"]["mean"], sp, am, e["summary"]["kicked_tension_mean_pN"])
     (Fp, sp, _, kp), (Fg, sg, ag, kg) = out["paper"], out["cg"]
+    half = np.array([r["equilibrium_tension_first_half_pN"] for r in ens["paper"]["runs"]])
+    sem = ens["paper"]["summary"]["equilibrium_tension_pN"]["sem"]
     quotes = [
+        f"from {half.mean():.1f} +- {half.std(ddof=1) / math.sqrt(len(half)):.1f} to {Fp:.1f} +- {sem:.1f} pN",
         f"paper rod at {Fp:.1f} pN is faster ({sp.mean():.2f} +- {sp.std(ddof=1):.2f} A/ps; "
         f"{np.sum(sp < md_speed)} of 20 runs slower than the MD) and pulls {kp['mean']:.1f} +- {kp['sd']:.1f} pN",
         f"coarse-grained rod at {Fg:.1f} pN",
