@@ -124,8 +124,8 @@ def box_force_pN(f: dict, mat: dict) -> float:
 
 def equilibrate(mat: dict, Gamma03: float, seed: int, t_eq: float, friction: float,
                 temperature_K: float = 300.0) -> dict:
-    """The Langevin rod from the straight state plus its thermal sample; returns the final
-    internal state and the box force per frame (every 10 time units)."""
+    """The Langevin rod from the straight state at rest (no sample: the bath heats it); returns
+    the final internal state and the box force per frame (every 10 time units)."""
     import rodcore
     frames = int(round(t_eq / 10.0)) + 1
     t_eq = (frames - 1) * 10.0
