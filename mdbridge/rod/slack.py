@@ -101,3 +101,12 @@ def slack_tension(L: float, N: int, kT: float, B: float, C1: float, C3: float,
     error = float(math.sqrt(np.sum(w * (force - exact) ** 2) / ess))
     return SlackTension(mean_field=float(F), exact=exact, error=error, slack=float(F / C3),
                         shear_free=float(shear_free))
+
+
+def box_for_tension(F: float, L: float, N: int, kT: float, B: float, C1: float, C3: float) -> float:
+    """The box length X / L at which the box-held rod of `slack_tension` holds the tension F
+    (rod force units), mean field: X / L = <(1 + eps)(1 - s) - c> = 1 + F / C3 - <s + c>(F)
+    to second order, the stored contour <s + c> taken with the modes' covariance at F. At
+    X = L it gives back the mean-field slack tension."""
+    k = 2 * np.pi * np.arange(1, N // 2 + 1) / L
+    return float(1.0 + F / C3 - _mean_slack(k, kT, L, B, C1, F))
