@@ -166,3 +166,24 @@ def test_the_workflow_reproduces_the_committed_prediction(pred):
                 assert w[key] == pytest.approx(r[key], rel=1e-5), (r["kind"], r["n"], key)
     assert wf["tension"]["tension_pN"] == pytest.approx(pred["tension"]["tension_pN"], rel=1e-9)
     assert "refused" in wf["cg_rod_reason"] and "21.9 independent samples" in wf["cg_rod_reason"]
+
+
+def test_rod_at_300K_shifts_as_quoted():
+    """docs/dispersion.md: the paper's rod at 300 K through `dnarod modes`, relative to the
+    zero-tension linear dispersion (tests/python/test_modes_cold_rod.py's reference)."""
+    from test_modes_cold_rod import linear_omega_per_ps
+    modes = json.loads((R / "rod_300K" / "modes.json").read_text())["modes"]
+    shift = {(m["kind"], m["n"]): 100 * (m["omega_per_ps"] / linear_omega_per_ps(m["kind"], m["n"]) - 1)
+             for m in modes if m["n"] <= 8 and m["omega_per_ps"]}
+    bend48 = [shift[("bend", n)] for n in range(4, 9)]
+    twist = [shift[("twist", n)] for n in range(1, 8)]
+    stretch_off = [shift[("stretch", n)] for n in (5, 7, 8)]
+    quoted = (f"bend n = 1 +{shift[('bend', 1)]:.0f} %, n = 2 +{shift[('bend', 2)]:.0f} %, n = 4-8 "
+              f"+{max(bend48):.0f} % down to +{min(bend48):.1f} %",
+              f"twist n = 1-7 within {min(twist):.1f} % .. +{max(twist):.1f} %",
+              f"stretch n = 1 +{shift[('stretch', 1)]:.1f} %",
+              f"accepted at {min(stretch_off):.0f} % .. {max(stretch_off):.0f} %")
+    doc = re.sub(r"\s+", " ", DOC)
+    for q in quoted:
+        assert q in doc, q
+    assert ("bend", 3) not in shift and ("twist", 8) not in shift
