@@ -57,6 +57,10 @@ def quotes(r: dict) -> list[tuple[str, str]]:
         ("docs/testing.md", f"| pytest, all of `tests/python` | {tt['steps_s']['pytest']} s |"),
         ("docs/testing.md", f"| {tt['steps_s']['sanitizers + fuzz']} s |"),
         ("docs/testing.md", f"**{total_min}**"),
+        ("README.md", f"with the 1000-ps run: {r['main_job_1000ps']['wall_min']:g} min in all"),
+        ("docs/workflow.md", f"**measured {r['main_job_1000ps']['wall_min']:g} min in all**"),
+        ("docs/results.md", f"gave {r['main_job_1000ps']['md_phase_speed_A_per_ps']:.2f} +- "
+                            f"{r['main_job_1000ps']['md_phase_speed_err_A_per_ps']:.2f} A/ps"),
         ("docs/results.md", f"the MD's mode runs at {mj['md_phase_speed_A_per_ps']:.2f} +- "
                             f"{mj['md_phase_speed_err_A_per_ps']:.2f} A/ps"),
         ("docs/coarse-graining.md", f"**{pred['md_speed_A_per_ps']:.3f} +- {pred['md_speed_err_A_per_ps']:.3f}**"),
