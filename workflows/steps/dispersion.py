@@ -219,15 +219,15 @@ def pooled_relative_difference(rows: list[dict], name: str, reference: str, n_mi
     """Weighted mean of omega_name / omega_reference - 1 over the bend modes n >= N_MIN that
     both records resolve (first-order error propagation), its standard error, and the chi2
     of the differences about it."""
-    r, e = [], []
+    diff, err = [], []
     for x in rows:
         a, b = x.get(f"{name}_omega_per_ps"), x.get(f"{reference}_omega_per_ps")
         if x["kind"] == "bend" and x["n"] >= n_min and a and b:
-            r.append(a / b - 1)
-            e.append(np.hypot(x[f"{name}_omega_err_per_ps"] / a, x[f"{reference}_omega_err_per_ps"] / b))
-    if len(r) < 2:
+            diff.append(a / b - 1)
+            err.append(np.hypot(x[f"{name}_omega_err_per_ps"] / a, x[f"{reference}_omega_err_per_ps"] / b))
+    if len(diff) < 2:
         return None
-    r, e = np.array(r), np.array(e)
+    r, e = np.array(diff), np.array(err)
     w = 1 / e**2
     mean = float((w * r).sum() / w.sum())
     return {"modes": len(r), "mean": mean, "err": float(w.sum() ** -0.5),
