@@ -216,7 +216,7 @@ def box_observables(interval: float, seed: int, t_end: float = 3200.0, frame: fl
     F, a2, v2, box = [], [], [], []
 
     def observe(f):
-        if f["index"] == 0:
+        if f["index"] == skip:   # the first frame used (a sample drawn off the box is back by then)
             box.append(float(np.linalg.norm(f["end_to_end"])) / L)
         if f["index"] < skip:
             return
