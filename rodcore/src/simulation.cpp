@@ -6,8 +6,6 @@
 #include <cmath>
 #include <limits>
 #include <optional>
-#include <stdexcept>
-#include <string>
 
 #include "rodcore/closure.hpp"
 #include "rodcore/contact.hpp"
