@@ -93,9 +93,13 @@ class ModeSeries:
     def k_per_A(self) -> np.ndarray:
         return 2 * np.pi * self.n / self.length_A
 
-    def after(self, discard_ps: float) -> "ModeSeries":
-        """The frames from times_ps[0] + discard_ps on."""
-        keep = self.times_ps >= self.times_ps[0] + discard_ps - 1e-9
+    def after(self, discard_ps: float, until_ps: float | None = None) -> "ModeSeries":
+        """The frames from times_ps[0] + discard_ps on, up to times_ps[0] + until_ps if given
+        (one window of every realisation: seeds compared at the same age)."""
+        t = self.times_ps - self.times_ps[0]
+        keep = t >= discard_ps - 1e-9
+        if until_ps is not None:
+            keep &= t <= until_ps + 1e-9
         return ModeSeries(self.times_ps[keep], self.n, self.bend[keep], self.twist[keep],
                           self.stretch[keep], self.length_A, self.n_bp, self.helical_repeat,
                           self.source, self.kind,
