@@ -37,13 +37,10 @@ import h5py
 import numpy as np
 import pytest
 
-from dna_models.units import Units
 from dnarod.cli import main
-from mdbridge.geometry.steps import step_parameters
-from mdbridge.rod.material.closed_rest import holonomy_jacobian
-from mdbridge.rod.material.composition import cell_matrix, compose_stretches
 from mdbridge.rod.material.gridfile import write_initial_file
 from mdbridge.rod.material.parameter_sets import dimers, olson1998_table
+from mdbridge.rod.material.thermal_steps import holonomy_directions, off_holonomy, stationary_step_means
 
 N_BP = 42
 POINTS_PER_BP = 2
@@ -143,69 +140,15 @@ def test_control_arithmetic_mean_stiffness_is_rejected(loop):
     assert np.abs(z).max() > 10.0, z
 
 
-def read_steps(material, L, x, refine=8):
-    """Step parameters (..., n_bp, 6) [A, deg] of grid strains x (..., N, 6): composed along
-    their trigonometric interpolant (refine midpoint exponentials per cell) over each base-pair
-    step and read with the 3DNA definitions."""
-    N = len(material["K"])
-    R, d = compose_stretches(np.einsum("mg,...gi->...mi", cell_matrix(N, L, refine), x),
-                             L / (refine * N), refine * (N // N_BP))
-    return step_parameters(np.broadcast_to(np.eye(3), R.shape), np.zeros(d.shape), R, d * Units.paper().ell_A)
-
-
-def stationary_step_means(material, L, kT, samples=8000, seed=5):
-    """<q_j> (n_bp, 6) [A, deg] and its Monte Carlo error under the stationary distribution of
-    the unconstrained rod: grid strains x_i ~ N(x0_i, kT K_i^-1 / h) independent, read as
-    read_steps does."""
-    K = material["K"]
-    N = len(K)
-    x0 = np.hstack([material["Gamma0"], material["Omega0"]])
-    chol = np.linalg.cholesky(np.linalg.inv(K) * kT / (L / N))
-    rng = np.random.default_rng(seed)
-    total, total2, batch = 0.0, 0.0, 500
-    for _ in range(samples // batch):
-        q = read_steps(material, L, x0 + np.einsum("gij,sgj->sgi", chol, rng.standard_normal((batch, N, 6))))
-        total, total2 = total + q.sum(axis=0), total2 + (q ** 2).sum(axis=0)
-    mean = total / samples
-    return mean, np.sqrt(np.maximum(total2 / samples - mean ** 2, 0.0) / samples)
-
-
-def holonomy_directions(material, L, refine=8, size=1e-4):
-    """(6, n_bp, 6): the step parameters' response to moving the rod's holonomy (the motion
-    from s = 0 to s = L) along each of its six body-twist directions by the least change of
-    strain energy, dx_i = K_i^-1 B_i^T e_k (B: holonomy_jacobian), by central differences.
-    These are the directions the run's mean moves along when its holonomy is not the
-    stationary one: the mean of x given the holonomy is x0 + K^-1 B^T lambda (Gaussian
-    conditioning), which spreads a holonomy change over the steps by their compliance."""
-    x0 = np.hstack([material["Gamma0"], material["Omega0"]])
-    N = len(x0)
-    _, _, dzeta = holonomy_jacobian(x0, L, refine)
-    Kinv = np.linalg.inv(material["K"])
-    out = []
-    for k in range(6):
-        dx = np.einsum("gij,gj->gi", Kinv, dzeta[k].reshape(N, 6)) * size
-        out.append((read_steps(material, L, x0 + dx) - read_steps(material, L, x0 - dx)) / (2 * size))
-    return np.array(out)
-
-
-def off_holonomy(dev, err, directions):
-    """dev / err (n, 6), less its least-squares part along the holonomy directions (6, n, 6):
-    one fit of six numbers over all steps and parameters (the run's holonomy, not 18 per
-    parameter modes)."""
-    A = (directions / err[None]).reshape(6, -1).T
-    y = (dev / err).reshape(-1)
-    return (y - A @ np.linalg.lstsq(A, y, rcond=None)[0]).reshape(dev.shape)
-
-
 @pytest.fixture(scope="module")
 def rest_shape(loop):
     p = loop["params"]
     steps = [s for s in p["steps"] if not s["excluded"]]
     mean = np.array([s["mean"] for s in steps])
     err = np.array([s["mean_err"] for s in steps])
-    truth, mc_err = stationary_step_means(loop["material"], loop["L"], loop["kT"])
+    truth, mc_err = stationary_step_means(loop["material"], loop["L"], loop["kT"], N_BP)
     q_olson, _ = olson_steps(loop["sequence"])
-    directions = holonomy_directions(loop["material"], loop["L"])[:, :-1]
+    directions = holonomy_directions(loop["material"], loop["L"], N_BP)[:, :-1]
     return mean, np.hypot(err, mc_err[:-1]), truth[:-1], q_olson[:-1], directions
 
 
