@@ -23,8 +23,8 @@ independent grid strains N(x0_i, kT K_i^-1 / h). Known answers:
   computed here by Monte Carlo (independent Gaussian grid strains, composed along the
   trigonometric interpolant, read with the 3DNA definitions): Olson's shape plus its O(kT)
   thermal shift, given the run's holonomy. Without the box the holonomy moves only by the
-  semi-discrete rod's closure defect, a slow drift (the total twist of every run unwinds by
-  ~0.5 deg per step over 16000 rod times), so a run samples the distribution conditioned on
+  semi-discrete rod's closure defect, a slow random walk (a run's total twist wanders by up
+  to ~0.8 deg per step over 16000 rod times), so a run samples the distribution conditioned on
   its own holonomy, whose mean moves along six directions K^-1 B^T e_k that spread the
   holonomy's change over the steps by their (sequence-dependent) compliance. Those six are
   fitted out (holonomy_directions). Control: the sequence-averaged shape must fail.
@@ -158,7 +158,7 @@ def test_sequence_rod_returns_its_rest_shape(rest_shape):
     fitted out (sampling theory for exact errors: 1 +- 0.22; CHI2_MAX = 1.8 is p = 0.13 % per
     parameter). Why the holonomy: without the box it is held only by the semi-discrete rod's
     closure defect, so each run sits on its own slowly wandering holonomy (the total twist
-    wanders by up to ~0.7 deg per step over the run), and the conditional mean spreads that
+    wanders by up to ~0.8 deg per step over the run), and the conditional mean spreads that
     over the steps by their compliance, which is sequence-dependent. Why dt = 0.025: at 0.05
     (friction 0.05) the Langevin step biases the long-wave grid strain means by ~1 % of their
     thermal spread, 0.9 of a run's error of the per-step mean (docs/coarse-graining.md).
