@@ -6,28 +6,30 @@ The rod is `dnarod dna-rod` of a 42-bp sequence under Olson et al. 1998 (per-poi
 parameters), two grid points per base pair (docs/scenes.md: one point per bp under-resolves
 the sequence's fields; the uniform loop, tests/python/test_coarsegrain_thermal_rod.py, shows
 what one point per bp does to the per-step stiffness). It starts from its intrinsic, curved,
-stress-free shape and runs as a Langevin rod at the Olson table's temperature without the
-closure projection (`keep_closure = false`). Why without: a box-held rod at 298 K carries a
-slack tension (and the closed state of `dna-rod` a pre-stress, 28 pN here) that adds F / k^2
-to the bend stiffness of the long laboratory bends, which the q -> 0 fit's base-pair-frame
-modes contain (measured: tilt and roll K(q -> 0) 6 % stiff, z = 2.3 and 2.9, with the box
-kept). Without the box the rod's holonomy is free, the Liouville argument of docs/thermal.md
-still holds, and the stationary distribution is exp(-E / kT) of the material alone:
-independent grid strains N(x0_i, kT K_i^-1 / h). Known answers:
+stress-free shape and runs as a Langevin rod at the Olson table's temperature (dt = 0.025:
+why, test_sequence_rod_returns_its_rest_shape) without the closure projection
+(`keep_closure = false`). Why without: a box-held rod at 298 K carries a slack tension (and
+the closed state of `dna-rod` a pre-stress, 28 pN here) that adds F / k^2 to the bend
+stiffness of the long laboratory bends, which the q -> 0 fit's base-pair-frame modes contain
+(measured: tilt and roll K(q -> 0) 6 % stiff, z = 2.3 and 2.9, with the box kept). Without
+the box the rod's holonomy is free, the Liouville argument of docs/thermal.md still holds,
+and the stationary distribution is exp(-E / kT) of the material alone: independent grid
+strains N(x0_i, kT K_i^-1 / h). Known answers:
 
 * K(q -> 0) (`params.json` `average.stiffness`, per step, kT units) is the series
   (compliance) average of the per-step stiffness over the kept steps, (mean_j F_j^-1)^-1,
   with F_j from Olson's table here. Control: the arithmetic mean of F_j (1.24x in rise) must
   fail the same check.
 * The mean step parameters are the step parameters of the exact stationary distribution,
-  computed here by Monte Carlo (independent Gaussian grid strains, composed along the
-  trigonometric interpolant, read with the 3DNA definitions): Olson's shape plus its O(kT)
-  thermal shift, given the run's holonomy. Without the box the holonomy moves only by the
-  semi-discrete rod's closure defect, a slow random walk (a run's total twist wanders by up
-  to ~0.8 deg per step over 16000 rod times), so a run samples the distribution conditioned on
-  its own holonomy, whose mean moves along six directions K^-1 B^T e_k that spread the
-  holonomy's change over the steps by their (sequence-dependent) compliance. Those six are
-  fitted out (holonomy_directions). Control: the sequence-averaged shape must fail.
+  computed by Monte Carlo (mdbridge/rod/material/thermal_steps.py: independent Gaussian grid
+  strains, composed along the trigonometric interpolant, read with the 3DNA definitions):
+  Olson's shape plus its O(kT) thermal shift, given the run's holonomy. Without the box the
+  holonomy moves only by the semi-discrete rod's closure defect, a slow random walk (a run's
+  total twist wanders by up to ~0.8 deg per step over 16000 rod times), so a run samples the
+  distribution conditioned on its own holonomy, whose mean moves along six directions
+  K^-1 B^T e_k that spread the holonomy's change over the steps by their
+  (sequence-dependent) compliance. Those six are fitted out (holonomy_directions).
+  Control: the sequence-averaged shape must fail.
 """
 import json
 import shutil
