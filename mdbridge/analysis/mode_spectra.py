@@ -516,9 +516,10 @@ def _numbers(fit) -> dict:
            "damping_per_ps": g, "damping_err_per_ps": g_err, "Q": None if undamped else fit.Q,
            "Q_err": None if undamped else _num(fit.Q_err), "undamped": bool(undamped),
            # <|c_n|^2> of one component that is the oscillator's own (module doc): the fitted
-           # variance of each real series (Re, Im) averaged over series, times 2
-           "oscillator_variance": 2 * float(np.mean(fit.variance)),
-           "oscillator_variance_err": _num(2 * fit.mean_variance_err)}
+           # variance of each real series (Re, Im) averaged over series, times 2; none for a
+           # line, whose periodogram is not an oscillator's expected power
+           "oscillator_variance": None if undamped else 2 * float(np.mean(fit.variance)),
+           "oscillator_variance_err": None if undamped else _num(2 * fit.mean_variance_err)}
     if undamped:
         # damping consistent with zero: Q has only a lower bound
         g_max = 3 * LINE_RESIDUAL / fit.record_ps if fit.line is not None else g + 2 * (g_err or 0.0)

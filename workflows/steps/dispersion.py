@@ -182,6 +182,19 @@ def predict_and_compare(modes_json, out, tension_jsons, cg_dirs=(), m: int | Non
     fits = {obs: _fit(low, obs, template, duplex, T) for obs in ("omega", "variance", "total_variance")}
     dyn, stat = fits["omega"], fits["variance"]
 
+    # every measured oscillator variance over the variance of the rod the dynamics fit gives
+    # (its T and B, the template's every other constant): where the statics agree with the
+    # dynamics, mode by mode, beyond the modes the fits use
+    over_dyn = []
+    if dyn.get("tension_pN") is not None:
+        from mdbridge.analysis.dispersion_prediction import bend_variances_A2, scaled_bend
+        use = [r for r in rows if r["kind"] == "bend" and r.get("md_oscillator_variance_A2") is not None]
+        rod = bend_variances_A2(scaled_bend(template, dyn["bend_scale_of_template"]), duplex, dyn["tension_pN"],
+                                [r["n"] for r in use]) if use else []
+        over_dyn = [{"n": r["n"], "ratio": r["md_oscillator_variance_A2"] / v,
+                     "ratio_err": r["md_oscillator_variance_err_A2"] / v, "rod_variance_A2": float(v)}
+                    for r, v in zip(use, rod)]
+
     def z(a, b, key):
         err = {"tension_pN": "tension_err_pN", "B_pN_nm2": "B_err_pN_nm2"}[key]
         return z_score(a.get(key), a.get(err), b.get(key), b.get(err))
@@ -199,7 +212,7 @@ def predict_and_compare(modes_json, out, tension_jsons, cg_dirs=(), m: int | Non
            "refused": refused, "cg_rod_reason": refused.get("cg_rod"),
            "cg_notes": cg_reasons if mats else [],
            "fit": {"template": template_name, "n_fit_max": n_fit_max, "dynamics": dyn, "statics": stat,
-                   "statics_total_variance": fits["total_variance"],
+                   "statics_total_variance": fits["total_variance"], "statics_over_dynamics_rod": over_dyn,
                    **checks, "materials": refs},
            "definition": "rows: per MD mode, the MD's undamped frequency omega0 = sqrt(omega^2 + gamma^2) "
                          "(dnarod modes) and the linear rod's (mdbridge/rod/linear.py) of the coarse-grained "
