@@ -463,8 +463,8 @@ def mode_table(series: list[ModeSeries], errors: str = "hessian") -> dict:
                  "omega_per_ps": None, "omega_err_per_ps": None, "omega0_per_ps": None, "omega0_err_per_ps": None,
                  "damping_per_ps": None, "damping_err_per_ps": None, "Q": None, "Q_err": None,
                  "variance": var_i, "variance_err": _num(var_err), "variance_unit": VARIANCE_UNIT[kind],
-                 "oscillator_variance": None, "oscillator_variance_err": None, "periods_in_record": None, "reason": reason, "n_series": int(x.shape[0]),
-                 "record_ps": record_ps}
+                 "oscillator_variance": None, "oscillator_variance_err": None, "periods_in_record": None,
+                 "reason": reason, "n_series": int(x.shape[0]), "record_ps": record_ps}
             if fit is not None:
                 e["periods_in_record"] = fit.omega_per_ps * record_ps / (2 * np.pi)
                 e["peak_to_background"] = fit.peak_to_floor()

@@ -168,7 +168,8 @@ def html_section(d: dict | None) -> str:
             f"{heads}</tr>{''.join(body)}</table>{torque}"
             f"<p>The MD's own tension and bend stiffness, fitted with the linear rod ({html.escape(fit['template'])} "
             f"for every other constant):</p><ul id=\"dispersion-fit\">"
-            + fit_line(fit["dynamics"], "from the frequencies") + fit_line(fit["statics"], "from the oscillators' static variances")
+            + fit_line(fit["dynamics"], "from the frequencies")
+            + fit_line(fit["statics"], "from the oscillators' static variances")
             + f"</ul><p>z (T, dynamics - virial) = {_f(fit.get('z_T_dynamics_vs_virial'), 2)}; z (B, dynamics - "
             f"statics) = {_f(fit.get('z_B_dynamics_vs_statics'), 2)}. The rods' own: {mats}.</p>" + boxes)
 

@@ -189,11 +189,12 @@ def predict_and_compare(modes_json, out, tension_jsons, cg_dirs=(), m: int | Non
     if dyn.get("tension_pN") is not None:
         from mdbridge.analysis.dispersion_prediction import bend_variances_A2, scaled_bend
         use = [r for r in rows if r["kind"] == "bend" and r.get("md_oscillator_variance_A2") is not None]
-        rod = bend_variances_A2(scaled_bend(template, dyn["bend_scale_of_template"]), duplex, dyn["tension_pN"],
-                                [r["n"] for r in use]) if use else []
-        over_dyn = [{"n": r["n"], "ratio": r["md_oscillator_variance_A2"] / v,
-                     "ratio_err": r["md_oscillator_variance_err_A2"] / v, "rod_variance_A2": float(v)}
-                    for r, v in zip(use, rod)]
+        if use:
+            rod = bend_variances_A2(scaled_bend(template, dyn["bend_scale_of_template"]), duplex, dyn["tension_pN"],
+                                    [r["n"] for r in use])
+            over_dyn = [{"n": r["n"], "ratio": r["md_oscillator_variance_A2"] / v,
+                         "ratio_err": r["md_oscillator_variance_err_A2"] / v, "rod_variance_A2": float(v)}
+                        for r, v in zip(use, rod)]
 
     def z(a, b, key):
         err = {"tension_pN": "tension_err_pN", "B_pN_nm2": "B_err_pN_nm2"}[key]
