@@ -19,8 +19,10 @@ blocking error.
 mdbridge.coarsegrain.cgrod.materials: the central material and its bootstrap replicas) and
 the paper's rod into every mode's predicted frequency at the MD's tension (seeds pooled),
 compares them with the MD's measured modes (`dnarod modes` -> MODES.json) as z-scores, and
-fits the MD's own T and B to its lowest bend frequencies and, independently, to their static
-variances (mdbridge/analysis/dispersion_prediction.py). A coarse-graining that was refused
+fits the MD's own T and B to its lowest bend frequencies and, independently, to the static
+variances of their fitted oscillators (`dnarod modes` oscillator_variance; the record's whole
+variance is fitted beside; docs/dispersion.md, "The statics";
+mdbridge/analysis/dispersion_prediction.py). A coarse-graining that was refused
 leaves the paper rod's prediction and says why.
 
 `table` prints (or writes) a dispersion.json's prediction-vs-MD table as Markdown
