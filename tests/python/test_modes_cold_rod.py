@@ -30,7 +30,8 @@ the measured over the predicted variance is the mean of about four unit exponent
 4 kT / L, |c_n|^2 of a complex series written without the Re) lands outside, either way.
 Bend n = 6..14 are not held: there the measured variances are 1.3-2.6x the prediction
 (mean 1.85, about 3.5 sd of the mean of nine), an excess of this rod run that is open
-(docs/dispersion.md, "The statics").
+(docs/dispersion.md, "The statics"); the same rod at 300 K has none, and holds the
+convention at every n (tests/python/test_statics.py).
 
 Cost: the rod run ~13 s and `dnarod modes` ~35 s of one core (frames every 2 tau = 1.88 ps:
 the bend series carry the rod's shear lines at 0.59 and 1.65 rad/ps, and 1.65 lies just

@@ -172,3 +172,26 @@ def test_the_md_excess_is_intermittent():
         synth[:, n - 1, :] = (x[:2] + 1j * x[2:]).T
     v = windows(t, synth, np.zeros(len(t)))[:, 2]
     assert 2.5 < v.min() and v.max() < 7.0, v                       # control
+
+
+def _rod_300K_ratios() -> np.ndarray:
+    """Measured over predicted <|c_n|^2> of every bend mode the paper's rod at 300 K (NVE, box
+    held; results/dispersion/rod_300K/modes.json, docs/dispersion.md) gives, the prediction
+    the linear rod's at its slack tension, 23.57 pN (docs/thermal.md)."""
+    from mdbridge.analysis.dispersion_prediction import Duplex, bend_variances_A2, paper_material
+    table = json.loads((RESULTS / "rod_300K" / "modes.json").read_text())
+    bend = {e["n"]: e["variance"] for e in table["modes"] if e["kind"] == "bend" and e["variance"] is not None}
+    duplex = Duplex(158, 15, 300.0)
+    ns = sorted(bend)
+    return np.array([bend[n] for n in ns]) / bend_variances_A2(paper_material(duplex), duplex, 23.57, ns)
+
+
+def test_the_300K_rod_variances_are_equipartition_of_one_direction():
+    """The variance convention at every n (the 0.03-K run of tests/python/test_modes_cold_rod.py
+    holds n = 1-5 only): 13 bend modes of the 300-K rod, each ratio the mean of about four
+    unit exponentials in NVE (sd 0.5), so the mean of 13 has sd 0.14; measured 1.10, held to
+    0.6-1.5 (-2.9 and +3.6 sd). Control: a factor 2 either way lands outside."""
+    r = _rod_300K_ratios()
+    assert len(r) == 13, r
+    assert 0.6 <= r.mean() <= 1.5, r
+    assert not 0.6 <= 2 * r.mean() <= 1.5 and not 0.6 <= 0.5 * r.mean() <= 1.5     # control
