@@ -6,9 +6,12 @@ An input is a function that returns realisations (x (M, N) real series, dt_ps, o
 gamma): the truth beside each record. Today's input is `oscillator_input`, the exact
 discrete-time damped oscillator (mdbridge/analysis/spectrum.py simulate) at the record of
 the dispersion MD (4 ns of 0.5-ps frames), M = 4 series (bend: two quadratures, two
-directions), and a white floor of 1 % of the mode's variance. A second input (thermal-rod
-series, whose frequencies linear theory gives) is one more such function, run through
-the same `calibrate`.
+directions), and a white floor of 1 % of the mode's variance. The second input
+(--thermal-rod) is thermal-rod series: Langevin runs of the paper's 158-bp rod at 0.03 K
+with frictions that give damped modes of Q ~ 1.5-30, each through `dnarod modes`' own code
+path (the rod file read as the command reads it, mode_table on each run alone), against the
+eigenvalues of the linearised damped operator (mdbridge/rod/linear.py damped_modes); the
+same statistics (`calibration_summary`) per kind and n.
 
 For each case: over the R realisations that the command would report (not refused: the
 refusals are counted), the bias, the RMS error about the truth, and the
@@ -20,6 +23,8 @@ the least-squares frequency and its white-noise error, what a wave fit does), wh
 damped mode's wandering amplitude and phase must defeat somewhere in the table.
 
     /usr/bin/python3 bench/mode_spectrum_calibration.py [--realisations 60] [--out bench/results]
+    nice -n 10 /usr/bin/python3 bench/mode_spectrum_calibration.py --thermal-rod --realisations 30 \
+        [--seed 1] [--raw raw.json]     (~40 s of CPU per realisation)
 """
 from __future__ import annotations
 
