@@ -234,6 +234,30 @@ class LinearRod:
                     out.append(Mode(kind, n, float(lam.imag), float(k), hand, purity))
         return sorted(out, key=lambda x: (x.kind, x.n, x.omega))
 
+    def damped_modes(self, friction_translational, friction_rotational, n_max: int | None = None) -> list[dict]:
+        """The modes of the Langevin rod's mean motion (docs/thermal.md, "The Langevin rod"):
+        A(k) with the body-frame frictions per length Z_t = diag(across, across, along) and
+        Z_r = diag(across, across, about the axis) added, d gamma/dt -= Z_t gamma / rho,
+        d omega/dt -= I^-1 Z_r omega. Each eigenvalue lambda = -damping + i omega (omega > 0)
+        of lab mode number n <= n_max: {kind, n, omega, damping, handedness} in rod units.
+        Both frictions are axisymmetric, so the rest state's turning frame carries them
+        unchanged and the laboratory wavenumbers are those of the undamped modes."""
+        (zt_along, zt_across), (zr_about, zr_across) = friction_translational, friction_rotational
+        F = np.zeros((12, 12))
+        F[0:3, 0:3] = -np.diag([zt_across, zt_across, zt_along]) / self.mat.rho
+        F[3:6, 3:6] = -np.linalg.solve(np.asarray(self.mat.I, float), np.diag([zr_across, zr_across, zr_about]))
+        out = []
+        for m in range(self.N):
+            w, V = np.linalg.eig(self.operator(m) + F)
+            for lam, v in zip(w, V.T):
+                if lam.imag <= 1e-12:
+                    continue
+                kind, n, hand, _ = self._classify(v, m)
+                if n_max is None or n <= n_max:
+                    out.append({"kind": kind, "n": n, "omega": float(lam.imag), "damping": float(-lam.real),
+                                "handedness": hand})
+        return sorted(out, key=lambda x: (x["kind"], x["n"], x["omega"]))
+
 
 def lab_bend_indices(ns, turns: int, points: int) -> list[int]:
     """The body wavenumber indices m (mod points) whose transverse modes are lab mode n of a

@@ -108,3 +108,40 @@ def test_dna_units_periods_of_the_paper_rod():
     assert 2 * np.pi / d0["bend"][1]["omega_per_ps"] == pytest.approx(U.time_to_ps(2 * np.pi / eq26(q)),
                                                                      rel=1e-9)
     assert 0.6 < d5["bend"][1]["omega_per_ps"] ** -1 / d0["bend"][1]["omega_per_ps"] ** -1 < 0.7
+
+
+def test_damped_modes_against_closed_forms_and_the_hand_built_block():
+    """LinearRod.damped_modes (the Langevin rod's mean motion) against what is known apart
+    from it: on the twisted paper rod, stretch and twist are damped oscillators whose
+    eigenvalues are closed forms, lambda = -z / (2 m) + i sqrt(c q^2 / m - (z / 2m)^2) with
+    (m, c, z) = (rho, C3, friction along) and (I3, D3, friction about the axis); on the untwisted rod,
+    bend is the slow eigenvalue pair of the 12 x 12 block built by hand from the linearised
+    equations in tests/python/test_thermal_langevin.py (both frictions, shear, rotary
+    inertia). Control: that block without the rotational friction across misses bend's
+    damping."""
+    from test_thermal_langevin import linearised_block
+    zt, zr = (0.032, 0.01), (0.079, 0.05)
+    got = LinearRod(UniformMaterial.paper(OMEGA15), L158, 158, turns=15).damped_modes(zt, zr, 6)
+    for n in range(1, 7):
+        q = 2 * np.pi * n / L158
+        for kind, m, c, z in (("stretch", 1.0, U.C_star[2], zt[0]), ("twist", U.I_star[2], U.D_star[2], zr[0])):
+            g = z / (2 * m)
+            ws = [(x["omega"], x["damping"]) for x in got if (x["kind"], x["n"]) == (kind, n)]
+            assert len(ws) == 2, (kind, n, ws)
+            for w, d in ws:
+                assert w == pytest.approx(np.sqrt(c * q * q / m - g * g), rel=1e-9)
+                assert d == pytest.approx(g, rel=1e-9)
+    flat = LinearRod(UniformMaterial.paper(0.0), L158, 158).damped_modes(zt, zr, 6)
+    K, I = np.diag([*U.C_star, *U.D_star]), np.diag(U.I_star)
+    Zt, Zr = np.array([zt[1], zt[1], zt[0]]), np.array([zr[1], zr[1], zr[0]])
+    for n in range(2, 7):               # n = 1 is overdamped at this friction
+        q = 2 * np.pi * n / L158
+        lam = np.linalg.eigvals(linearised_block(q, np.array([0, 0, 1.0]), K, I, 1.0, Zt, Zr))
+        slow = min((x for x in lam if x.imag > 1e-12), key=lambda x: x.imag)
+        ws = [(x["omega"], x["damping"]) for x in flat if (x["kind"], x["n"]) == ("bend", n)]
+        assert len(ws) == 4, (n, ws)
+        for w, d in ws:
+            assert w == pytest.approx(slow.imag, rel=1e-8) and d == pytest.approx(-slow.real, rel=1e-8)
+        lam0 = np.linalg.eigvals(linearised_block(q, np.array([0, 0, 1.0]), K, I, 1.0, Zt, Zr * [0, 0, 1]))
+        slow0 = min((x for x in lam0 if x.imag > 1e-12), key=lambda x: x.imag)
+        assert abs(-slow0.real / ws[0][1] - 1) > 1e-3, (n, slow0, ws[0])     # control
