@@ -318,6 +318,23 @@ def backgrounds(xs, oscillators=None, skip=None) -> list:
     return out
 
 
+def resolved_background(second, first, n_series: int):
+    """The second background estimate (backgrounds with oscillators), never below its
+    resolution: the first estimate's level times the relative sampling error of a
+    log-smoothed periodogram, 1 / sqrt(m_j M) (m_j bins of M series). The second estimate is a
+    median of spectra less their oscillators, each clipped at zero; where a mode's power is
+    all its own oscillator (every mode of a rod in NVE: nothing else moves it), the
+    periodogram, exponential about that mean, falls below it in 63 % of the bins, and the
+    median over n is exactly zero. A background of zero is not a measurement of one: it
+    would make any power in those bins infinitely significant to _band's peak search (the
+    300-K rod's stretch n = 5, 7, 8 were fitted there, 5x below their own peaks, and
+    accepted; tests/python/test_modes_background.py). None stays None."""
+    if second is None:
+        return None
+    lo, hi = _smoothing_window(len(second))
+    return np.maximum(second, first / np.sqrt((hi - lo) * n_series))
+
+
 def fit_kind(xs, dt, errors="hessian", line="auto", skip=None, wanted=None) -> list:
     """(OscillatorFit, None) or (None, reason) for each mode of one kind, from the pooled
     series xs of every mode: each mode's oscillator over the common background
@@ -325,8 +342,9 @@ def fit_kind(xs, dt, errors="hessian", line="auto", skip=None, wanted=None) -> l
     quartile over n), then from the spectra less the oscillators that first fit found (their
     median over n). The second estimate is what the modes have in common once their own
     peaks, however broad (a mode of Q ~ 1.5 has a plateau below its peak reaching every
-    lower n), are taken off. skip: modes never fitted (no signal); wanted: the modes whose
-    final fit is returned (the others are (None, "not wanted"), yet enter the background)."""
+    lower n), are taken off, known only to within its resolution (resolved_background).
+    skip: modes never fitted (no signal); wanted: the modes whose final fit is returned (the
+    others are (None, "not wanted"), yet enter the background)."""
     skip = skip if skip is not None else [False] * len(xs)
     wanted = wanted if wanted is not None else [True] * len(xs)
     bg = backgrounds(xs, skip=skip)
@@ -339,7 +357,7 @@ def fit_kind(xs, dt, errors="hessian", line="auto", skip=None, wanted=None) -> l
         # only a mode that is not refused is taken off: a fit on noise would carve a hole
         second = backgrounds(xs, [f if f is not None and refusal(f, x.shape[1] * dt) is None else None
                                   for f, x in zip(first, xs)], [sk or ln for sk, ln in zip(skip, is_line)])
-        bg = [b1 if ln else b2 for b1, b2, ln in zip(bg, second, is_line)]
+        bg = [b1 if ln else resolved_background(b2, b1, xs[0].shape[0]) for b1, b2, ln in zip(bg, second, is_line)]
     return [fit_mode(x, dt, errors, line, background=b) if w and not sk else (None, "not wanted")
             for x, b, sk, w in zip(xs, bg, skip, wanted)]
 
