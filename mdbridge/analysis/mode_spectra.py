@@ -347,7 +347,7 @@ def resolved_background(second, first, n_series: int):
     periodogram, exponential about that mean, falls below it in 63 % of the bins, and the
     median over n is exactly zero. A background of zero is not a measurement of one: it
     would make any power in those bins infinitely significant to _band's peak search (the
-    300-K rod's stretch n = 5, 7, 8 were fitted there, 5x below their own peaks, and
+    300-K rod's stretch n = 5, 7, 8 were fitted there, about 6x below their own peaks, and
     accepted; tests/python/test_modes_background.py). None stays None."""
     if second is None:
         return None
