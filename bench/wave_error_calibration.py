@@ -237,6 +237,19 @@ def rescore(row: dict, noise_sigma: float = 0.0, noise_max_rel: float = mode_err
     return out
 
 
+def inflated_in_band(row: dict, r0: float, p: float) -> bool:
+    """Whether the grid point `row` is in band (or gives no number) when each record that gave
+    a number has its stated error multiplied by max(1, r / r0)^p, r its fitted noise / mode:
+    an error model that grows with the noise the record shows of itself (--scan-inflation)."""
+    kept = [x for x in row["records"] if x["rule"] is None and "noise_over_mode" in x]
+    if len(kept) < 3:
+        return True
+    stated = np.array([x["omega_err_per_ps"] * max(1.0, x["noise_over_mode"] / r0) ** p for x in kept])
+    error = np.array([x["omega_error_per_ps"] for x in kept])
+    ratio = float(np.sqrt(np.mean(stated ** 2) / np.mean(error ** 2)))
+    return BAND[0] <= ratio <= BAND[1]
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--n-real", type=int, default=60)
@@ -254,6 +267,10 @@ def main(argv=None):
     ap.add_argument("--scan", action="store_true",
                     help="print, from the records of --out, how many grid points are neither in band nor "
                          "refused under each noise limit 0.3-0.5, NOISE_SIGMA 0-4 and other-peak limit 2 or 10 %%")
+    ap.add_argument("--scan-inflation", action="store_true",
+                    help="print, from the records of --out, how many grid points are out of band when every "
+                         "kept record's stated error is multiplied by max(1, r / r0)^p (r its fitted noise / "
+                         "mode), r0 0.1-0.3, p 0.5-6: an error model that grows with the noise")
     ap.add_argument("--slipped", action="store_true",
                     help="print, from --out, what the records that give a number show of themselves: "
                          "each one at noise as large as the mode, the 5-95 %% range at noise 0.3")
@@ -268,6 +285,14 @@ def main(argv=None):
         for limit, sigma, other in itertools.product((0.3, 0.35, 0.4, 0.45, 0.5), range(5), (0.02, 0.1)):
             bad = [r for r in rows if status(dict(r, **rescore(r, sigma, limit, other))) not in ("in band", "refused")]
             print(f"| {limit:g} | {sigma} | {other:g} | {len(bad)} |")
+        return
+    if a.scan_inflation:
+        rows = json.loads(open(a.out).read())["grid"]
+        print("| r0 | p | points out of band |")
+        print("|---|---|---|")
+        for r0, p in itertools.product((0.1, 0.15, 0.2, 0.25, 0.3), (0.5, 1, 2, 3, 4, 6)):
+            bad = [r for r in rows if not inflated_in_band(r, r0, p)]
+            print(f"| {r0:g} | {p:g} | {len(bad)} |")
         return
     if a.slipped:
         keys = ("noise_over_mode", "detection_margin", "tau_ps")

@@ -31,6 +31,15 @@ synthetic oscillators by bench/mode_spectrum_calibration.py). With two or more
 realisations each is also fitted alone, and the pooled error is multiplied by the Birge
 ratio sqrt(chi^2 / (R - 1)) of their scatter about the pooled value when that exceeds 1: the
 between-seed scatter enters whenever it is larger than the fit's own error explains.
+
+Two static variances. `variance` is <|c_n - <c_n>|^2> of the record: everything the mode's
+amplitude does. `oscillator_variance` is the part that is the fitted oscillator's own (the
+variance of its autocovariance, C(0), per real series, averaged over the series, times 2 for
+Re and Im), without the white floor and the common background: for a mode that is a linear
+rod's normal mode it is that mode's equipartition variance; its error is the observed
+information's, like the frequency's. In the 158-bp MD the two differ by up to 10x at the
+higher bend modes: slow, localised motion of a few base pairs that is not the rod's
+(docs/dispersion.md, "The statics").
 """
 from __future__ import annotations
 
@@ -93,9 +102,13 @@ class ModeSeries:
     def k_per_A(self) -> np.ndarray:
         return 2 * np.pi * self.n / self.length_A
 
-    def after(self, discard_ps: float) -> "ModeSeries":
-        """The frames from times_ps[0] + discard_ps on."""
-        keep = self.times_ps >= self.times_ps[0] + discard_ps - 1e-9
+    def after(self, discard_ps: float, until_ps: float | None = None) -> "ModeSeries":
+        """The frames from times_ps[0] + discard_ps on, up to times_ps[0] + until_ps if given
+        (one window of every realisation: seeds compared at the same age)."""
+        t = self.times_ps - self.times_ps[0]
+        keep = t >= discard_ps - 1e-9
+        if until_ps is not None:
+            keep &= t <= until_ps + 1e-9
         return ModeSeries(self.times_ps[keep], self.n, self.bend[keep], self.twist[keep],
                           self.stretch[keep], self.length_A, self.n_bp, self.helical_repeat,
                           self.source, self.kind,
@@ -488,8 +501,8 @@ def mode_table(series: list[ModeSeries], errors: str = "hessian") -> dict:
                  "omega_per_ps": None, "omega_err_per_ps": None, "omega0_per_ps": None, "omega0_err_per_ps": None,
                  "damping_per_ps": None, "damping_err_per_ps": None, "Q": None, "Q_err": None,
                  "variance": var_i, "variance_err": _num(var_err), "variance_unit": VARIANCE_UNIT[kind],
-                 "periods_in_record": None, "reason": reason, "n_series": int(x.shape[0]),
-                 "record_ps": record_ps}
+                 "oscillator_variance": None, "oscillator_variance_err": None, "periods_in_record": None,
+                 "reason": reason, "n_series": int(x.shape[0]), "record_ps": record_ps}
             if fit is not None:
                 e["periods_in_record"] = fit.omega_per_ps * record_ps / (2 * np.pi)
                 e["peak_to_background"] = fit.peak_to_floor()
@@ -512,7 +525,8 @@ def mode_table(series: list[ModeSeries], errors: str = "hessian") -> dict:
                                    f"{e['halves']['z']:.1f} of their combined error (> {STATIONARY_Z:g})")
                     e.update({k: None for k in ("omega_per_ps", "omega_err_per_ps", "omega0_per_ps",
                                                 "omega0_err_per_ps", "damping_per_ps", "damping_err_per_ps",
-                                                "Q", "Q_err", "variance", "variance_err")})
+                                                "Q", "Q_err", "variance", "variance_err",
+                                                "oscillator_variance", "oscillator_variance_err")})
                 elif len(series) >= 2:
                     e["seeds"] = _seeds([f[i] for f in seeds], record_ps, fit)
                     for k in ("omega_err_per_ps", "omega0_err_per_ps", "damping_err_per_ps", "Q_err"):
@@ -538,7 +552,12 @@ def _numbers(fit) -> dict:
     out = {"omega_per_ps": w, "omega_err_per_ps": _num(fit.omega_err_per_ps), "omega0_per_ps": fit.omega0_per_ps,
            "omega0_err_per_ps": _num(fit.omega0_err_per_ps),
            "damping_per_ps": g, "damping_err_per_ps": g_err, "Q": None if undamped else fit.Q,
-           "Q_err": None if undamped else _num(fit.Q_err), "undamped": bool(undamped)}
+           "Q_err": None if undamped else _num(fit.Q_err), "undamped": bool(undamped),
+           # <|c_n|^2> of one component that is the oscillator's own (module doc): the fitted
+           # variance of each real series (Re, Im) averaged over series, times 2; none for a
+           # line, whose periodogram is not an oscillator's expected power
+           "oscillator_variance": None if undamped else 2 * float(np.mean(fit.variance)),
+           "oscillator_variance_err": None if undamped else _num(2 * fit.mean_variance_err)}
     if undamped:
         # damping consistent with zero: Q has only a lower bound
         g_max = 3 * LINE_RESIDUAL / fit.record_ps if fit.line is not None else g + 2 * (g_err or 0.0)

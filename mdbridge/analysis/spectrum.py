@@ -62,6 +62,21 @@ def oscillator_acvf(lag_ps, omega: float, gamma: float, var: float = 1.0) -> np.
     return var * np.exp(-gamma * tau) * (np.cos(omega * tau) + (gamma / omega) * np.sin(omega * tau))
 
 
+def variance_sampling_err(fit: "OscillatorFit") -> float:
+    """The sampling error of mean_s a_s (the oscillator's variance averaged over M independent
+    series of N samples) that the oscillator itself implies: the sample variance of a
+    Gaussian series has variance (2 / N^2) sum_k (N - |k|) C(k)^2, so the mean over series has
+    (2 / (M N^2)) sum_k (N - |k|) C(k)^2, ~ a^2 / (gamma T M) for a narrow peak. The observed
+    information misses it when the record holds only a few coherence times (gamma T ~ 2): the
+    periodogram's bins under a peak one bin wide are not independent
+    (tests/python/test_statics.py)."""
+    N, M = fit.n_samples, len(fit.variance)
+    k = np.arange(1 - N, N)
+    rho = oscillator_acvf(k * fit.dt_ps, fit.omega_per_ps, fit.damping_per_ps)
+    rel2 = 2.0 * float(np.sum((N - np.abs(k)) * rho ** 2)) / (M * N * N)
+    return float(np.mean(fit.variance)) * math.sqrt(rel2)
+
+
 def periodogram(x: np.ndarray) -> np.ndarray:
     """I_j = |sum_t x_t e^{-2 pi i j t / N}|^2 / N of each row of x (M, N), j = 0..N//2."""
     x = np.atleast_2d(np.asarray(x, float))
@@ -97,6 +112,7 @@ class OscillatorFit:
     damping_err_per_ps: float = float("nan")
     Q_err: float = float("nan")
     omega0_err_per_ps: float = float("nan")
+    mean_variance_err: float = float("nan")         # error of mean(variance) over the series
     line: dict | None = None
     background: np.ndarray | None = None             # G on the band's bins (module doc)
     background_amplitude: np.ndarray | None = None   # c of each series
@@ -178,7 +194,8 @@ def fit_oscillator(x: np.ndarray, dt_ps: float, band_per_ps=None, omega_guess=No
         elif line == "always" or sinusoid["residual_near"] < LINE_RESIDUAL:
             return _as_line(fit, sinusoid, errors, I, j)
     if errors == "hessian":
-        fit.omega_err_per_ps, fit.damping_err_per_ps, fit.Q_err, fit.omega0_err_per_ps = _hessian_errors(fit, I, j)
+        (fit.omega_err_per_ps, fit.damping_err_per_ps, fit.Q_err, fit.omega0_err_per_ps,
+         fit.mean_variance_err) = _hessian_errors(fit, I, j)
     elif errors != "none":
         raise ValueError(f"errors: 'hessian' or 'none', got {errors!r}")
     return fit
@@ -191,7 +208,7 @@ def _as_line(fit: OscillatorFit, sinusoid: dict, errors: str, I, j) -> Oscillato
     fit.omega_per_ps = sinusoid["omega_per_ps"]
     if errors != "none":
         fit.omega_err_per_ps = sinusoid["omega_err_per_ps"]
-        fit.damping_err_per_ps = _hessian_errors(fit, I, j)[1]
+        _, fit.damping_err_per_ps, _, _, fit.mean_variance_err = _hessian_errors(fit, I, j)
     return fit
 
 
@@ -333,7 +350,10 @@ def oscillator_series(rng, n_series: int, n: int, dt_ps: float, omega: float, ga
 
 
 def _hessian_errors(fit: OscillatorFit, I, j):
-    """Observed-information errors of omega, gamma, Q and omega0: the inverse Hessian of the
+    """Observed-information errors of omega, gamma, Q, omega0 and of the oscillator's variance
+    averaged over the series (mean_s a_s: the mode's own static variance, without the floor
+    and the background; d mean = sum_s a_s d log a_s / M; never below its sampling error,
+    variance_sampling_err): the inverse Hessian of the
     negative log-likelihood (central differences of its analytic gradient) at the fit, all
     parameters free. At a line (gamma at its lower bound, where the likelihood is flat in
     gamma) gamma is held and the errors of gamma and Q are NaN (omega0's is omega's).
@@ -353,15 +373,19 @@ def _hessian_errors(fit: OscillatorFit, I, j):
     keep = [i for i in range(len(p)) if not (at_line and i == 1)]
     cov = np.linalg.pinv(H[np.ix_(keep, keep)])
     err_w = fit.omega_per_ps * math.sqrt(max(cov[0, 0], 0.0))
+    a = np.asarray(fit.variance, float)
+    i_a = [keep.index(2 + s) for s in range(len(a))]
+    va = a / len(a)
+    err_a = max(math.sqrt(max(float(va @ cov[np.ix_(i_a, i_a)] @ va), 0.0)), variance_sampling_err(fit))
     if at_line:
-        return err_w, float("nan"), float("nan"), err_w
+        return err_w, float("nan"), float("nan"), err_w, err_a
     err_g = fit.damping_per_ps * math.sqrt(max(cov[1, 1], 0.0))
     w2, g2 = fit.omega_per_ps ** 2, fit.damping_per_ps ** 2
     v0 = np.array([w2, g2]) / (w2 + g2)
     vQ = v0 - np.array([0.0, 1.0])
     err_Q = fit.Q * math.sqrt(max(float(vQ @ cov[:2, :2] @ vQ), 0.0))
     err_w0 = fit.omega0_per_ps * math.sqrt(max(float(v0 @ cov[:2, :2] @ v0), 0.0))
-    return err_w, err_g, err_Q, err_w0
+    return err_w, err_g, err_Q, err_w0, err_a
 
 
 def line_fit(x: np.ndarray, dt_ps: float, omega_guess: float) -> dict:

@@ -184,7 +184,21 @@ def test_bad_input_exits_2_naming_the_path(tmp_path, capsys):
     assert main(["modes", str(h5), "--discard-ps", "50", "-o", str(tmp_path / "o")]) == 2
     err = capsys.readouterr().err
     assert f"{h5}: --discard-ps 50 is not shorter than its record" in err
+    assert main(["modes", str(h5), "--until-ps", "50", "-o", str(tmp_path / "o")]) == 2
+    assert f"{h5}: --until-ps 50 is beyond its record" in capsys.readouterr().err
+    assert main(["modes", str(h5), "--discard-ps", "5", "--until-ps", "5", "-o", str(tmp_path / "o")]) == 2
+    assert "--until-ps 5: a time in ps after --discard-ps (5)" in capsys.readouterr().err
     assert not (tmp_path / "o").exists()                      # refused before any work
+
+
+def test_one_window_of_every_realisation():
+    """--discard-ps and --until-ps cut each realisation on its own clock: frames 1000-3000 ps
+    of a 4-ns series, both ends kept."""
+    s = _realisation(np.random.default_rng(3), 111.0, 10.0, "a")
+    w = s.after(1000.0, 3000.0)
+    assert w.times_ps[0] == 1000.0 and w.times_ps[-1] == 3000.0 and len(w.times_ps) == 4001
+    assert np.array_equal(w.bend, s.bend[2000:6001])
+    assert len(s.after(1000.0).times_ps) == 6000
 
 
 def _realisation(rng, period_ps, Q, source):

@@ -194,3 +194,23 @@ def test_rod_at_300K_shifts_as_quoted():
         assert q in doc, q
     assert ("bend", 3) not in shift
     assert all(abs(v) < 0.7 for (k, n), v in shift.items() if k != "bend" and n >= 2)
+
+
+def test_statics_as_quoted(pred):
+    """docs/dispersion.md, "The statics": the fit of T and B to the oscillator variances, its z
+    against the virial tension and the dynamics' B, the per-mode ratios to the dynamics rod
+    (n = 4-8 equal it within 0.99-1.04), and the refusal of the fit to the whole variances."""
+    fit = pred["fit"]
+    st = fit["statics"]
+    assert f"T = {st['tension_pN']:.1f} +- {st['tension_err_pN']:.1f} pN and B = {st['B_pN_nm2']:.0f} +- " \
+           f"{st['B_err_pN_nm2']:.0f} pN nm^2" in DOC
+    assert f"(correlation {st['correlation_T_B']:.2f}; chi2 {st['chi2']:.2f} for {st['dof']} dof)" in DOC
+    assert f"T is {fit['z_T_statics_vs_virial']:.1f} errors above the virial tension, B " \
+           f"{fit['z_B_dynamics_vs_statics']:.1f}" in DOC
+    assert fit["statics_total_variance"]["reason"].startswith("B runs to 0.001")
+    ratio = {r["n"]: r for r in fit["statics_over_dynamics_rod"]}
+    cells = " | ".join(f"{ratio[n]['ratio']:.2f} +- {ratio[n]['ratio_err']:.2f}" for n in sorted(ratio))
+    assert f"| oscillator / dynamics rod | {cells} |" in DOC
+    mid = [ratio[n]["ratio"] for n in (4, 6, 7, 8)]
+    assert 0.985 <= min(mid) and max(mid) < 1.045
+    assert all(abs(ratio[n]["ratio"] - 1) < 2 * ratio[n]["ratio_err"] for n in (4, 6, 7, 8))

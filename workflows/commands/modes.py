@@ -54,6 +54,9 @@ def add_arguments(p):
     add_output(p, metavar="DIR", help="output directory")
     p.add_argument("--discard-ps", type=float, default=0.0, metavar="T",
                    help="discard the first T ps of each realisation (equilibration; default 0)")
+    p.add_argument("--until-ps", type=float, default=None, metavar="T",
+                   help="use each realisation only up to T ps from its start (one window for seeds "
+                        "of different lengths; default: to its end)")
 
 
 class _Input:
@@ -126,8 +129,13 @@ def run(args):
 
     if not (math.isfinite(args.discard_ps) and args.discard_ps >= 0):
         raise InputError(f"--discard-ps {args.discard_ps}: a time >= 0 in ps")
+    if args.until_ps is not None and not (math.isfinite(args.until_ps) and args.until_ps > args.discard_ps):
+        raise InputError(f"--until-ps {args.until_ps:g}: a time in ps after --discard-ps ({args.discard_ps:g})")
     inputs = [_Input(p) for p in args.paths]
     for inp in inputs:
+        if args.until_ps is not None and args.until_ps > inp.record_ps + 1e-6:
+            raise InputError(f"{inp.path}: --until-ps {args.until_ps:g} is beyond its record "
+                             f"({inp.record_ps:g} ps, {inp.times_ps[0]:g} to {inp.times_ps[-1]:g} ps)")
         if args.discard_ps >= inp.record_ps:
             raise InputError(f"{inp.path}: --discard-ps {args.discard_ps:g} is not shorter than its record "
                              f"({inp.record_ps:g} ps, {inp.times_ps[0]:g} to {inp.times_ps[-1]:g} ps)")
@@ -137,10 +145,12 @@ def run(args):
         series = [s for inp in inputs for s in inp.mode_series(stages)]
         stages.close()
         save_npz(out / "mode_series.npz", series)
-        used = [s.after(args.discard_ps) for s in series]
+        used = [s.after(args.discard_ps, args.until_ps) for s in series]
         table = mode_table(used)
-    table.update(command="dnarod modes " + " ".join(args.paths) + f" --discard-ps {args.discard_ps:g} -o {out}",
-                 inputs=[{"path": i.path, "kind": i.kind} for i in inputs], discard_ps=args.discard_ps)
+    until = "" if args.until_ps is None else f" --until-ps {args.until_ps:g}"
+    table.update(command="dnarod modes " + " ".join(args.paths) + f" --discard-ps {args.discard_ps:g}{until} -o {out}",
+                 inputs=[{"path": i.path, "kind": i.kind} for i in inputs], discard_ps=args.discard_ps,
+                 until_ps=args.until_ps)
     write_json(out / "modes.json", table)
     from mdbridge.analysis.mode_figures import dispersion_figure, spectra_figure
     spectra_figure(used, table, out / "spectra.png")

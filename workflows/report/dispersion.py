@@ -168,7 +168,8 @@ def html_section(d: dict | None) -> str:
             f"{heads}</tr>{''.join(body)}</table>{torque}"
             f"<p>The MD's own tension and bend stiffness, fitted with the linear rod ({html.escape(fit['template'])} "
             f"for every other constant):</p><ul id=\"dispersion-fit\">"
-            + fit_line(fit["dynamics"], "from the frequencies") + fit_line(fit["statics"], "from the static variances")
+            + fit_line(fit["dynamics"], "from the frequencies")
+            + fit_line(fit["statics"], "from the oscillators' static variances")
             + f"</ul><p>z (T, dynamics - virial) = {_f(fit.get('z_T_dynamics_vs_virial'), 2)}; z (B, dynamics - "
             f"statics) = {_f(fit.get('z_B_dynamics_vs_statics'), 2)}. The rods' own: {mats}.</p>" + boxes)
 
@@ -197,7 +198,7 @@ def markdown_table(d: dict) -> str:
             cells += [pm(r.get(f"{n}_omega_per_ps"), r.get(f"{n}_omega_err_per_ps")), _f(r.get(f"z_{n}"), 2)]
         out.append("| " + " | ".join(cells) + " |")
     out.append("")
-    for key, what in (("dynamics", "from the bend frequencies"), ("statics", "from the static variances")):
+    for key, what in (("dynamics", "from the bend frequencies"), ("statics", "from the oscillators' static variances")):
         f = d["fit"][key]
         out.append(f"- MD's T and B {what}: " + (f"not fitted ({f['reason']})" if f.get("reason") else
                    f"n = {', '.join(map(str, f['n']))}: T = {pm(f['tension_pN'], f['tension_err_pN'])} pN, "

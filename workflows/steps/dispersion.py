@@ -19,8 +19,10 @@ blocking error.
 mdbridge.coarsegrain.cgrod.materials: the central material and its bootstrap replicas) and
 the paper's rod into every mode's predicted frequency at the MD's tension (seeds pooled),
 compares them with the MD's measured modes (`dnarod modes` -> MODES.json) as z-scores, and
-fits the MD's own T and B to its lowest bend frequencies and, independently, to their static
-variances (mdbridge/analysis/dispersion_prediction.py). A coarse-graining that was refused
+fits the MD's own T and B to its lowest bend frequencies and, independently, to the static
+variances of their fitted oscillators (`dnarod modes` oscillator_variance; the record's whole
+variance is fitted beside; docs/dispersion.md, "The statics";
+mdbridge/analysis/dispersion_prediction.py). A coarse-graining that was refused
 leaves the paper rod's prediction and says why.
 
 `table` prints (or writes) a dispersion.json's prediction-vs-MD table as Markdown
@@ -119,13 +121,14 @@ def _pool_predictions(preds: list[dict]) -> dict:
 def _fit(kind_rows, observable, template, duplex, T0):
     """The T/B fit of one observable, or its refusal."""
     from mdbridge.analysis.dispersion_prediction import fit_tension_bend
-    key, err = ("md_omega0_per_ps", "md_omega0_err_per_ps") if observable == "omega" else \
-        ("md_variance_A2", "md_variance_err_A2")
+    key, err = {"omega": ("md_omega0_per_ps", "md_omega0_err_per_ps"),
+                "variance": ("md_oscillator_variance_A2", "md_oscillator_variance_err_A2"),
+                "total_variance": ("md_variance_A2", "md_variance_err_A2")}[observable]
     use = [r for r in kind_rows if r.get(key) is not None and r.get(err)]
     ns = [r["n"] for r in use]
     try:
-        return fit_tension_bend(ns, [r[key] for r in use], [r[err] for r in use], template, duplex, observable,
-                                T0)
+        return fit_tension_bend(ns, [r[key] for r in use], [r[err] for r in use], template, duplex,
+                                "omega" if observable == "omega" else "variance", T0)
     except DnarodError as e:
         return {"observable": observable, "n": ns, "reason": str(e)}
 
@@ -165,6 +168,8 @@ def predict_and_compare(modes_json, out, tension_jsons, cg_dirs=(), m: int | Non
         r.update(md_omega_damped_per_ps=entry.get("omega_per_ps"), md_damping_per_ps=entry.get("damping_per_ps"),
                  md_variance_A2=entry.get("variance") if bend else None,
                  md_variance_err_A2=entry.get("variance_err") if bend else None,
+                 md_oscillator_variance_A2=entry.get("oscillator_variance") if bend else None,
+                 md_oscillator_variance_err_A2=entry.get("oscillator_variance_err") if bend else None,
                  k_per_A=2 * np.pi * r["n"] / table["length_A"])
     # the MD's own T and B: the lowest bend modes that are measured
     # the template: the coarse-grained material (mass, inertia, shear, stretch, couplings of the
@@ -173,8 +178,25 @@ def predict_and_compare(modes_json, out, tension_jsons, cg_dirs=(), m: int | Non
                                "intrinsic twist at the box's") if mats else \
         (paper, "the paper's rod (no coarse-grained material: " + "; ".join(cg_reasons) + ")")
     low = [r for r in rows if r["kind"] == "bend" and r["n"] <= n_fit_max]
-    fits = {obs: _fit(low, obs, template, duplex, T) for obs in ("omega", "variance")}
+    # statics: the oscillators' own variances (modes.json oscillator_variance), without the
+    # floor and the slow background; the record's total variance is fitted too, to show
+    # what that background does (docs/dispersion.md, "The statics")
+    fits = {obs: _fit(low, obs, template, duplex, T) for obs in ("omega", "variance", "total_variance")}
     dyn, stat = fits["omega"], fits["variance"]
+
+    # every measured oscillator variance over the variance of the rod the dynamics fit gives
+    # (its T and B, the template's every other constant): where the statics agree with the
+    # dynamics, mode by mode, beyond the modes the fits use
+    over_dyn = []
+    if dyn.get("tension_pN") is not None:
+        from mdbridge.analysis.dispersion_prediction import bend_variances_A2, scaled_bend
+        use = [r for r in rows if r["kind"] == "bend" and r.get("md_oscillator_variance_A2") is not None]
+        if use:
+            rod = bend_variances_A2(scaled_bend(template, dyn["bend_scale_of_template"]), duplex, dyn["tension_pN"],
+                                    [r["n"] for r in use])
+            over_dyn = [{"n": r["n"], "ratio": r["md_oscillator_variance_A2"] / v,
+                         "ratio_err": r["md_oscillator_variance_err_A2"] / v, "rod_variance_A2": float(v)}
+                        for r, v in zip(use, rod)]
 
     def z(a, b, key):
         err = {"tension_pN": "tension_err_pN", "B_pN_nm2": "B_err_pN_nm2"}[key]
@@ -193,13 +215,15 @@ def predict_and_compare(modes_json, out, tension_jsons, cg_dirs=(), m: int | Non
            "refused": refused, "cg_rod_reason": refused.get("cg_rod"),
            "cg_notes": cg_reasons if mats else [],
            "fit": {"template": template_name, "n_fit_max": n_fit_max, "dynamics": dyn, "statics": stat,
+                   "statics_total_variance": fits["total_variance"], "statics_over_dynamics_rod": over_dyn,
                    **checks, "materials": refs},
            "definition": "rows: per MD mode, the MD's undamped frequency omega0 = sqrt(omega^2 + gamma^2) "
                          "(dnarod modes) and the linear rod's (mdbridge/rod/linear.py) of the coarse-grained "
                          "and the paper's material at the MD's virial tension; errors: MD fit; rod: material "
                          "replicas and tension error in quadrature; z = (MD - rod) / sqrt(err_MD^2 + err_rod^2). "
                          "fit: T and B of the linear rod that reproduce the MD's lowest bend frequencies "
-                         "(dynamics) and static variances (statics), every other constant the template's "
+                         "(dynamics) and the static variances of their fitted oscillators (statics; "
+                         "statics_total_variance: the record's whole variance), every other constant the template's "
                          "(docs/dispersion.md)"}
     write_json(out, rec)
     return rec
