@@ -156,23 +156,44 @@ def test_the_workflow_reproduces_the_committed_prediction(pred):
 
 def test_rod_at_300K_shifts_as_quoted():
     """docs/dispersion.md: the paper's rod at 300 K through `dnarod modes`, relative to the
-    zero-tension linear dispersion (tests/python/test_modes_cold_rod.py's reference)."""
+    zero-tension linear dispersion (tests/python/test_modes_cold_rod.py's reference). Every
+    axial mode that passes lies within 0.7 % of it at n >= 2 (a wrong peak, as the analysis
+    once accepted, lies 40-83 % off: tests/python/test_modes_background.py)."""
     from test_modes_cold_rod import linear_omega_per_ps
     modes = json.loads((R / "rod_300K" / "modes.json").read_text())["modes"]
     shift = {(m["kind"], m["n"]): 100 * (m["omega_per_ps"] / linear_omega_per_ps(m["kind"], m["n"]) - 1)
-             for m in modes if m["n"] <= 8 and m["omega_per_ps"]}
+             for m in modes if m["omega_per_ps"]}
+
+    def listed(kind, ns):
+        runs, out = [], []
+        for n in ns:
+            if runs and n == runs[-1][-1] + 1:
+                runs[-1].append(n)
+            else:
+                runs.append([n])
+        for r in runs:
+            out.append(str(r[0]) if len(r) == 1 else f"{r[0]}, {r[1]}" if len(r) == 2 else f"{r[0]}-{r[-1]}")
+        return ", ".join(out)
+
     bend48 = [shift[("bend", n)] for n in range(4, 9)]
-    twist = [shift[("twist", n)] for n in range(1, 8)]
-    stretch_off = [shift[("stretch", n)] for n in (5, 7, 8)]
+    twist = sorted(n for k, n in shift if k == "twist")
+    stretch = sorted(n for k, n in shift if k == "stretch" and n >= 2)
+    tw = [shift[("twist", n)] for n in twist]
+    st = [shift[("stretch", n)] for n in stretch]
+    refused = {kind: sorted(m["n"] for m in modes if m["kind"] == kind and m["reason"])
+               for kind in ("twist", "stretch")}
     quoted = (f"bend n = 1 +{shift[('bend', 1)]:.0f} %, n = 2 +{shift[('bend', 2)]:.0f} %, n = 4-8 "
               f"+{max(bend48):.0f} % down to +{min(bend48):.1f} %",
-              f"twist n = 1-7 within {min(twist):.1f} % .. +{max(twist):.1f} %",
+              f"twist n = {listed('twist', twist)} within {min(tw):.2f} % .. +{max(tw):.2f} %",
               f"stretch n = 1 +{shift[('stretch', 1)]:.1f} %",
-              f"accepted at {min(stretch_off):.0f} % .. {max(stretch_off):.0f} %")
+              f"and n = {listed('stretch', stretch)} within {min(st):.2f} % .. +{max(st):.2f} %",
+              f"(twist n = {', '.join(map(str, refused['twist']))}; stretch n = "
+              f"{', '.join(map(str, refused['stretch']))})")
     doc = re.sub(r"\s+", " ", DOC)
     for q in quoted:
         assert q in doc, q
-    assert ("bend", 3) not in shift and ("twist", 8) not in shift
+    assert ("bend", 3) not in shift
+    assert all(abs(v) < 0.7 for (k, n), v in shift.items() if k != "bend" and n >= 2)
 
 
 def test_statics_as_quoted(pred):
