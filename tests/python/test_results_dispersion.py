@@ -141,15 +141,29 @@ def test_the_workflow_reproduces_the_committed_prediction(pred):
     """`dnarod compare --config workflows/config/dispersion.yaml` run end to end on the 5-ns MD
     (docs/dispersion.md, "Adopting a run made outside the workflow") reads the trajectory itself;
     the committed prediction.json came from the mode series (float32 amplitudes) by the steps
-    run by hand. The same modes are refused, and every frequency agrees to 1e-5."""
+    run by hand. The same modes are refused, and every frequency agrees to 1e-5. The one
+    allowed difference is a stationarity verdict at its threshold: a half-record fit of a
+    wandering peak moves within its error with the amplitudes' rounding (docs/analysis.md,
+    "Nearly undamped modes that wander"), so a refusal at halves z <= 3.1 may pass on the
+    other side (bend n = 8: 3.02 from the series, 2.52 from the trajectory)."""
     wf = json.loads((R / "workflow" / "dispersion.json").read_text())
     rows = {(r["kind"], r["n"]): r for r in wf["rows"]}
+
+    def at_threshold(reason):
+        m = re.match(r"not stationary: the halves' frequencies differ by ([\d.]+) of", reason or "")
+        return m is not None and float(m.group(1)) <= 3.1
+
+    flipped = []
     for r in pred["rows"]:
         w = rows[(r["kind"], r["n"])]
-        assert (w["md_reason"] is None) == (r["md_reason"] is None), (r["kind"], r["n"])
+        if (w["md_reason"] is None) != (r["md_reason"] is None):
+            assert at_threshold(w["md_reason"]) or at_threshold(r["md_reason"]), (r["kind"], r["n"])
+            flipped.append((r["kind"], r["n"]))
+            continue
         for key in ("md_omega0_per_ps", "paper_rod_omega_per_ps"):
             if r[key] is not None:
                 assert w[key] == pytest.approx(r[key], rel=1e-5), (r["kind"], r["n"], key)
+    assert flipped == [("bend", 8)]
     assert wf["tension"]["tension_pN"] == pytest.approx(pred["tension"]["tension_pN"], rel=1e-9)
     assert "refused" in wf["cg_rod_reason"] and "21.9 independent samples" in wf["cg_rod_reason"]
 
