@@ -59,15 +59,10 @@ def make_rod(work):
     return rod, material, sequence, rest["length"], rest["points"]
 
 
-def run_seed(work, rod, L, N, seed, dt, rodsim):
-    from dnarod.cli import main
-    from mdbridge.rod.material.parameter_sets import olson1998_table
-    tag = f"{seed}_dt{dt:g}"
-    h5, cg = work / f"thermal{tag}.h5", work / f"cg{tag}"
-    if h5.exists() and (cg / "params.json").exists():
-        return h5, cg, None
-    toml = rod / f"thermal{tag}.toml"
-    toml.write_text(f"""[rod]
+def scene_text(L, N, dt, seed, temperature_K) -> str:
+    """The thermal scene of the loop: the rod of make_rod from its intrinsic (rest) strains,
+    Langevin at step dt, unboxed (keep_closure = false), 4001 frames over 16000 rod times."""
+    return f"""[rod]
 length = {L!r}
 points = {N}
 
@@ -89,12 +84,23 @@ frames = 4001
 fields = ["centerline", "directors", "internal"]
 
 [thermal]
-temperature_K = {olson1998_table()["temperature_K"]!r}
+temperature_K = {temperature_K!r}
 seed = {seed}
 keep_closure = false
 friction_translational = 0.05
 friction_rotational = 0.05
-""")
+"""
+
+
+def run_seed(work, rod, L, N, seed, dt, rodsim):
+    from dnarod.cli import main
+    from mdbridge.rod.material.parameter_sets import olson1998_table
+    tag = f"{seed}_dt{dt:g}"
+    h5, cg = work / f"thermal{tag}.h5", work / f"cg{tag}"
+    if h5.exists() and (cg / "params.json").exists():
+        return h5, cg, None
+    toml = rod / f"thermal{tag}.toml"
+    toml.write_text(scene_text(L, N, dt, seed, olson1998_table()["temperature_K"]))
     t0 = time.time()
     subprocess.run([str(rodsim), "run", str(toml), "-o", str(h5)], check=True, capture_output=True)
     wall = time.time() - t0

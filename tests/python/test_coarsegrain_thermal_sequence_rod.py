@@ -39,13 +39,13 @@ import h5py
 import numpy as np
 import pytest
 
+from benchscripts import load_bench
 from dnarod.cli import main
-from mdbridge.rod.material.gridfile import write_initial_file
 from mdbridge.rod.material.parameter_sets import dimers, olson1998_table
 from mdbridge.rod.material.thermal_steps import holonomy_directions, off_holonomy, stationary_step_means
 
-N_BP = 42
-POINTS_PER_BP = 2
+LOOP = load_bench("cg_sequence_seeds.py")   # the rod and scene of the loop, one home
+N_BP = LOOP.N_BP
 TABLE = olson1998_table()
 CHI2_MAX = 1.8   # chi^2_41 / 41 above it: p = 0.13 % per parameter, 0.8 % for any of six
 
@@ -53,43 +53,8 @@ CHI2_MAX = 1.8   # chi^2_41 / 41 above it: p = 0.13 % per parameter, 0.8 % for a
 @pytest.fixture(scope="module")
 def loop(tmp_path_factory, rodsim):
     d = tmp_path_factory.mktemp("thermal_sequence_rod")
-    rod = d / "rod"
-    assert main(["dna-rod", "--random", str(N_BP), "--seed", "1", "--params", "olson1998",
-                 "--points-per-bp", str(POINTS_PER_BP), "--shape", "exact", "-o", str(rod)]) == 0
-    with h5py.File(rod / "material.h5", "r") as f:
-        material = {k: np.asarray(f[k]) for k in ("K", "Gamma0", "Omega0")}
-        sequence = str(f.attrs["sequence"])
-    rest = json.loads((rod / "rest.json").read_text())
-    L, N = rest["length"], rest["points"]
-    write_initial_file(rod / "intrinsic.h5", np.arange(N) * L / N, material["Gamma0"], material["Omega0"])
-    (rod / "thermal.toml").write_text(f"""[rod]
-length = {L!r}
-points = {N}
-
-[material]
-material_file = "material.h5"
-
-[initial]
-kind = "file"
-path = "intrinsic.h5"
-
-[solver]
-space = "spectral"
-time = "langevin"
-dt = 0.025
-
-[output]
-t_end = 16000.0
-frames = 4001
-fields = ["centerline", "directors", "internal"]
-
-[thermal]
-temperature_K = {TABLE["temperature_K"]!r}
-seed = 11
-keep_closure = false
-friction_translational = 0.05
-friction_rotational = 0.05
-""")
+    rod, material, sequence, L, N = LOOP.make_rod(d)
+    (rod / "thermal.toml").write_text(LOOP.scene_text(L, N, 0.025, 11, TABLE["temperature_K"]))
     h5 = d / "thermal.h5"
     subprocess.run([str(rodsim), "run", str(rod / "thermal.toml"), "-o", str(h5)], check=True, capture_output=True)
     with h5py.File(h5, "r") as f:
