@@ -9,6 +9,7 @@ physical check of the mode analysis that could fail (control: the fit's T agains
 5 pN off is rejected).
 """
 import json
+import math
 import re
 import subprocess
 import sys
@@ -228,3 +229,44 @@ def test_statics_as_quoted(pred):
     mid = [ratio[n]["ratio"] for n in (4, 6, 7)]
     assert 0.985 <= min(mid) and max(mid) < 1.045
     assert all(abs(ratio[n]["ratio"] - 1) < 2 * ratio[n]["ratio_err"] for n in (4, 6, 7))
+
+
+def test_second_seed_as_quoted():
+    """docs/dispersion.md, "A second seed": the chi2 of the seed-to-seed differences per kind
+    (twist and stretch covered by their errors, bend not), bend n = 1's shift against the
+    string's omega^2 ~ T + B k^2 at the two seeds' virial tensions (agrees within the
+    tensions' errors; control: equal tensions, which a -22 % shift at z -4.4 refutes), and
+    the tensions quoted."""
+    S = R / "seed2"
+    d = json.loads((S / "seeds.json").read_text())
+    diffs = {}
+    for r in d["rows"]:
+        a, b = r.get("seed1_omega_per_ps"), r.get("seed2_omega_per_ps")
+        if a and b:
+            z = (b - a) / math.hypot(r["seed1_omega_err_per_ps"], r["seed2_omega_err_per_ps"])
+            diffs[(r["kind"], r["n"])] = (b / a - 1, z)
+    chi2 = {k: sum(z ** 2 for (kind, _), (_, z) in diffs.items() if kind == k) for k in ("bend", "twist", "stretch")}
+    dof = {k: sum(1 for kind, _ in diffs if kind == k) for k in chi2}
+    assert f"| twist | n = 1-6 | {chi2['twist']:.1f} for {dof['twist']} |" in DOC
+    assert f"| stretch | n = 2-5 | {chi2['stretch']:.1f} for {dof['stretch']} |" in DOC
+    assert f"| {chi2['bend']:.1f} for {dof['bend']} |" in DOC
+    from scipy.stats import chi2 as chi2_dist
+    assert chi2_dist.sf(chi2["twist"], dof["twist"]) > 0.05 and chi2_dist.sf(chi2["stretch"], dof["stretch"]) > 0.05
+    assert chi2_dist.sf(chi2["bend"], dof["bend"]) < 1e-6
+    assert f"about {math.sqrt(chi2['bend'] / dof['bend']):.1f}x too small" in DOC
+    t1 = json.loads((R / "tension.json").read_text())["halves"]["first"]      # 1000-3000 ps of seed 1
+    t2 = json.loads((S / "tension.json").read_text())
+    assert f"Seed 2 holds {t2['tension_pN']:.1f} +- {t2['tension_err_pN']:.1f} pN" in DOC
+    assert f"seed 1 held {t1:.1f} pN" in DOC
+    shift, z = diffs[("bend", 1)]
+    assert f"its n = 1 is {-100 * shift:.1f} % lower (z {z:.1f})" in DOC
+    B = json.loads((R / "prediction.json").read_text())["fit"]["dynamics"]["B_pN_nm2"]
+    k_nm = 2 * math.pi / (json.loads((S / "modes_1000_3000.json").read_text())["length_A"] / 10)
+    Bk2 = B * k_nm ** 2
+    string = math.sqrt((t2["tension_pN"] + Bk2) / (t1 + Bk2)) - 1
+    assert f"predicts {100 * string:.1f} %" in DOC and f"(B k^2 = {Bk2:.1f} pN at n = 1)" in DOC
+    t1_err = json.loads((R / "tension.json").read_text())["tension_err_pN"] * math.sqrt(2)   # a half of 4 ns
+    string_err = 0.5 * (1 + string) * math.hypot(t2["tension_err_pN"] / (t2["tension_pN"] + Bk2), t1_err / (t1 + Bk2))
+    shift_err = abs(shift / z)
+    assert abs(shift - string) < 2 * math.hypot(shift_err, string_err)
+    assert abs(shift - 0.0) > 3 * shift_err                                     # control: equal tensions
