@@ -247,6 +247,9 @@ def test_second_seed_as_quoted():
             diffs[(r["kind"], r["n"])] = (b / a - 1, z)
     chi2 = {k: sum(z ** 2 for (kind, _), (_, z) in diffs.items() if kind == k) for k in ("bend", "twist", "stretch")}
     dof = {k: sum(1 for kind, _ in diffs if kind == k) for k in chi2}
+    for k in chi2:                            # the stored summary the README's headline reads
+        assert d["differences_by_kind"][k]["chi2"] == pytest.approx(chi2[k], rel=1e-12)
+        assert d["differences_by_kind"][k]["dof"] == dof[k]
     assert f"| twist | n = 1-6 | {chi2['twist']:.1f} for {dof['twist']} |" in DOC
     assert f"| stretch | n = 2-5 | {chi2['stretch']:.1f} for {dof['stretch']} |" in DOC
     assert f"| {chi2['bend']:.1f} for {dof['bend']} |" in DOC
