@@ -34,6 +34,11 @@ def test_pooled_shift_is_the_known_one(tmp_path):
     assert pooled["err"] == pytest.approx(rel_err / np.sqrt(5), rel=1e-9)
     assert pooled["chi2"] == pytest.approx(0.0, abs=1e-18)
     assert json.loads((tmp_path / "inv.json").read_text())["rows"][0]["run_omega_per_ps"] == pytest.approx(0.0102)
+    # per kind, z = (run - ref) / combined error: for every n the shift over 0.01 n sqrt(0.02^2 + 0.03^2)
+    by_kind = rec["differences_by_kind"]["run"]
+    z = shift / np.hypot(0.02, 0.03)
+    assert by_kind["bend"]["dof"] == 7 and by_kind["bend"]["n"] == [1, 2, 3, 4, 6, 7, 8]
+    assert by_kind["twist"]["chi2"] == pytest.approx(8 * z ** 2, rel=1e-9)
 
 
 def test_bad_pair_is_an_input_error(tmp_path, capsys):

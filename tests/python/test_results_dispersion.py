@@ -118,6 +118,9 @@ def test_thermostat_and_time_step_invariance_as_quoted():
     assert (f"+{100 * p['mean']:.2f} +- {100 * p['err']:.2f} % (chi2 {p['chi2']:.1f} for {p['dof']} dof, "
             f"largest |z| {p['max_abs_z']:.1f})") in doc
     assert p["err"] < 0.01 and abs(p["mean"]) > 2.5 * p["err"]   # measured to 1 %, and not zero: said so
+    by_kind = inv["differences_by_kind"]
+    for name, kind in (("nve", "twist"), ("nve", "stretch"), ("dt1fs", "twist"), ("dt1fs", "stretch")):
+        assert f"{kind} {by_kind[name][kind]['chi2']:.1f} for {by_kind[name][kind]['dof']}" in doc, (name, kind)
     for name in ("nve", "dt1fs"):
         en = inv["energy"][name]
         T = en["temperature_K"]
@@ -247,9 +250,9 @@ def test_second_seed_as_quoted():
             diffs[(r["kind"], r["n"])] = (b / a - 1, z)
     chi2 = {k: sum(z ** 2 for (kind, _), (_, z) in diffs.items() if kind == k) for k in ("bend", "twist", "stretch")}
     dof = {k: sum(1 for kind, _ in diffs if kind == k) for k in chi2}
-    for k in chi2:                            # the stored summary the README's headline reads
-        assert d["differences_by_kind"][k]["chi2"] == pytest.approx(chi2[k], rel=1e-12)
-        assert d["differences_by_kind"][k]["dof"] == dof[k]
+    for k in chi2:        # the invariance step's summary, which the README's headline reads
+        assert d["differences_by_kind"]["seed2"][k]["chi2"] == pytest.approx(chi2[k], rel=1e-12)
+        assert d["differences_by_kind"]["seed2"][k]["dof"] == dof[k]
     assert f"| twist | n = 1-6 | {chi2['twist']:.1f} for {dof['twist']} |" in DOC
     assert f"| stretch | n = 2-5 | {chi2['stretch']:.1f} for {dof['stretch']} |" in DOC
     assert f"| {chi2['bend']:.1f} for {dof['bend']} |" in DOC

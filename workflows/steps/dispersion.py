@@ -259,6 +259,23 @@ def pooled_relative_difference(rows: list[dict], name: str, reference: str, n_mi
             "max_abs_z": float(np.abs(r / e).max())}
 
 
+def differences_by_kind(rows: list[dict], name: str, reference: str) -> dict:
+    """Per kind, over the modes both records resolve: chi2 = sum z^2 of z = (omega_name -
+    omega_reference) / sqrt(err_name^2 + err_reference^2), its dof (the number of modes) and
+    those n. Two independent realisations of one system give chi2 ~ dof when the stated
+    errors are the scatter between realisations (docs/dispersion.md, "A second seed")."""
+    out: dict = {}
+    for x in rows:
+        a, b = x.get(f"{name}_omega_per_ps"), x.get(f"{reference}_omega_per_ps")
+        if a and b:
+            z = (a - b) / np.hypot(x[f"{name}_omega_err_per_ps"], x[f"{reference}_omega_err_per_ps"])
+            e = out.setdefault(x["kind"], {"chi2": 0.0, "dof": 0, "n": []})
+            e["chi2"] += float(z * z)
+            e["dof"] += 1
+            e["n"].append(x["n"])
+    return out
+
+
 def compare_runs(modes: dict[str, Path], reference: str, out, checks: dict[str, Path] | None = None) -> dict:
     """The invariance record: one row per mode with every run's omega, error and reason."""
     if reference not in modes:
@@ -274,6 +291,8 @@ def compare_runs(modes: dict[str, Path], reference: str, out, checks: dict[str, 
     rec = {"reference": reference, "modes": {k: str(v) for k, v in modes.items()}, "rows": ordered,
            "pooled_bend_n3": {name: pooled_relative_difference(ordered, name, reference)
                               for name in modes if name != reference},
+           "differences_by_kind": {name: differences_by_kind(ordered, name, reference)
+                                   for name in modes if name != reference},
            "energy": {name: json.loads(p.read_text())["energy"] for name, p in (checks or {}).items()}}
     write_json(out, rec)
     return rec
