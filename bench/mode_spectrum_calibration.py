@@ -401,16 +401,16 @@ def thermal_rod_main(a) -> None:
               f"{d.get('gamma_ratio') or math.nan:.2f} [{len(d['refused'])} refused] | control "
               f"{k['omega_ratio'] or math.nan:.2f}", flush=True)
     damped = [c for c in cases if not c["overdamped"]]
+    from dna_models.units import Units
     res = {"what": "calibration of dnarod modes' frequency errors on thermal-rod series against the linearised "
                    "damped operator (bench/mode_spectrum_calibration.py --thermal-rod)",
            "scene": thermal_rod_scene(a.seed), "seeds": [a.seed, a.seed + a.realisations - 1],
-           "record_ps": None, "pass_band": [LOW, HIGH], "realisations": a.realisations, "cases": cases,
+           "record_ps": Units.paper().time_to_ps(ROD_FRAME * (ROD_FRAMES - 1)), "pass_band": [LOW, HIGH],
+           "realisations": a.realisations, "cases": cases,
            "all_pass": all(c["fit"]["omega_pass"] for c in damped),
            "failing": [f"{c['kind']} {c['n']}" for c in damped if not c["fit"]["omega_pass"]],
            "control_fails": all(not c["control"]["omega_pass"] for c in damped),
            "cpu_s_this_call": time.process_time() - cpu0, "wall_s_this_call": time.time() - t0}
-    from dna_models.units import Units
-    res["record_ps"] = Units.paper().time_to_ps(ROD_FRAME * (ROD_FRAMES - 1))
     out = Path(a.out)
     out.mkdir(parents=True, exist_ok=True)
     write_json(out / "mode_spectrum_calibration_thermal_rod.json", res)
