@@ -181,6 +181,83 @@ def bend_variances_A2(mat: UniformMaterial, duplex: Duplex, tension_pN: float, n
     return np.array([4 * kT / M * num[int(n)] / den[int(n)] for n in ns]) * u.ell_A ** 2
 
 
+# -- the inertia of the axial modes, from kinetic equipartition ---------------------------
+AXIAL_INERTIA = {"twist": "I3", "stretch": "rho"}
+
+
+def axial_inertia(entry: dict, n_bp: int, length_A: float, temperature_K: float,
+                  units: Units | None = None) -> tuple:
+    """(value, error) [rod units] of the inertia per length that a measured twist or stretch
+    mode (an entry of modes.json["modes"]) implies, I3 for twist and rho for stretch; (None,
+    None) when the mode has no fitted oscillator.
+
+    Equipartition of the kinetic energy, with no stiffness in it. A step field sampled on
+    base pair i at s_i = i h (h = L / n_bp) is a difference of a node field: twist_i =
+    phi_{i+1} - phi_i (Omega3 = twist_i / h), rise_i = h + z_{i+1} - z_i. Its mode c_n
+    (mdbridge/analysis/modes.py) is (e^{i k h} - 1) times the node field's a_n, so
+    |c_n|^2 = (2 sin(k h / 2))^2 |a_n|^2 exactly (h^-2 more for Omega3). The node field's
+    kinetic energy, sum_i (1/2) I3 h phidot_i^2, is (I3 L / 4) |adot_n|^2 for the two real
+    degrees of freedom of a_n, so <|adot_n|^2> = 4 kT / (I3 L) (rho for z). The fitted
+    oscillator of undamped frequency omega0 (md_natural_frequency: a Langevin or thermostat
+    friction does not change it) has <|cdot|^2> = omega0^2 <|c|^2>_osc, hence
+        I3  = 4 kT (2 sin(k h / 2) / h)^2 / (L omega0^2 <|c_n|^2>_osc)
+        rho = 4 kT (2 sin(k h / 2))^2 / (L omega0^2 <|c_n|^2>_osc).
+    <|c_n|^2>_osc is the oscillator's own variance (modes.json oscillator_variance), not the
+    record's: a slow motion that does not oscillate holds variance but not the mode's
+    velocity. Relative error: that of the variance and twice that of omega0, in quadrature.
+    Checked on Langevin rods of known I3 and rho (bench/mode_spectrum_calibration.py
+    --thermal-rod, docs/analysis.md "Calibration")."""
+    kind = entry["kind"]
+    if kind not in AXIAL_INERTIA:
+        raise InputError(f"axial_inertia: mode kind {kind!r}; allowed: {sorted(AXIAL_INERTIA)}")
+    w0, e0 = md_natural_frequency(entry)
+    v, ev = entry.get("oscillator_variance"), entry.get("oscillator_variance_err")
+    if w0 is None or not v:
+        return None, None
+    u = units or Units.paper()
+    L = u.length_to_rod(length_A)
+    h = L / n_bp
+    k = 2 * np.pi * int(entry["n"]) / L
+    w0_rod = w0 * u.tau_ps
+    # the variance in rod units: rad^2/A^2 -> rad^2/ell^2, A^2 -> ell^2
+    v_rod = v * u.ell_A ** 2 if kind == "twist" else v / u.ell_A ** 2
+    q = 2 * math.sin(k * h / 2) / (h if kind == "twist" else 1.0)
+    value = 4 * u.kT_to_rod(temperature_K) * q ** 2 / (L * w0_rod ** 2 * v_rod)
+    rel = math.hypot(2 * (e0 or 0.0) / w0, (ev or 0.0) / v)
+    return value, value * rel
+
+
+def axial_inertia_table(modes: list, n_bp: int, length_A: float, temperature_K: float,
+                        references: dict, units: Units | None = None) -> dict:
+    """Every measured twist and stretch mode's kinetic inertia (axial_inertia) over each
+    reference material's (name -> UniformMaterial: its I33, rho), and per kind the weighted
+    mean over the modes with its standard error and the chi^2 of the modes about it (a
+    chi^2 / dof well above 1 says the modes do not share one inertia)."""
+    out = {}
+    for kind, name in AXIAL_INERTIA.items():
+        rows = []
+        for e in modes:
+            if e["kind"] != kind:
+                continue
+            v, err = axial_inertia(e, n_bp, length_A, temperature_K, units)
+            if v is None:
+                continue
+            row = {"n": int(e["n"]), f"{name}_rod_units": v, f"{name}_err_rod_units": err}
+            for ref, mat in references.items():
+                r = float(np.asarray(mat.I)[2, 2]) if kind == "twist" else float(mat.rho)
+                row[f"over_{ref}"], row[f"over_{ref}_err"] = v / r, err / r
+            rows.append(row)
+        pooled = None
+        if len(rows) >= 2:
+            x = np.array([r[f"{name}_rod_units"] for r in rows])
+            w = np.array([r[f"{name}_err_rod_units"] for r in rows]) ** -2.0
+            mean = float((w * x).sum() / w.sum())
+            pooled = {f"{name}_rod_units": mean, f"{name}_err_rod_units": float(w.sum() ** -0.5),
+                      "chi2": float((w * (x - mean) ** 2).sum()), "dof": len(rows) - 1}
+        out[kind] = {"modes": rows, "pooled": pooled}
+    return out
+
+
 # -- the prediction ------------------------------------------------------------------------
 def predict(mat: UniformMaterial, duplex: Duplex, tension_pN: float, tension_err_pN: float = 0.0,
             replicas=(), n_max: int = 14, units: Units | None = None) -> dict:

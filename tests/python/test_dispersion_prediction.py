@@ -2,8 +2,9 @@
 against things known independently of them: Eq 26 and the twist and stretch wave speeds of
 the paper rod, the linear rod of mdbridge/rod/linear.py for a coupled anisotropic material,
 the string-beam in its limit (inextensible, unshearable, no rotary inertia), Timoshenko's
-static compliance, masses dropping out of a static variance, and the z-scores of fits to
-synthetic noisy frequencies (sampling theory), with controls that must fail. ~40 s."""
+static compliance, masses dropping out of a static variance, the z-scores of fits to
+synthetic noisy frequencies (sampling theory), and the kinetic inertia of an axial mode
+written in SI from the continuum rod's equipartition, with controls that must fail. ~40 s."""
 import math
 
 import numpy as np
@@ -11,9 +12,10 @@ import pytest
 
 from dna_models.errors import InputError
 from dna_models.units import BOLTZMANN, Units
-from mdbridge.analysis.dispersion_prediction import (Duplex, bend_frequencies, bend_stiffness_pN_nm2,
-                                                     bend_variances_A2, compare, fit_tension_bend,
-                                                     frequencies, paper_material, predict, scaled_bend)
+from mdbridge.analysis.dispersion_prediction import (Duplex, axial_inertia, axial_inertia_table, bend_frequencies,
+                                                     bend_stiffness_pN_nm2, bend_variances_A2, compare,
+                                                     fit_tension_bend, frequencies, paper_material, predict,
+                                                     scaled_bend)
 from mdbridge.rod.linear import UniformMaterial, dna_dispersion
 from mdbridge.stats import spread
 
@@ -218,3 +220,50 @@ def test_compare_rows_and_z():
     r = compare(md[:1], {"paper_rod": p})[0]
     assert r["md_omega0_per_ps"] == pytest.approx(md[0]["omega_per_ps"] * math.sqrt(1.25), rel=1e-12)
     assert r["md_omega0_err_per_ps"] == pytest.approx(math.hypot(0.001, 0.5 * 0.002) / math.sqrt(1.25), rel=1e-12)
+
+
+@pytest.mark.parametrize("kind,n", [("twist", 1), ("twist", 6), ("stretch", 3), ("stretch", 14)])
+def test_axial_inertia_of_an_equipartitioned_mode_is_the_rods(kind, n):
+    """A twist (stretch) mode of the paper's continuum rod, written in SI: the node field
+    a_n (twist angle, axial displacement) holds <|a_n|^2> = 4 kT / (S k^2 L) (S = D3 or C3:
+    potential equipartition), oscillates at omega0 = sqrt(S / I) k (I = I3 or rho) with a
+    damping gamma, and the step field the modes see is (e^{ikh} - 1) a_n (/ h for Omega3).
+    The inertia comes back as the paper's in rod units (2, 1); the damped frequency in its
+    place (the control) does not."""
+    L = 158 * U.rise_A * 1e-10
+    h, k = L / 158, 2 * np.pi * n / L
+    S, I = ((U.D * U.D_ratios[2], U.I * U.I_ratios[2]) if kind == "twist" else (U.C * U.C_ratios[2], U.rho))
+    w0 = math.sqrt(S / I) * k * 1e-12                        # rad/ps
+    gamma = 0.4 * w0
+    step = 2 * math.sin(k * h / 2) / (h if kind == "twist" else 1.0)
+    var = step ** 2 * 4 * KT / (S * k ** 2 * L) * (1e-20 if kind == "twist" else 1e20)   # rad^2/A^2, A^2
+    entry = {"kind": kind, "n": n, "omega_per_ps": math.sqrt(w0 ** 2 - gamma ** 2), "omega_err_per_ps": 0.01 * w0,
+             "damping_per_ps": gamma, "damping_err_per_ps": 0.0, "oscillator_variance": var,
+             "oscillator_variance_err": 0.05 * var}
+    value, err = axial_inertia(entry, 158, L * 1e10, 300.0)
+    truth = U.I_ratios[2] if kind == "twist" else 1.0      # rod units: I / U.I, rho / U.rho
+    assert value == pytest.approx(truth, rel=1e-9)
+    # the error: twice omega0's relative error (0.01 omega / omega0) and the variance's, in quadrature
+    assert err / value == pytest.approx(math.hypot(2 * 0.01 * entry["omega_per_ps"] / w0, 0.05), rel=1e-9)
+    control = dict(entry, damping_per_ps=0.0)               # the damped frequency taken as omega0
+    assert axial_inertia(control, 158, L * 1e10, 300.0)[0] / truth == pytest.approx(1 / (1 - 0.16), rel=1e-9)
+
+
+def test_axial_inertia_refuses_bend_and_passes_over_refused_modes():
+    with pytest.raises(InputError, match="bend"):
+        axial_inertia({"kind": "bend", "n": 1}, 158, 534.0, 300.0)
+    assert axial_inertia({"kind": "twist", "n": 1, "omega_per_ps": None}, 158, 534.0, 300.0) == (None, None)
+    # the table pools the modes by weight and counts their chi^2 about the mean
+    mat = paper_material(DUPLEX)
+    e = {"kind": "twist", "omega_per_ps": 0.1, "omega_err_per_ps": 0.0, "damping_per_ps": 0.0,
+         "oscillator_variance_err": 0.0}
+    modes = [dict(e, n=1, oscillator_variance=1e-5, oscillator_variance_err=1e-6),
+             dict(e, n=1, oscillator_variance=2e-5, oscillator_variance_err=1e-6)]
+    t = axial_inertia_table(modes, 158, 534.0, 300.0, {"paper_rod": mat})
+    (a, ea), (b, eb) = (axial_inertia(m, 158, 534.0, 300.0) for m in modes)
+    w = np.array([ea, eb]) ** -2.0
+    pooled = t["twist"]["pooled"]
+    assert pooled["I3_rod_units"] == pytest.approx((w[0] * a + w[1] * b) / w.sum(), rel=1e-12)
+    assert pooled["chi2"] == pytest.approx((a - b) ** 2 / (ea ** 2 + eb ** 2), rel=1e-9)
+    assert t["twist"]["modes"][0]["over_paper_rod"] == pytest.approx(a / 2.0, rel=1e-12)
+    assert t["stretch"] == {"modes": [], "pooled": None}

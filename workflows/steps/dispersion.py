@@ -208,6 +208,11 @@ def predict_and_compare(modes_json, out, tension_jsons, cg_dirs=(), m: int | Non
     refs = {name: {"B_pN_nm2": bend_stiffness_pN_nm2(mat),
                    "persistence_length_nm": persistence_nm(bend_stiffness_pN_nm2(mat), temp)}
             for name, mat in ([("paper_rod", paper)] + ([("cg_rod", mats[0][1])] if mats else []))}
+    # the twist and stretch modes' inertia from kinetic equipartition, against the paper's and
+    # the coarse-grained material's (docs/dispersion.md, "What moves the twist modes")
+    from mdbridge.analysis.dispersion_prediction import axial_inertia_table
+    inertia = axial_inertia_table(table["modes"], duplex.n_bp, table["length_A"], temp,
+                                  {"paper_rod": paper, **({"cg_rod": mats[0][1]} if mats else {})})
     rec = {"n_bp": duplex.n_bp, "turns": duplex.turns, "length_A": table["length_A"],
            "record_ps": table.get("record_ps"), "temperature_K": temp,
            "tension": {"tension_pN": T, "tension_err_pN": T_err, "per_seed": tensions},
@@ -216,7 +221,7 @@ def predict_and_compare(modes_json, out, tension_jsons, cg_dirs=(), m: int | Non
            "cg_notes": cg_reasons if mats else [],
            "fit": {"template": template_name, "n_fit_max": n_fit_max, "dynamics": dyn, "statics": stat,
                    "statics_total_variance": fits["total_variance"], "statics_over_dynamics_rod": over_dyn,
-                   **checks, "materials": refs},
+                   **checks, "materials": refs, "axial_inertia": inertia},
            "definition": "rows: per MD mode, the MD's undamped frequency omega0 = sqrt(omega^2 + gamma^2) "
                          "(dnarod modes) and the linear rod's (mdbridge/rod/linear.py) of the coarse-grained "
                          "and the paper's material at the MD's virial tension; errors: MD fit; rod: material "
