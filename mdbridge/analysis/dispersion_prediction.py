@@ -232,27 +232,30 @@ def axial_inertia_table(modes: list, n_bp: int, length_A: float, temperature_K: 
     """Every measured twist and stretch mode's kinetic inertia (axial_inertia) over each
     reference material's (name -> UniformMaterial: its I33, rho), and per kind the weighted
     mean over the modes with its standard error and the chi^2 of the modes about it (a
-    chi^2 / dof well above 1 says the modes do not share one inertia)."""
+    chi^2 / dof well above 1 says the modes do not share one inertia), each over the
+    references too."""
     out = {}
     for kind, name in AXIAL_INERTIA.items():
+        ref_value = {ref: float(np.asarray(mat.I)[2, 2]) if kind == "twist" else float(mat.rho)
+                     for ref, mat in references.items()}
+
+        def over_references(v, err):
+            return {key: x for ref, r in ref_value.items()
+                    for key, x in ((f"over_{ref}", v / r), (f"over_{ref}_err", err / r))}
         rows = []
         for e in modes:
             if e["kind"] != kind:
                 continue
             v, err = axial_inertia(e, n_bp, length_A, temperature_K, units)
-            if v is None:
-                continue
-            row = {"n": int(e["n"]), f"{name}_rod_units": v, f"{name}_err_rod_units": err}
-            for ref, mat in references.items():
-                r = float(np.asarray(mat.I)[2, 2]) if kind == "twist" else float(mat.rho)
-                row[f"over_{ref}"], row[f"over_{ref}_err"] = v / r, err / r
-            rows.append(row)
+            if v is not None:
+                rows.append({"n": int(e["n"]), f"{name}_rod_units": v, f"{name}_err_rod_units": err,
+                             **over_references(v, err)})
         pooled = None
         if len(rows) >= 2:
             x = np.array([r[f"{name}_rod_units"] for r in rows])
             w = np.array([r[f"{name}_err_rod_units"] for r in rows]) ** -2.0
-            mean = float((w * x).sum() / w.sum())
-            pooled = {f"{name}_rod_units": mean, f"{name}_err_rod_units": float(w.sum() ** -0.5),
+            mean, err = float((w * x).sum() / w.sum()), float(w.sum() ** -0.5)
+            pooled = {f"{name}_rod_units": mean, f"{name}_err_rod_units": err, **over_references(mean, err),
                       "chi2": float((w * (x - mean) ** 2).sum()), "dof": len(rows) - 1}
         out[kind] = {"modes": rows, "pooled": pooled}
     return out

@@ -276,3 +276,38 @@ def test_second_seed_as_quoted():
     shift_err = abs(shift / z)
     assert abs(shift - string) < 2 * math.hypot(shift_err, string_err)
     assert abs(shift - 0.0) > 3 * shift_err                                     # control: equal tensions
+
+
+def test_twist_inertia_from_kinetic_equipartition_as_quoted(pred):
+    """docs/dispersion.md, "What moves the twist modes": the twist and stretch modes'
+    kinetic inertia (axial_inertia_table, recomputed here from modes.json) against the
+    paper's and the atoms' own, and the twist stiffness it implies. The paper's I3 as the
+    truth (the control) is rejected: the atoms' I33 is not."""
+    from dna_models.units import Units
+    from mdbridge.analysis.dispersion_prediction import Duplex, axial_inertia_table, paper_material
+    modes = json.loads((R / "modes.json").read_text())
+    ai = pred["fit"]["axial_inertia"]
+    again = axial_inertia_table(modes["modes"], modes["n_bp"], modes["length_A"], pred["temperature_K"],
+                                {"paper_rod": paper_material(Duplex(158, 15))})
+    assert json.loads(json.dumps(again)) == ai
+    doc = re.sub(r"\s+", " ", DOC)
+    tw, st = ai["twist"]["pooled"], ai["stretch"]["pooled"]
+    assert f"I3 = {tw['I3_rod_units'] / 2:.2f} +- {tw['I3_err_rod_units'] / 2:.2f} of the paper's" in doc
+    assert f"(chi2 {tw['chi2']:.1f} for {tw['dof']} dof;" in doc
+    I33 = json.loads((R / "cg_provisional" / "params.json").read_text())["rod"]["I_star"][2][2]
+    z_atoms = (tw["I3_rod_units"] - I33) / tw["I3_err_rod_units"]
+    z_paper = (tw["I3_rod_units"] - 2.0) / tw["I3_err_rod_units"]
+    assert abs(z_atoms) < 1 and z_paper < -4                    # the control: the paper's I3 is rejected
+    assert f"{tw['I3_rod_units'] / I33:.2f} +- {tw['I3_err_rod_units'] / I33:.2f} of the coarse-grained I33" in doc
+    u = Units.paper()
+    D3_paper = u.D * u.D_ratios[2] * 1e30                        # pN nm^2
+    f = [(r["md_omega0_per_ps"] / r["paper_rod_omega_per_ps"]) ** 2 * tw["I3_rod_units"] / 2
+         for r in rows(pred, "twist")]
+    assert f"D3 = I3 omega0^2 / k^2 is {min(f):.2f}-{max(f):.2f}x the paper's {D3_paper:.0f} pN nm^2" in doc
+    assert f"({min(f) * D3_paper:.0f}-{max(f) * D3_paper:.0f} pN nm^2)" in doc
+    assert f"(chi2 {st['chi2']:.0f} for {st['dof']} dof;" in doc
+    rho = [r["rho_rod_units"] for r in ai["stretch"]["modes"]]
+    assert f"rho {min(rho):.2f}-{max(rho):.1f}x the paper's" in doc
+    share = [m["oscillator_variance"] / m["variance"] for m in modes["modes"]
+             if m["kind"] == "twist" and m["oscillator_variance"]]
+    assert f"only {100 * min(share):.0f}-{100 * max(share):.0f} % of each twist mode's variance" in doc
