@@ -299,6 +299,12 @@ def test_twist_inertia_from_kinetic_equipartition_as_quoted(pred):
     z_paper = (tw["I3_rod_units"] - 2.0) / tw["I3_err_rod_units"]
     assert abs(z_atoms) < 1 and z_paper < -4                    # the control: the paper's I3 is rejected
     assert f"{tw['I3_rod_units'] / I33:.2f} +- {tw['I3_err_rod_units'] / I33:.2f} of the coarse-grained I33" in doc
+    m2 = json.loads((R / "seed2" / "modes_1000_3000.json").read_text())
+    tw2 = axial_inertia_table(m2["modes"], m2["n_bp"], m2["length_A"], pred["temperature_K"],
+                              {"paper_rod": paper_material(Duplex(158, 15))})["twist"]["pooled"]
+    assert (f"seed's 1000-3000 ps give {tw2['over_paper_rod']:.2f} +- {tw2['over_paper_rod_err']:.2f} "
+            "(`seed2/modes_1000_3000.json`)") in doc
+    assert abs(tw2["I3_rod_units"] - I33) < 2 * tw2["I3_err_rod_units"]
     u = Units.paper()
     D3_paper = u.D * u.D_ratios[2] * 1e30                        # pN nm^2
     f = [(r["md_omega0_per_ps"] / r["paper_rod_omega_per_ps"]) ** 2 * tw["I3_rod_units"] / 2
