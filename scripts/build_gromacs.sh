@@ -65,8 +65,20 @@ case "$GPU" in
   *) echo "build_gromacs: DNAROD_GMX_GPU=$GPU; allowed: OFF or CUDA" >&2; exit 2 ;;
 esac
 
-have() {  # $1 = gmx or gmx_d: installed, of this version
-  [ -x "$PREFIX/bin/$1" ] && "$PREFIX/bin/$1" --version 2>/dev/null | grep -q "GROMACS version:.*$VERSION"
+# rdtscp: mdrun built to use it refuses to start on a CPU without it (some virtual
+# machines hide it: "Please rebuild GROMACS with the GMX_USE_RDTSCP=OFF"), so it is
+# used only where /proc/cpuinfo lists it, and a build that uses it on a CPU without it
+# is rebuilt.
+if grep -qw rdtscp /proc/cpuinfo 2>/dev/null; then RDTSCP=ON; else RDTSCP=OFF; fi
+have() {  # $1 = gmx or gmx_d: installed, of this version, runnable on this CPU
+  [ -x "$PREFIX/bin/$1" ] || return 1
+  local v
+  v="$("$PREFIX/bin/$1" --version 2>/dev/null)" || return 1
+  grep -q "GROMACS version:.*$VERSION" <<<"$v" || return 1
+  if [ "$RDTSCP" = OFF ] && grep -q "RDTSCP usage:.*enabled" <<<"$v"; then
+    echo "build_gromacs: $PREFIX/bin/$1 uses rdtscp, which this CPU lacks; rebuilding" >&2
+    return 1
+  fi
 }
 wanted=(gmx)
 if [ "$DOUBLE" = 1 ]; then wanted+=(gmx_d); fi
@@ -149,7 +161,7 @@ configure_one() {  # $1 = mixed | double
     -DGMX_GPU="$gpu" \
     -DGMX_MPI=OFF -DGMX_THREAD_MPI=ON -DGMX_OPENMP=ON \
     -DGMX_FFT_LIBRARY=fftw3 -DGMX_BUILD_OWN_FFTW=OFF \
-    -DGMX_HWLOC=ON -DGMX_USE_RDTSCP=ON \
+    -DGMX_HWLOC=ON -DGMX_USE_RDTSCP="$RDTSCP" \
     -DGMX_USE_MUPARSER=EXTERNAL \
     -DGMX_EXTERNAL_BLAS=ON -DGMX_EXTERNAL_LAPACK=ON \
     -DBUILD_SHARED_LIBS=OFF -DGMX_INSTALL_NBLIB_API=OFF -DGMXAPI=OFF \
