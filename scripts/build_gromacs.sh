@@ -39,6 +39,9 @@
 #                          has none in double precision).
 #   DNAROD_GMX_DOUBLE=1    same as --double
 #   DNAROD_GMX_JOBS        parallel compile jobs (default: number of CPUs)
+#   DNAROD_CPUINFO         the CPU's flags (default /proc/cpuinfo; tests give others)
+#
+# --check prints, for each binary, whether it would be kept or built, and exits.
 set -euo pipefail
 
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -48,13 +51,15 @@ JOBS="${DNAROD_GMX_JOBS:-$(nproc)}"
 WORK="$ROOT/.local/gromacs-build"
 DOUBLE="${DNAROD_GMX_DOUBLE:-0}"
 CONFIGURE_ONLY=0
+CHECK=0
 for arg in "$@"; do
   case "$arg" in
     --double) DOUBLE=1 ;;
     --configure-only) CONFIGURE_ONLY=1 ;;
+    --check) CHECK=1 ;;
     --print-prefix) echo "$PREFIX"; exit 0 ;;
-    -h|--help) sed -n '2,41p' "${BASH_SOURCE[0]}"; exit 0 ;;
-    *) echo "build_gromacs: unknown argument '$arg'; allowed: --double, --configure-only, --print-prefix" >&2
+    -h|--help) sed -n '2,44p' "${BASH_SOURCE[0]}"; exit 0 ;;
+    *) echo "build_gromacs: unknown argument '$arg'; allowed: --double, --configure-only, --check, --print-prefix" >&2
        exit 2 ;;
   esac
 done
@@ -69,7 +74,7 @@ esac
 # machines hide it: "Please rebuild GROMACS with the GMX_USE_RDTSCP=OFF"), so it is
 # used only where /proc/cpuinfo lists it, and a build that uses it on a CPU without it
 # is rebuilt.
-if grep -qw rdtscp /proc/cpuinfo 2>/dev/null; then RDTSCP=ON; else RDTSCP=OFF; fi
+if grep -qw rdtscp "${DNAROD_CPUINFO:-/proc/cpuinfo}" 2>/dev/null; then RDTSCP=ON; else RDTSCP=OFF; fi
 have() {  # $1 = gmx or gmx_d: installed, of this version, runnable on this CPU
   [ -x "$PREFIX/bin/$1" ] || return 1
   local v
@@ -89,9 +94,10 @@ for exe in "${wanted[@]}"; do
     "$PREFIX/bin/$exe" --version 2>/dev/null | grep -E "SIMD instructions|GPU support" || true
   else
     todo+=("$exe")
+    if [ "$CHECK" = 1 ]; then echo "build_gromacs: $exe would be built (rdtscp $RDTSCP)"; fi
   fi
 done
-if [ ${#todo[@]} -eq 0 ]; then exit 0; fi
+if [ ${#todo[@]} -eq 0 ] || [ "$CHECK" = 1 ]; then exit 0; fi
 
 SUDO=""
 if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi

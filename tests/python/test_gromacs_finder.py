@@ -127,3 +127,28 @@ def test_the_workflow_passes_no_path_that_bypasses_the_project_build(prefix):
                     given[f"{cfg.name}: md.{key}"] = name
                     assert Path(find_gmx(name)).parent == p / "bin", (cfg.name, key, name)
     assert given.get("paper.yaml: md.run_args") == "gmx_d"   # the one shipped --gmx, checked above
+
+
+@pytest.mark.parametrize("cpu_has_rdtscp", [True, False])
+@pytest.mark.parametrize("built_with_rdtscp", [True, False])
+def test_a_build_that_uses_rdtscp_is_rebuilt_where_the_cpu_lacks_it(tmp_path, cpu_has_rdtscp, built_with_rdtscp):
+    """scripts/build_gromacs.sh --check: a kept gmx of the right version is rebuilt only
+    when it uses rdtscp and the CPU does not list it (mdrun would refuse to start: docs/md.md,
+    "GROMACS built for the machine"). The stand-in gmx prints what a real one's --version does."""
+    bin_dir = tmp_path / "prefix" / "bin"
+    bin_dir.mkdir(parents=True)
+    gmx = bin_dir / "gmx"
+    gmx.write_text("#!/bin/sh\necho 'GROMACS version:    2022.5-Debian_2022.5_2_dnarod'\n"
+                   "echo 'SIMD instructions:  AVX2_256'\n"
+                   f"echo 'RDTSCP usage:       {'enabled' if built_with_rdtscp else 'disabled'}'\n")
+    gmx.chmod(0o755)
+    cpuinfo = tmp_path / "cpuinfo"
+    cpuinfo.write_text("flags\t\t: fpu sse4_1 avx2" + (" rdtscp" if cpu_has_rdtscp else "") + " lm\n")
+    env = dict(os.environ, DNAROD_GROMACS_PREFIX=str(tmp_path / "prefix"), DNAROD_CPUINFO=str(cpuinfo))
+    r = subprocess.run(["bash", str(SCRIPT), "--check"], env=env, capture_output=True, text=True, timeout=60)
+    assert r.returncode == 0, r.stderr
+    rebuilt = built_with_rdtscp and not cpu_has_rdtscp
+    assert ("would be built" in r.stdout) == rebuilt, r.stdout + r.stderr
+    assert ("already built; kept" in r.stdout) == (not rebuilt), r.stdout
+    if rebuilt:
+        assert "uses rdtscp, which this CPU lacks" in r.stderr
