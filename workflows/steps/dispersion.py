@@ -4,6 +4,8 @@
     python -m dnarod.steps.dispersion tension MD_DIR OUT.json [--discard-ps T]
     python -m dnarod.steps.dispersion predict MODES.json -o OUT.json --tension T.json... \
         [--cg CG_DIR...] [--m M] [--replicas R] [--n-fit-max N]
+    python -m dnarod.steps.dispersion series NAME=PREDICTION.json... -o OUT.json [--n 1 2 3 4] \
+        [--inertia-from PARAMS.json]
     python -m dnarod.steps.dispersion table DISPERSION.json [-o TABLE.md]
     python -m dnarod.steps.dispersion invariance REF=MODES.json NAME=MODES.json... -o OUT.json \
         [--checks NAME=CHECKS.json...]
@@ -24,6 +26,10 @@ variances of their fitted oscillators (`dnarod modes` oscillator_variance; the r
 variance is fitted beside; docs/dispersion.md, "The statics";
 mdbridge/analysis/dispersion_prediction.py). A coarse-graining that was refused
 leaves the paper rod's prediction and says why.
+
+`series` sets the bend frequencies of runs that differ in tension (seeds, box lengths) against
+their virial tensions: per mode, the slope of omega0^2 against T, which the rod predicts with no
+stiffness in it (k^2 / mu for a string; mdbridge/analysis/tension_series.py).
 
 `table` prints (or writes) a dispersion.json's prediction-vs-MD table as Markdown
 (dnarod.report.dispersion.markdown_table).
@@ -234,6 +240,50 @@ def predict_and_compare(modes_json, out, tension_jsons, cg_dirs=(), m: int | Non
     return rec
 
 
+def tension_series(predictions: dict[str, Path], out, ns=(1, 2, 3, 4), inertia_from: Path | None = None) -> dict:
+    """The bend frequencies against the virial tension across runs of one duplex (other seeds,
+    other box lengths): each run's `predict` output (prediction.json) gives its tension and
+    omega0 per mode; per mode n, the measured slope of omega0^2 against T and the linear
+    rod's (mdbridge/analysis/tension_series.py). The rod: the paper's material, with the
+    atoms' own mass and inertia when `inertia_from` (a coarse-graining's params.json, rod
+    rho_star and I_star) is given."""
+    from mdbridge.analysis.dispersion_prediction import Duplex, paper_material
+    from mdbridge.analysis.tension_series import frequency_against_tension
+    from mdbridge.rod.linear import UniformMaterial
+    runs, first = [], None
+    for name, path in predictions.items():
+        p = json.loads(path.read_text())
+        first = first or p
+        if (p["n_bp"], p["turns"]) != (first["n_bp"], first["turns"]):
+            raise InputError(f"{path}: {p['n_bp']} bp, {p['turns']} turns; the first run has "
+                             f"{first['n_bp']} bp, {first['turns']} turns: a series is of one duplex")
+        bend = {r["n"]: (r["md_omega0_per_ps"], r["md_omega0_err_per_ps"]) for r in p["rows"] if r["kind"] == "bend"}
+        runs.append({"name": name, "source": str(path), "tension_pN": p["tension"]["tension_pN"],
+                     "tension_err_pN": p["tension"]["tension_err_pN"], "length_A": p["length_A"],
+                     "record_ps": p.get("record_ps"), "omega0": bend,
+                     "dynamics_tension_pN": p["fit"]["dynamics"].get("tension_pN"),
+                     "dynamics_tension_err_pN": p["fit"]["dynamics"].get("tension_err_pN"),
+                     "dynamics_B_pN_nm2": p["fit"]["dynamics"].get("B_pN_nm2"),
+                     "dynamics_B_err_pN_nm2": p["fit"]["dynamics"].get("B_err_pN_nm2")})
+    duplex = Duplex(int(first["n_bp"]), int(first["turns"]), float(first["temperature_K"]))
+    mat, inertia = paper_material(duplex), "the paper's"
+    if inertia_from is not None:
+        rod = json.loads(Path(inertia_from).read_text())["rod"]
+        mat = UniformMaterial(K=mat.K, I=np.asarray(rod["I_star"], float), rho=float(rod["rho_star"]),
+                              Gamma0=mat.Gamma0, Omega0=mat.Omega0)
+        inertia = f"the atoms' own ({inertia_from}: rod rho_star, I_star)"
+    rec = {"runs": [{k: v for k, v in r.items() if k != "omega0"} | {"omega0_per_ps": {str(n): w for n, w in
+                                                                                      r["omega0"].items()}}
+                    for r in runs],
+           "material": f"the paper's stiffness, {inertia} mass and inertia", "rho_rod_units": float(mat.rho),
+           "modes": frequency_against_tension(runs, mat, duplex, [int(n) for n in ns]),
+           "definition": "per bend mode n: the straight line omega0^2 = a + slope T through the runs (T the "
+                         "virial tension, both errors), against the linear rod's d omega^2/dT at the runs' mean "
+                         "tension; z = (measured - rod) / measured error (mdbridge/analysis/tension_series.py)"}
+    write_json(out, rec)
+    return rec
+
+
 def _named(pairs: list[str], what: str) -> dict[str, Path]:
     named = {}
     for pair in pairs:
@@ -324,6 +374,11 @@ def main(argv=None) -> int:
     p.add_argument("--replicas", type=int, default=20)
     p.add_argument("--n-fit-max", type=int, default=4)
     p.add_argument("--temperature", type=float, default=None)
+    p = sub.add_parser("series")
+    p.add_argument("runs", nargs="+", help="NAME=PREDICTION.json (each run's predict output)")
+    p.add_argument("-o", "--output", required=True)
+    p.add_argument("--n", type=int, nargs="+", default=[1, 2, 3, 4])
+    p.add_argument("--inertia-from", default=None, help="a coarse-graining's params.json: the atoms' mass and inertia")
     p = sub.add_parser("table")
     p.add_argument("dispersion")
     p.add_argument("-o", "--output", default=None)
@@ -342,6 +397,8 @@ def main(argv=None) -> int:
         elif a.step == "invariance":
             runs = _named(a.runs, "invariance: run")
             compare_runs(runs, next(iter(runs)), a.output, _named(a.checks, "invariance: --checks"))
+        elif a.step == "series":
+            tension_series(_named(a.runs, "series: run"), a.output, a.n, a.inertia_from)
         elif a.step == "table":
             from dnarod.report.dispersion import markdown_table
             if not Path(a.dispersion).is_file():
