@@ -273,8 +273,9 @@ def thermal_rod_realisation(seed: int, workdir) -> dict:
     """One Langevin rod run through `dnarod modes`' code path (the rod file read as the
     command reads it, mode_table on it alone), and the control on the same series: each
     mode alone as a sinusoid in white noise (line="always"). {"kind n": {omega, omega_err,
-    gamma, gamma_err, Q, Q_err, reason, undamped, control_omega, control_omega_err,
-    control_reason}}, numbers in 1/ps."""
+    gamma, gamma_err, Q, Q_err, reason, undamped, oscillator_variance, oscillator_variance_err,
+    length_A, control_omega, control_omega_err, control_reason}}, numbers in 1/ps (variances in
+    modes.json's units)."""
     from dnarod.commands.modes import _Input
     from mdbridge.analysis.mode_spectra import fit_mode, mode_table, refusal
     from mdbridge.rod.run import run_scene
@@ -288,13 +289,54 @@ def thermal_rod_realisation(seed: int, workdir) -> dict:
     for e in table["modes"]:
         row = {"omega": e["omega_per_ps"], "omega_err": e["omega_err_per_ps"], "gamma": e["damping_per_ps"],
                "gamma_err": e["damping_err_per_ps"], "Q": e["Q"], "Q_err": e["Q_err"], "reason": e["reason"],
-               "undamped": e.get("undamped")}
+               "undamped": e.get("undamped"), "oscillator_variance": e.get("oscillator_variance"),
+               "oscillator_variance_err": e.get("oscillator_variance_err"), "length_A": table["length_A"]}
         fit, why = fit_mode(s.real_series(e["kind"], e["n"] - 1), s.dt_ps, line="always")
         why = why or refusal(fit, table["record_ps"])
         row.update(control_omega=None if why else fit.omega_per_ps,
                    control_omega_err=None if why else fit.omega_err_per_ps, control_reason=why)
         out[f"{e['kind']} {e['n']}"] = row
     return out
+
+
+def thermal_rod_inertia_truth() -> dict:
+    """{"twist": I3, "stretch": rho} of the scene's rod (the paper's material), rod units."""
+    from mdbridge.rod.linear import UniformMaterial
+    mat = UniformMaterial.paper()
+    return {"twist": float(np.asarray(mat.I)[2, 2]), "stretch": float(mat.rho)}
+
+
+def inertia_summary(rows: list, key: str, truth: float) -> dict:
+    """Kinetic equipartition of one axial mode over the realisations: the inertia per length
+    that each realisation's fitted oscillator implies (dispersion_prediction.axial_inertia),
+    over the truth. Pass: the mean within 3 standard errors of 1, and stated / RMS within
+    LOW-HIGH. The control: the damped frequency omega in place of omega0 (the usual slip),
+    which the low-Q modes must fail."""
+    from mdbridge.analysis.dispersion_prediction import axial_inertia
+    kind, n = key.split()
+    val, err, ctl = [], [], []
+    for r in rows:
+        if r[key]["reason"] is not None or not r[key].get("oscillator_variance"):
+            continue
+        entry = {"kind": kind, "n": int(n), "omega_per_ps": r[key]["omega"], "omega_err_per_ps": r[key]["omega_err"],
+                 "damping_per_ps": r[key]["gamma"], "damping_err_per_ps": r[key]["gamma_err"],
+                 "oscillator_variance": r[key]["oscillator_variance"],
+                 "oscillator_variance_err": r[key]["oscillator_variance_err"]}
+        v, e = axial_inertia(entry, ROD_BP, r[key]["length_A"], ROD_TEMPERATURE_K)
+        val.append(v / truth)
+        err.append(e / truth)
+        g = r[key]["gamma"] or 0.0
+        ctl.append(v / truth * r[key]["omega"] ** 2 / (r[key]["omega"] ** 2 + g ** 2))
+    if len(val) < 3:
+        return {"fitted": len(val), "pass": False}
+
+    def stats(x, stated):
+        x = np.asarray(x)
+        se = float(x.std(ddof=1) / math.sqrt(len(x)))
+        ratio = float(np.sqrt(np.mean(np.asarray(stated) ** 2)) / np.sqrt(np.mean((x - 1) ** 2)))
+        return {"mean": float(x.mean()), "mean_err": se, "z": (float(x.mean()) - 1) / se, "stated_over_rms": ratio,
+                "pass": bool(abs(x.mean() - 1) < 3 * se and LOW <= ratio <= HIGH)}
+    return {"fitted": len(val), "truth_rod_units": truth, **stats(val, err), "control": stats(ctl, err)}
 
 
 def thermal_rod_calibration(rows: list, truth: dict) -> list:
@@ -320,6 +362,8 @@ def thermal_rod_calibration(rows: list, truth: dict) -> list:
                                                sum(bool(r[key]["undamped"]) for r in rows)),
                     "control": calibration_summary(ctl, [r[key]["control_reason"] for r in rows
                                                          if r[key]["control_reason"]], 0)}
+            if kind != "bend" and all("oscillator_variance" in r[key] for r in rows):
+                case["inertia"] = inertia_summary(rows, key, thermal_rod_inertia_truth()[kind])
             cases.append(case)
     return cases
 
@@ -400,6 +444,11 @@ def thermal_rod_main(a) -> None:
               f"stated/rms {d['omega_ratio'] or math.nan:.2f} ({r68[0]:.2f}-{r68[1]:.2f}), gamma stated/rms "
               f"{d.get('gamma_ratio') or math.nan:.2f} [{len(d['refused'])} refused] | control "
               f"{k['omega_ratio'] or math.nan:.2f}", flush=True)
+        if c.get("inertia", {}).get("mean") is not None:
+            i = c["inertia"]
+            print(f"          inertia / truth {i['mean']:.3f} +- {i['mean_err']:.3f}, stated/rms "
+                  f"{i['stated_over_rms']:.2f} pass {i['pass']} | control {i['control']['mean']:.3f} "
+                  f"(z {i['control']['z']:+.1f}) pass {i['control']['pass']}", flush=True)
     damped = [c for c in cases if not c["overdamped"]]
     from dna_models.units import Units
     res = {"what": "calibration of dnarod modes' frequency errors on thermal-rod series against the linearised "
@@ -410,6 +459,10 @@ def thermal_rod_main(a) -> None:
            "all_pass": all(c["fit"]["omega_pass"] for c in damped),
            "failing": [f"{c['kind']} {c['n']}" for c in damped if not c["fit"]["omega_pass"]],
            "control_fails": all(not c["control"]["omega_pass"] for c in damped),
+           "inertia_all_pass": all(c["inertia"]["pass"] for c in damped if "inertia" in c),
+           "inertia_failing": [f"{c['kind']} {c['n']}" for c in damped if "inertia" in c and not c["inertia"]["pass"]],
+           "inertia_control_fails": [f"{c['kind']} {c['n']}" for c in damped
+                                     if "inertia" in c and not c["inertia"]["control"]["pass"]],
            "cpu_s_this_call": time.process_time() - cpu0, "wall_s_this_call": time.time() - t0}
     out = Path(a.out)
     out.mkdir(parents=True, exist_ok=True)
