@@ -317,3 +317,40 @@ def test_twist_inertia_from_kinetic_equipartition_as_quoted(pred):
     share = [m["oscillator_variance"] / m["variance"] for m in modes["modes"]
              if m["kind"] == "twist" and m["oscillator_variance"]]
     assert f"only {100 * min(share):.0f}-{100 * max(share):.0f} % of each twist mode's variance" in doc
+
+
+def test_frequencies_against_tension_as_quoted(tmp_path):
+    """docs/dispersion.md, "Frequencies against tension": the series recomputed from the four
+    committed predictions equals boxes/series.json, and the table and prose are its numbers."""
+    from dna_models.units import Units
+    B = R / "boxes"
+    out = B / "series.json"
+    rec = json.loads(out.read_text())
+    r = subprocess.run([sys.executable, "-m", "dnarod.steps.dispersion", "series",
+                        *[f"{x['name']}={ROOT / x['source']}" for x in rec["runs"]], "-o", str(tmp_path / "s.json"), "--n",
+                        *[str(m["n"]) for m in rec["modes"]], "--inertia-from",
+                        str(R / "cg_provisional" / "params.json")], capture_output=True, text=True, timeout=300)
+    assert r.returncode == 0, r.stderr
+    again = json.loads((tmp_path / "s.json").read_text())
+    for a, b in zip(again["modes"], rec["modes"]):
+        assert a.get("slope") == pytest.approx(b.get("slope"), rel=1e-6) and a.get("reason") == b.get("reason")
+    doc = re.sub(r"\s+", " ", DOC)
+    runs = {x["name"]: x for x in rec["runs"]}
+    for name, label in (("seed1", "seed 1, 1000-5000 ps"), ("seed2", "seed 2, 1000-3000 ps"),
+                        ("box1.015", "+1.5 %, 500-1400 ps"), ("box1.03", "+3 %, 500-1400 ps")):
+        x = runs[name]
+        assert (f"| {label} | {x['length_A'] / runs['seed1']['length_A']:.3f} | {x['tension_pN']:.1f} +- "
+                f"{x['tension_err_pN']:.1f} | {x['dynamics_tension_pN']:.1f} +- {x['dynamics_tension_err_pN']:.1f} | "
+                f"{x['dynamics_B_pN_nm2']:.0f} |") in doc, name
+    diffs = [runs[n]["dynamics_tension_pN"] - runs[n]["tension_pN"] for n in ("seed1", "seed2", "box1.015", "box1.03")]
+    assert "virial's by " + ", ".join(f"{d:.1f}" for d in diffs[:3]) + f" and {diffs[3]:.1f} pN" in doc
+    u = Units.paper()
+    C3 = u.C * u.C_ratios[2] * 1e12
+    assert f"stretch modulus ({C3:.0f} pN) would gain {0.015 * C3:.0f} and {0.03 * C3:.0f} pN" in doc
+    ms = [m for m in rec["modes"] if m["reason"] is None]
+    assert [m["n"] for m in ms] == [2, 3, 4, 5, 6]
+    assert ("is " + ", ".join(f"{m['slope_over_predicted']:.2f}" for m in ms) + " at n = 2-6") in doc
+    assert all(abs(m["z"]) < 2 for m in ms)
+    assert f"z {min(m['z'] for m in ms):.1f} to {max(m['z'] for m in ms):.1f}" in doc
+    runs_rec = json.loads((B / "runs.json").read_text())
+    assert runs_rec["stopped_at_ps"] == 1400 and "**stopped at 1400 ps**" in doc
