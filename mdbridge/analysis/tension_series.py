@@ -56,19 +56,19 @@ def line_with_errors(x, ex, y, ey) -> dict:
     chi2, a, w = at(s)
     # chi^2 + 1 on each side (chi^2 grows without bound only if the x errors are small; where
     # it levels off below chi^2 + 1 the slope is unbounded on that side: the error says so)
-    errs = []
+    errs = []                                  # distance from s to chi^2 + 1: above, below
     for sign in (1, -1):
         far = s + sign * scale
         for _ in range(60):
             if at(far)[0] >= chi2 + 1:
                 break
             far = s + 2 * (far - s)
-        errs.append(abs(brentq(lambda v: at(v)[0] - chi2 - 1, s, far)) if at(far)[0] >= chi2 + 1
+        errs.append(abs(brentq(lambda v: at(v)[0] - chi2 - 1, s, far) - s) if at(far)[0] >= chi2 + 1
                     else math.inf)
-    errs = [abs(e - s) for e in errs]
+    s_err = 0.5 * (errs[0] + errs[1])
     xw = (w * x).sum() / w.sum()
-    return {"slope": s, "slope_err": 0.5 * (errs[0] + errs[1]), "slope_err_interval": [s - errs[1], s + errs[0]],
-            "intercept": a, "intercept_err": float(math.sqrt(1 / w.sum() + xw ** 2 * (0.5 * (errs[0] + errs[1])) ** 2)),
+    return {"slope": s, "slope_err": s_err, "slope_err_interval": [s - errs[1], s + errs[0]],
+            "intercept": a, "intercept_err": float(math.sqrt(1 / w.sum() + xw ** 2 * s_err ** 2)),
             "chi2": chi2, "dof": len(x) - 2}
 
 

@@ -29,6 +29,11 @@ def test_exact_line_and_bad_input():
     fit = line_with_errors(x, 0.1 * np.ones(4), 3.0 + 0.5 * x, 0.2 * np.ones(4))
     assert fit["slope"] == pytest.approx(0.5, rel=1e-8) and fit["intercept"] == pytest.approx(3.0, rel=1e-8)
     assert fit["chi2"] == pytest.approx(0.0, abs=1e-12) and fit["dof"] == 2
+    # a slope whose chi^2 + 1 interval crosses zero: with negligible x errors it is ordinary
+    # weighted least squares, error sigma / sqrt(S_xx) = 0.3 / sqrt(5) on both sides
+    f = line_with_errors([0, 1, 2, 3], [1e-6] * 4, [0.1, -0.2, 0.4, 0.1], [0.3] * 4)
+    assert f["slope_err_interval"][0] < 0 < f["slope"]
+    assert f["slope_err_interval"] == pytest.approx([f["slope"] - 0.3 / 5 ** 0.5, f["slope"] + 0.3 / 5 ** 0.5], rel=1e-5)
     with pytest.raises(InputError, match="same tension"):
         line_with_errors([5.0, 5.0], [1, 1], [1.0, 2.0], [1, 1])
     with pytest.raises(InputError, match="at least 2"):
