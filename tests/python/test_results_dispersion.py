@@ -327,7 +327,8 @@ def test_frequencies_against_tension_as_quoted(tmp_path):
     out = B / "series.json"
     rec = json.loads(out.read_text())
     r = subprocess.run([sys.executable, "-m", "dnarod.steps.dispersion", "series",
-                        *[f"{x['name']}={ROOT / x['source']}" for x in rec["runs"]], "-o", str(tmp_path / "s.json"), "--n",
+                        *[f"{x['name']}={ROOT / x['source']}" for x in rec["runs"]],
+                        "-o", str(tmp_path / "s.json"), "--n",
                         *[str(m["n"]) for m in rec["modes"]], "--inertia-from",
                         str(R / "cg_provisional" / "params.json")], capture_output=True, text=True, timeout=300)
     assert r.returncode == 0, r.stderr

@@ -250,10 +250,11 @@ def tension_series(predictions: dict[str, Path], out, ns=(1, 2, 3, 4), inertia_f
     from mdbridge.analysis.dispersion_prediction import Duplex, paper_material
     from mdbridge.analysis.tension_series import frequency_against_tension
     from mdbridge.rod.linear import UniformMaterial
-    runs, first = [], None
-    for name, path in predictions.items():
-        p = json.loads(path.read_text())
-        first = first or p
+    records = {name: json.loads(path.read_text()) for name, path in predictions.items()}
+    first = next(iter(records.values()))
+    runs = []
+    for name, p in records.items():
+        path = predictions[name]
         if (p["n_bp"], p["turns"]) != (first["n_bp"], first["turns"]):
             raise InputError(f"{path}: {p['n_bp']} bp, {p['turns']} turns; the first run has "
                              f"{first['n_bp']} bp, {first['turns']} turns: a series is of one duplex")
