@@ -18,6 +18,7 @@ import re
 import shutil
 import signal
 import subprocess
+import threading
 from pathlib import Path
 
 from dna_models.errors import ExternalToolError
@@ -148,20 +149,37 @@ def run_gmx(gmx: str, args: list[str], cwd: Path, *, stdin: str | None = None,
 
 
 def run_gmx_with_progress(gmx: str, args: list[str], cwd: Path, *, log_name: str,
-                          on_step=None, append_log: bool = False) -> None:
+                          on_step=None, append_log: bool = False, watch=None,
+                          watch_every_s: float = 2.0) -> None:
     """Run gmx (mdrun -v) calling on_step(step) for each of its step reports;
     ExternalToolError on failure.
 
     mdrun reports "step N, will finish ..." (dynamics) or "Step=  N, Dmax= ..."
     (minimisation) on stderr with carriage returns; we read it as it comes. The whole
     output goes to cwd/LOG_NAME (appended to it with append_log, e.g. when a run
-    continues from its checkpoint)."""
+    continues from its checkpoint).
+
+    WATCH, if given, is called every WATCH_EVERY_S seconds while gmx runs, from a
+    thread of its own (so also while gmx prints nothing); a string it returns stops gmx
+    with SIGKILL (an mdrun stuck inside a step never reads TERM) and is the failure's
+    reason. The error's returncode is then None: the kill was ours, not the user's."""
     cwd = Path(cwd)
     cmd = [gmx, *args]
     log = cwd / log_name
     chunks: list[str] = []
+    stopped: list[str] = []
     with subprocess.Popen(cmd, cwd=cwd, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
                           stderr=subprocess.STDOUT, text=True, bufsize=1) as proc:
+        finished = threading.Event()
+        if watch is not None:
+            def guard():
+                while not finished.wait(watch_every_s):
+                    reason = watch()
+                    if reason and proc.poll() is None:
+                        stopped.append(reason)
+                        proc.kill()
+                        return
+            threading.Thread(target=guard, daemon=True).start()
         buf = ""
         assert proc.stdout is not None
         while True:
@@ -177,9 +195,15 @@ def run_gmx_with_progress(gmx: str, args: list[str], cwd: Path, *, log_name: str
             else:
                 buf += c
         rc = proc.wait()
+        finished.set()
     text = "".join(chunks)
     with open(log, "a" if append_log else "w") as f:
         f.write(f"$ {' '.join(cmd)}\n{text}")
+        if stopped:
+            f.write(f"\n[stopped by dnarod: {stopped[0]}]\n")
+    if stopped:
+        raise ExternalToolError(f"`gmx {args[0]}` failed (stopped by dnarod: {stopped[0]}) in {cwd}; "
+                                f"full output in {log}:\n" + error_block(text), returncode=None)
     if rc != 0:
         raise ExternalToolError(f"`gmx {args[0]}` failed ({exit_text(rc)}) in {cwd}; full output in "
                                 f"{log}:\n" + error_block(text), returncode=rc)

@@ -30,6 +30,7 @@ from dna_models.errors import ExternalToolError, InputError
 
 from .defaults import CHECKPOINT_MIN
 from .gmx import find_gmx, gmx_version, run_gmx, run_gmx_with_progress
+from .mdlog import block_energies, last_energy_block, tail_text
 from .mdp import read_mdp_value
 from mdbridge.jsonio import write_json
 
@@ -50,6 +51,29 @@ def _set_keys(mdp_text: str, values: dict) -> str:
             out.append(ln)
     out += [f"{k:<23s} = {v}" for k, v in values.items() if k not in done]
     return "\n".join(out) + "\n"
+
+
+# A temperature no MD of a biomolecule that holds together reaches (runs at 300 K
+# fluctuate by a few K; heated unfolding runs stay below ~10^3 K). Above it the system
+# has blown up, and mdrun does not always stop by itself: with atoms flown ~1e6 nm
+# apart, an AVX2 build of GROMACS 2022 was seen to spend over 5 min at one step
+# (tests/python/test_reliability_gromacs.py), so run-md stops it.
+BLOWN_UP_TEMPERATURE_K = 1e5
+
+
+def blow_up(log_path: Path) -> str | None:
+    """Why the run in LOG_PATH (mdrun's log, being written) has blown up, from the last
+    energies mdrun logged: a temperature above BLOWN_UP_TEMPERATURE_K or an energy that
+    is not a number; None while neither."""
+    step, energies = block_energies(last_energy_block(tail_text(log_path)))
+    bad = [k for k, v in energies.items() if not math.isfinite(v)]
+    if bad:
+        return f"mdrun logged {bad[0]} = {energies[bad[0]]} at step {step}: the system blew up"
+    T = energies.get("Temperature")
+    if T is not None and T > BLOWN_UP_TEMPERATURE_K:
+        return (f"mdrun logged a temperature of {T:.3g} K at step {step}, above the "
+                f"{BLOWN_UP_TEMPERATURE_K:.0e} K no intact molecule reaches: the system blew up")
+    return None
 
 
 STOPPED_FROM_OUTSIDE = ("It was stopped from outside (a kill, Ctrl-C, a batch system's time or "
@@ -82,14 +106,8 @@ def mdrun_diagnosis(output: str, log: str, returncode: int | None = None) -> str
         out.append(f"mdrun printed {len(lincs)} LINCS warning(s): the bond constraints could "
                    "not be satisfied; the first:")
         out += ["  " + ln for ln in first]
-    log_lines = log.splitlines()
-    starts = [i for i, ln in enumerate(log_lines) if re.match(r"\s+Step\s+Time\s*$", ln)]
-    if starts:
-        i = starts[-1]
-        j = i
-        while j < len(log_lines) and (j < i + 3 or log_lines[j].strip()):
-            j += 1
-        block = [ln for ln in log_lines[i:j] if ln.strip()]
+    block = last_energy_block(log)
+    if block:
         out.append("last energies in md.part.log:")
         out += ["  " + ln for ln in block]
     out.append("The system blew up. Usual causes: atoms too close in the starting structure "
@@ -248,7 +266,7 @@ def _mdrun(d: Path, gmx_path: str, *, resume: bool, reprod: bool, threads, check
     t0 = time.time()
     try:
         run_gmx_with_progress(gmx_path, args, d, log_name="gmx_mdrun_md.log", on_step=on_step,
-                              append_log=resume)
+                              append_log=resume, watch=lambda: blow_up(d / "md.part.log"))
     except ExternalToolError as e:
         output = (d / "gmx_mdrun_md.log").read_text(errors="replace")
         log = (d / "md.part.log").read_text(errors="replace") if (d / "md.part.log").exists() else ""
