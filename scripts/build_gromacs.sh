@@ -8,6 +8,7 @@
 #   bash scripts/build_gromacs.sh --double          # gmx and gmx_d (double precision)
 #   bash scripts/build_gromacs.sh --configure-only  # fetch, configure, stop (no compile)
 #   bash scripts/build_gromacs.sh --print-prefix    # where it installs, then exit
+#   bash scripts/build_gromacs.sh --if-needed       # only where Debian's gmx cannot run (setup.sh)
 #
 # Why: Debian's binary package is compiled for SSE4.1 so that it runs on every
 # x86-64 CPU; mdrun's kernels then use 128-bit SIMD only. The same source built
@@ -42,6 +43,11 @@
 #   DNAROD_CPUINFO         the CPU's flags (default /proc/cpuinfo; tests give others)
 #
 # --check prints, for each binary, whether it would be kept or built, and exits.
+#
+# --if-needed (scripts/setup.sh runs it): build only when the `gmx` on PATH (Debian's)
+# cannot run mdrun on this CPU, i.e. it uses rdtscp and the CPU lacks it. There every
+# MD of the toolkit and its tests would fail, so the build (~15-20 min on 2 cores) is
+# then part of the install; elsewhere this exits at once.
 set -euo pipefail
 
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -52,14 +58,16 @@ WORK="$ROOT/.local/gromacs-build"
 DOUBLE="${DNAROD_GMX_DOUBLE:-0}"
 CONFIGURE_ONLY=0
 CHECK=0
+IF_NEEDED=0
 for arg in "$@"; do
   case "$arg" in
     --double) DOUBLE=1 ;;
     --configure-only) CONFIGURE_ONLY=1 ;;
     --check) CHECK=1 ;;
+    --if-needed) IF_NEEDED=1 ;;
     --print-prefix) echo "$PREFIX"; exit 0 ;;
-    -h|--help) sed -n '2,44p' "${BASH_SOURCE[0]}"; exit 0 ;;
-    *) echo "build_gromacs: unknown argument '$arg'; allowed: --double, --configure-only, --check, --print-prefix" >&2
+    -h|--help) sed -n '2,50p' "${BASH_SOURCE[0]}"; exit 0 ;;
+    *) echo "build_gromacs: unknown argument '$arg'; allowed: --double, --configure-only, --check, --if-needed, --print-prefix" >&2
        exit 2 ;;
   esac
 done
@@ -75,16 +83,30 @@ esac
 # used only where /proc/cpuinfo lists it, and a build that uses it on a CPU without it
 # is rebuilt.
 if grep -qw rdtscp "${DNAROD_CPUINFO:-/proc/cpuinfo}" 2>/dev/null; then RDTSCP=ON; else RDTSCP=OFF; fi
+runs_here() {  # $1 = a gmx, $2 = its `--version` text: false if it uses rdtscp and the CPU lacks it
+  if [ "$RDTSCP" = OFF ] && grep -q "RDTSCP usage:.*enabled" <<<"$2"; then
+    echo "build_gromacs: $1 uses rdtscp, which this CPU lacks (its mdrun refuses to start here)"
+    return 1
+  fi
+}
 have() {  # $1 = gmx or gmx_d: installed, of this version, runnable on this CPU
   [ -x "$PREFIX/bin/$1" ] || return 1
   local v
   v="$("$PREFIX/bin/$1" --version 2>/dev/null)" || return 1
   grep -q "GROMACS version:.*$VERSION" <<<"$v" || return 1
-  if [ "$RDTSCP" = OFF ] && grep -q "RDTSCP usage:.*enabled" <<<"$v"; then
-    echo "build_gromacs: $PREFIX/bin/$1 uses rdtscp, which this CPU lacks; rebuilding" >&2
-    return 1
-  fi
+  runs_here "$PREFIX/bin/$1" "$v" || { echo "build_gromacs: rebuilding $1"; return 1; }
 }
+if [ "$IF_NEEDED" = 1 ]; then
+  system_gmx="$(command -v gmx || true)"
+  if [ -z "$system_gmx" ]; then
+    echo "build_gromacs: no gmx on PATH (scripts/setup.sh installs Debian's)" >&2; exit 1
+  fi
+  if runs_here "$system_gmx" "$("$system_gmx" --version 2>/dev/null)"; then
+    echo "build_gromacs: $system_gmx runs on this CPU; no build needed"
+    exit 0
+  fi
+  echo "build_gromacs: so GROMACS is built for this CPU into $PREFIX (dnarod uses it first)"
+fi
 wanted=(gmx)
 if [ "$DOUBLE" = 1 ]; then wanted+=(gmx_d); fi
 todo=()

@@ -151,4 +151,77 @@ def test_a_build_that_uses_rdtscp_is_rebuilt_where_the_cpu_lacks_it(tmp_path, cp
     assert ("would be built" in r.stdout) == rebuilt, r.stdout + r.stderr
     assert ("already built; kept" in r.stdout) == (not rebuilt), r.stdout
     if rebuilt:
-        assert "uses rdtscp, which this CPU lacks" in r.stderr
+        assert "uses rdtscp, which this CPU lacks" in r.stdout
+
+
+def stand_in_gmx(bin_dir: Path, built_with_rdtscp: bool) -> None:
+    """A gmx whose --version says what a real one's does about rdtscp."""
+    bin_dir.mkdir(parents=True, exist_ok=True)
+    gmx = bin_dir / "gmx"
+    gmx.write_text("#!/bin/sh\necho 'GROMACS version:    2022.5-Debian_2022.5_2'\n"
+                   f"echo 'RDTSCP usage:       {'enabled' if built_with_rdtscp else 'disabled'}'\n")
+    gmx.chmod(0o755)
+
+
+@pytest.mark.parametrize("cpu_has_rdtscp", [True, False])
+@pytest.mark.parametrize("built_with_rdtscp", [True, False])
+def test_if_needed_builds_only_where_the_systems_gmx_cannot_run(tmp_path, cpu_has_rdtscp, built_with_rdtscp):
+    """scripts/build_gromacs.sh --if-needed (what scripts/setup.sh runs): a build only when
+    the gmx on PATH uses rdtscp and the CPU lacks it; with no project build yet, --check
+    then says it would build."""
+    stand_in_gmx(tmp_path / "system", built_with_rdtscp)
+    cpuinfo = tmp_path / "cpuinfo"
+    cpuinfo.write_text("flags\t\t: fpu sse4_1 avx2" + (" rdtscp" if cpu_has_rdtscp else "") + " lm\n")
+    env = dict(os.environ, DNAROD_GROMACS_PREFIX=str(tmp_path / "prefix"), DNAROD_CPUINFO=str(cpuinfo),
+               PATH=f"{tmp_path / 'system'}:{os.environ['PATH']}")
+    r = subprocess.run(["bash", str(SCRIPT), "--if-needed", "--check"], env=env, capture_output=True,
+                       text=True, timeout=60)
+    assert r.returncode == 0, r.stderr
+    needed = built_with_rdtscp and not cpu_has_rdtscp
+    assert ("no build needed" in r.stdout) == (not needed), r.stdout
+    assert ("gmx would be built" in r.stdout) == needed, r.stdout
+    if needed:
+        assert f"{tmp_path / 'system' / 'gmx'} uses rdtscp, which this CPU lacks" in r.stdout
+
+
+ARGON_TOP = """[ defaults ]
+1 1 no 1.0 1.0
+[ atomtypes ]
+AR 39.948 0.0 A 6.2e-3 9.7e-6
+[ moleculetype ]
+AR 1
+[ atoms ]
+1 AR 1 AR AR 1 0.0 39.948
+[ system ]
+two argon atoms
+[ molecules ]
+AR 2
+"""
+ARGON_GRO = "two argon atoms\n2\n    1AR      AR    1   1.000   1.000   1.000\n" \
+            "    2AR      AR    2   1.400   1.000   1.000\n   3.00000   3.00000   3.00000\n"
+ARGON_MDP = "integrator = md\nnsteps = 10\ndt = 0.002\ncutoff-scheme = Verlet\nrvdw = 1.0\n" \
+            "rcoulomb = 1.0\ncoulombtype = reaction-field\n"
+
+
+def test_if_needed_agrees_with_whether_debians_mdrun_starts_on_this_cpu(tmp_path):
+    """The real case: Debian's gmx (the one on PATH) runs 10 steps of two argon atoms on
+    this machine's CPU or refuses to, and --if-needed's decision must be the same (on a
+    CPU with rdtscp: no build; without: a build). Either outcome checks the rule."""
+    system_gmx = shutil.which("gmx", path=os.environ["PATH"])
+    assert system_gmx, "Debian's gmx is part of the toolkit's dependencies (scripts/setup.sh)"
+    for name, text in (("topol.top", ARGON_TOP), ("conf.gro", ARGON_GRO), ("md.mdp", ARGON_MDP)):
+        (tmp_path / name).write_text(text)
+    g = subprocess.run([system_gmx, "grompp", "-f", "md.mdp", "-c", "conf.gro", "-p", "topol.top",
+                        "-o", "md.tpr"], cwd=tmp_path, capture_output=True, text=True, timeout=120)
+    assert g.returncode == 0, g.stderr[-2000:]
+    md = subprocess.run([system_gmx, "mdrun", "-s", "md.tpr", "-nt", "1"], cwd=tmp_path,
+                        capture_output=True, text=True, timeout=120)
+    starts = md.returncode == 0
+    if not starts:
+        assert "rdtscp" in md.stdout + md.stderr, (md.stdout + md.stderr)[-2000:]
+    env = dict(os.environ, DNAROD_GROMACS_PREFIX=str(tmp_path / "prefix"))
+    r = subprocess.run(["bash", str(SCRIPT), "--if-needed", "--check"], env=env, capture_output=True,
+                       text=True, timeout=60)
+    assert r.returncode == 0, r.stderr
+    assert ("no build needed" in r.stdout) == starts, (starts, r.stdout)
+    assert ("gmx would be built" in r.stdout) == (not starts), (starts, r.stdout)
