@@ -7,7 +7,10 @@ set -euo pipefail
 source "$(dirname "$0")/env.sh"
 start=$SECONDS
 steps=()
-bash "$DNAROD_ROOT/scripts/setup.sh"
+# the Debian packages, and GROMACS built for this CPU where Debian's mdrun cannot run
+# (scripts/build_gromacs.sh --if-needed: ~15-20 min, else ~1 s)
+t0=$SECONDS; bash "$DNAROD_ROOT/scripts/setup.sh"; echo "-- setup: $((SECONDS - t0)) s"
+steps+=(--step "setup=$((SECONDS - t0))")
 # build.sh also installs (scripts/install.sh): the tests import the installed
 # toolkit, and tests/python/test_install.py checks that it is this checkout.
 t0=$SECONDS; bash "$DNAROD_ROOT/scripts/build.sh"; echo "-- build + install: $((SECONDS - t0)) s"

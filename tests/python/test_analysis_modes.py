@@ -136,7 +136,7 @@ def test_kicked_rod_lowest_mode_is_eq26(rodsim, tmp_path):
 
 # -- MD and the saved series ---------------------------------------------------------------------
 def test_md_folder_and_its_npz_go_through_the_same_path(tiny_run, tmp_path):
-    """The tiny comparison's 21-bp MD (2 turns: mode n = 1 only; 4-20 ps) through the same
+    """The tiny comparison's 21-bp MD (2 turns: mode n = 1 only; 4-40 ps) through the same
     path as a rod file. Its bend mode (a period of tens of ps) cannot be measured in it and
     is refused with its reason and null numbers, keeping its variance; every entry has the
     schema's keys, and a refused one null frequencies. The npz it writes re-analyses to

@@ -19,7 +19,7 @@ def test_results_and_report(tiny_run):
                 "md_wave_speed_err_A_per_ps", "rod_planarity", "md_planarity",
                 "md_bp_intact_fraction", "rod_run_ps", "md_run_ps", "seeds"):
         assert key in res, key
-    assert res["seeds"] == [1] and res["md_run_ps"] == 4.0 and res["rod_run_ps"] == 20.0
+    assert res["seeds"] == [1] and res["md_run_ps"] == 4.0 and res["rod_run_ps"] == 40.0
     assert 0.0 <= res["md_bp_intact_fraction"] <= 1.0
     # the MD starts on the rod's base-pair frames (build-md): both axes, made by the same
     # analysis from independently produced frames (rodsim directors vs 3DNA fits of atoms),
@@ -86,14 +86,14 @@ def test_dispersion_of_the_equilibrium_run(tiny_run):
     """The dispersion steps of the main job run on the tiny chain: the A_v = 0 MD's modes
     (21 bp, 2 turns: n = 1 of each kind), its virial tension, the rods' predictions at that
     tension, one row per mode in results.json["dispersion"] and the figure and table in the
-    report; a mode the 20-ps record cannot resolve is refused with its reason, no z."""
+    report; a mode the 40-ps record cannot resolve is refused with its reason, no z."""
     import numpy as np
     out = tiny_run[0]
     d = json.loads((out / "results.json").read_text())["dispersion"]
     assert [(r["kind"], r["n"]) for r in d["rows"]] == [("bend", 1), ("twist", 1), ("stretch", 1)]
     assert np.isfinite(d["tension_pN"]) and d["tension_err_pN"] > 0
     disp = json.loads((out / "dispersion" / "box1" / "dispersion.json").read_text())
-    # each rod predicts at the MD's tension or is refused with the reason (20 ps of a fresh
+    # each rod predicts at the MD's tension or is refused with the reason (40 ps of a fresh
     # duplex can give a compression beyond Euler's load, where the straight rod buckles)
     for name in ("paper_rod", "cg_rod", "cg_rod_box_twist"):
         p = disp["predictions"].get(name)
