@@ -146,3 +146,50 @@ def test_control_without_the_guard_the_hung_run_is_not_stopped(tmp_path):
     finally:
         os.killpg(child.pid, signal.SIGKILL)     # the child and its stand-in gmx
         child.wait()
+
+
+TERM_LOGGER = "#!/bin/sh\ntrap 'echo term > got_term; exit 0' TERM\necho 'step 0'\nwhile :; do sleep 0.1; done\n"
+
+
+def orphan_gets_term(tmp_path, code) -> bool:
+    """Start CODE (a parent running the stand-in gmx TERM_LOGGER), SIGKILL the parent once
+    the stand-in runs, and say whether the stand-in then received TERM within 5 s."""
+    import os
+    import signal
+    import subprocess
+    exe = tmp_path / "gmx"
+    exe.write_text(TERM_LOGGER)
+    exe.chmod(0o755)
+    parent = subprocess.Popen([sys.executable, "-c", code.format(gmx=str(exe), cwd=str(tmp_path))],
+                              cwd=tmp_path, start_new_session=True)
+    try:
+        for _ in range(100):
+            if (tmp_path / "gmx_mdrun_md.log").exists() or (tmp_path / "started").exists():
+                break
+            time.sleep(0.1)
+        time.sleep(0.5)
+        parent.kill()
+        parent.wait()
+        for _ in range(50):
+            if (tmp_path / "got_term").exists():
+                return True
+            time.sleep(0.1)
+        return False
+    finally:
+        os.killpg(parent.pid, signal.SIGKILL)      # whatever is left of the session
+
+
+def test_mdrun_never_outlives_a_killed_run_md(tmp_path):
+    """A dnarod killed with SIGKILL (a test's timeout, the OOM killer) takes its mdrun with
+    it: the kernel sends mdrun TERM (its own checkpoint-and-stop) when the parent dies."""
+    code = ("from pathlib import Path; from mdbridge.md.gromacs.gmx import run_gmx_with_progress; "
+            "Path('{cwd}', 'started').touch(); "
+            "run_gmx_with_progress('{gmx}', ['mdrun'], Path('{cwd}'), log_name='gmx_mdrun_md.log')")
+    assert orphan_gets_term(tmp_path, code)
+
+
+def test_control_a_plain_child_outlives_its_killed_parent(tmp_path):
+    """The control: the same stand-in started with a plain Popen is not told."""
+    code = ("import subprocess; from pathlib import Path; Path('{cwd}', 'started').touch(); "
+            "subprocess.run(['{gmx}'], cwd='{cwd}')")
+    assert not orphan_gets_term(tmp_path, code)

@@ -13,11 +13,13 @@ otherwise. To force Debian's binary, give its path (/usr/bin/gmx).
 """
 from __future__ import annotations
 
+import ctypes
 import os
 import re
 import shutil
 import signal
 import subprocess
+import sys
 import threading
 from pathlib import Path
 
@@ -148,6 +150,22 @@ def run_gmx(gmx: str, args: list[str], cwd: Path, *, stdin: str | None = None,
     return proc
 
 
+def _die_with_parent() -> None:
+    """In the child, before exec (Linux): SIGTERM when the process that started it dies.
+
+    Without it an mdrun whose dnarod was killed (SIGKILL, a test's timeout, the OOM killer)
+    runs on as an orphan, writing into the same md.part.* files a rerun would use; two such
+    orphans were seen here holding 1.4 of 2 cores for 1.5 h. TERM, not KILL: mdrun then
+    stops at its next step with a checkpoint, as under a batch system's time limit. (Linux
+    ties it to the thread that started the child; run_gmx_with_progress waits in that thread.)"""
+    _LIBC.prctl(_PR_SET_PDEATHSIG, signal.SIGTERM, 0, 0, 0)
+
+
+# looked up in the parent: the child, between fork and exec, only makes the call
+_LIBC = ctypes.CDLL(None, use_errno=True) if sys.platform == "linux" else None
+_PR_SET_PDEATHSIG = 1        # <linux/prctl.h>
+
+
 def run_gmx_with_progress(gmx: str, args: list[str], cwd: Path, *, log_name: str,
                           on_step=None, append_log: bool = False, watch=None,
                           watch_every_s: float = 2.0) -> None:
@@ -169,7 +187,8 @@ def run_gmx_with_progress(gmx: str, args: list[str], cwd: Path, *, log_name: str
     chunks: list[str] = []
     stopped: list[str] = []
     with subprocess.Popen(cmd, cwd=cwd, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
-                          stderr=subprocess.STDOUT, text=True, bufsize=1) as proc:
+                          stderr=subprocess.STDOUT, text=True, bufsize=1,
+                          preexec_fn=_die_with_parent if sys.platform == "linux" else None) as proc:
         finished = threading.Event()
         if watch is not None:
             def guard():
