@@ -158,7 +158,8 @@ def _die_with_parent() -> None:
     orphans were seen here holding 1.4 of 2 cores for 1.5 h. TERM, not KILL: mdrun then
     stops at its next step with a checkpoint, as under a batch system's time limit. (Linux
     ties it to the thread that started the child; run_gmx_with_progress waits in that thread.)"""
-    _LIBC.prctl(_PR_SET_PDEATHSIG, signal.SIGTERM, 0, 0, 0)
+    if _LIBC is not None:
+        _LIBC.prctl(_PR_SET_PDEATHSIG, signal.SIGTERM, 0, 0, 0)
 
 
 # looked up in the parent: the child, between fork and exec, only makes the call
@@ -188,7 +189,7 @@ def run_gmx_with_progress(gmx: str, args: list[str], cwd: Path, *, log_name: str
     stopped: list[str] = []
     with subprocess.Popen(cmd, cwd=cwd, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
                           stderr=subprocess.STDOUT, text=True, bufsize=1,
-                          preexec_fn=_die_with_parent if sys.platform == "linux" else None) as proc:
+                          preexec_fn=_die_with_parent) as proc:
         finished = threading.Event()
         if watch is not None:
             def guard():
