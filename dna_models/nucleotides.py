@@ -21,6 +21,12 @@ BASES = ("A", "C", "G", "T")
 PURINES = ("A", "G")
 #: GROMACS charmm27.ff residue names of the DNA nucleotides
 CHARMM_RESNAME = {"A": "DA", "C": "DC", "G": "DG", "T": "DT"}
+#: The Watson-Crick hydrogen bonds of each pair, keyed by its purine, as (purine donor or
+#: acceptor, pyrimidine partner) heavy-atom names; N1-N3 first, the central bond of both
+#: pairs and the one that defines an open pair (mdbridge/md/integrity.py). Saenger,
+#: "Principles of Nucleic Acid Structure" (1984), Fig. 6-1.
+WATSON_CRICK_HBONDS = {"A": (("N1", "N3"), ("N6", "O4")),
+                       "G": (("N1", "N3"), ("O6", "N4"), ("N2", "O2"))}
 
 
 @lru_cache(maxsize=None)

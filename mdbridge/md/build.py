@@ -40,6 +40,7 @@ from .gromacs.equilibrate import check_protocol
 from .gromacs.gmx import find_gmx
 from .gromacs.inputs import build_inputs
 from .gromacs.mdp import MdSettings
+from .gromacs.pair_hold import PairHold
 from .gromacs.rod import (lab_rotation_to_axis, md_length_ps, md_scene, rod_for_md, rod_initial_from_run,
                           rotate_rod, scene_sequence)
 
@@ -72,6 +73,7 @@ class BuildRequest:
     protocol: str | None = None
     equilibrate_ps: float = defaults.EQUILIBRATE_PS
     axial_pressure: bool = False
+    hold_pairs: bool = False
     minimize: bool = False
     margin_A: float = defaults.MARGIN_A
     gmx: str | None = None
@@ -143,6 +145,7 @@ def build_md(req: BuildRequest, stages=None, md_rate=None, say=_say) -> tuple[di
                         minimize=req.minimize, gmx=gmx, threads=req.threads,
                         protocol=protocol, equilibrate_ps=req.equilibrate_ps,
                         axial_pressure=req.axial_pressure, progress=progress,
+                        hold_pairs=PairHold() if req.hold_pairs else None,
                         meta={"scene": str(Path(req.scene).resolve()), "turns": dna.turns,
                               "rod_run": str(Path(req.rod).resolve()) if req.rod else "run by build-md",
                               "twist_deg": None if dna.turns is None else 360.0 * dna.turns / dna.bp,

@@ -82,3 +82,35 @@ def bp_intact_fraction(universe, pairs, start=None, stop=None, step=None,
     progress, if given: progress(frames_done, frames_total) after each frame."""
     a = PairIntegrity(universe, pairs, cutoff_A).run(start, stop, step, progress=progress)
     return a.times_ps, a.results.fraction_intact, a.results.distance_A
+
+
+def junction_pairs(n_bp: int) -> list[int]:
+    """The pairs (0-based) on both sides of the ligation junction of a periodic duplex: the
+    two steps that touch it are n-1 -> 0 (the junction) and its neighbours."""
+    return [n_bp - 2, n_bp - 1, 0, 1]
+
+
+def integrity_summary(distance_A, times_ps, discard_ps: float = 0.0,
+                      cutoff_A: float = INTACT_CUTOFF_A) -> dict:
+    """The open fraction of N1-N3 distances (T, n_bp) at times_ps: over time, per pair (after
+    discard_ps) and at the junction against the interior (the record of checks.json's
+    `integrity` and of results' integrity.json)."""
+    d = np.asarray(distance_A, float)
+    t = np.asarray(times_ps, float)
+    if d.ndim != 2 or d.shape[0] != t.size or t.size == 0:
+        raise InputError(f"integrity: distances {d.shape} do not match {t.size} frame times")
+    open_ = d > cutoff_A
+    keep = t >= t[0] + discard_ps
+    if not keep.any():
+        raise InputError(f"integrity: --discard-ps {discard_ps} leaves no frame of {t[0]:g}-{t[-1]:g} ps")
+    per_pair = open_[keep].mean(axis=0)
+    jp = junction_pairs(d.shape[1])
+    interior = np.setdiff1d(np.arange(d.shape[1]), jp)
+    return {"criterion": f"open: N1(purine)-N3(pyrimidine) > {cutoff_A} A, minimum image",
+            "discard_ps": float(discard_ps), "times_ps": t.tolist(),
+            "open_fraction_time": open_.mean(axis=1).tolist(),
+            "open_fraction": float(open_[keep].mean()),
+            "open_fraction_per_pair": per_pair.tolist(),
+            "junction_pairs": jp,
+            "junction_open_fraction": float(per_pair[jp].mean()),
+            "interior_open_fraction": float(per_pair[interior].mean())}

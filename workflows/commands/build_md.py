@@ -94,6 +94,10 @@ def add_arguments(p):
     p.add_argument("--axial-pressure", action="store_true",
                    help="equilibrate with pressure coupling along the helix axis only (ref 0 bar): "
                         "the box length becomes the duplex's zero-tension length (build.json)")
+    p.add_argument("--hold-pairs", action="store_true",
+                   help="keep the Watson-Crick pairs closed: flat-bottomed restraints on their H-bond "
+                        "distances, no force below 3.3 A, no exclusions added (docs/md.md: the intact "
+                        "duplex); the full-charge run without it is the paper's setting")
     p.add_argument("--minimize", action="store_true",
                    help="restrained steepest descent (base heavy atoms held) before velocities")
     p.add_argument("--margin", type=float, default=d.MARGIN_A,
@@ -119,7 +123,7 @@ def run(args):
         constraints=args.constraints, cutoffs=args.cutoffs, lincs_order=args.lincs_order,
         lincs_iter=args.lincs_iter, thermostat=args.thermostat, tau_t_ps=args.tau_t_ps,
         protocol=args.protocol, equilibrate_ps=args.equilibrate_ps, axial_pressure=args.axial_pressure,
-        minimize=args.minimize, margin_A=args.margin, gmx=args.gmx, threads=args.threads)
+        hold_pairs=args.hold_pairs, minimize=args.minimize, margin_A=args.margin, gmx=args.gmx, threads=args.threads)
     with Stages("build-md") as stages:
         info, built_links = build_md(request, stages, md_rate)
     for line in summary_lines(info, built_links, args.temperature):

@@ -23,7 +23,7 @@ from dna_models.errors import ExternalToolError
 from dna_models.units import ANGSTROM_PER_NM as NM
 from mdbridge.geometry.analysis_base import AnalysisBase, UniverseFrames
 from mdbridge.md.builder.duplex import base_pairs
-from mdbridge.md.integrity import INTACT_CUTOFF_A, central_atoms, pair_distances
+from mdbridge.md.integrity import INTACT_CUTOFF_A, central_atoms, integrity_summary, pair_distances
 
 from .energy import read_energies
 from .junction import o3p_links
@@ -163,6 +163,21 @@ class DuplexFrameChecks(AnalysisBase):
         r.links.append(o3p_links(x / NM, self._resid, self._names, self.n_bp, box / NM))
 
 
+def _pair_hold_energy(directory: Path, gmx: str, build: dict) -> dict | None:
+    """The restraint energy of a --hold-pairs run per energy frame (near zero while the duplex
+    is intact: the restraints are flat below the open rule; gromacs/pair_hold.py)."""
+    if not build.get("pair_hold"):
+        return None
+    col = read_energies(directory, gmx)
+    name = build["pair_hold"]["energy_term"]
+    if name not in col:
+        raise ExternalToolError(f"{Path(directory) / 'md.edr'}: no {name!r} energy in a --hold-pairs run")
+    E = np.asarray(col[name], float)
+    return {"times_ps": [float(x) for x in col["time"]], "energy_kJ_mol": [float(x) for x in E],
+            "mean_kJ_mol": float(E.mean()), "max_kJ_mol": float(E.max()),
+            "fraction_of_frames_above_1_kJ_mol": float(np.mean(E > 1.0))}
+
+
 def write_checks(directory: Path, *, gmx: str) -> dict:
     import MDAnalysis as mda
     d = Path(directory)
@@ -193,6 +208,8 @@ def write_checks(directory: Path, *, gmx: str) -> dict:
                          "fraction_intact": [float(f) for f in intact],
                          "final_fraction_intact": float(intact[-1]),
                          "min_fraction_intact": float(intact.min())},
+        "integrity": integrity_summary(dist, times),
+        "pair_hold": _pair_hold_energy(d, gmx, build),
         "frames_t0_vs_rod": build.get("frames_t0_vs_rod"),
         # which start every number of this run comes from (equilibrate.py)
         "protocol": build.get("protocol", "paper"),

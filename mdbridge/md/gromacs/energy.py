@@ -26,7 +26,8 @@ def read_xvg(path: Path) -> tuple[list[str], np.ndarray]:
 
 # the terms every run directory's energy.xvg holds (checks.json, equilibration, tension)
 RUN_TERMS = ("Potential", "Kinetic-En.", "Total-Energy", "Conserved-En.", "Temperature",
-             "Pres-XX", "Pres-YY", "Pres-ZZ", "Box-X", "Box-Y", "Box-Z")
+             "Pres-XX", "Pres-YY", "Pres-ZZ", "Box-X", "Box-Y", "Box-Z",
+             "Restraint-Pot.")   # the last only in a --hold-pairs run (pair_hold.py)
 
 
 def energy_series(edr, gmx: str, terms=RUN_TERMS, *, cwd: Path | None = None,

@@ -4,7 +4,8 @@ Order matters and is the reason for this module:
 1. the builder's whole (unwrapped) duplex, moved into the box planned from the rod;
 2. pdb2gmx with ring closure (topology.py), then the junction check (junction.py):
    a build whose strands are not closed exactly like an interior step stops here;
-3. electrostatics variant (charges.py) and base restraints (posres.py);
+3. electrostatics variant (charges.py), base restraints (posres.py) and, if asked, the
+   Watson-Crick pairs held closed (pair_hold.py);
 4. optional restrained minimisation (em.mdp), unwrapped against the input;
 5. velocities LAST, on the final coordinates: thermal + rod rigid-body field;
 6. a grompp run on md.mdp proves the inputs are accepted before anyone waits on them.
@@ -28,11 +29,13 @@ from .box import BoxPlan
 from .clashes import CLASH_A, closest_contact
 from .gmx import find_gmx, gmx_version, run_gmx, run_gmx_with_progress
 from .gro import Gro, read_gro, write_gro
-from .junction import junction_report, o3p_links
+from .junction import junction_parameters, junction_report, o3p_links
 from .equilibrate import check_protocol, equilibrate
 from .mdp import MdSettings, render_em, render_md, read_mdp_value
+from .pair_hold import PairHold, add_pair_hold
 from .rod import RodInitial
 from .topology import parse_itp, run_pdb2gmx, write_pdb2gmx_input
+from .tpr_dump import dump_tpr
 from .velocities import (base_pair_of_residue, kinetic_temperature, rigid_body_velocities,
                          thermal_velocities)
 
@@ -97,7 +100,8 @@ def build_inputs(outdir: Path, structure, rod: RodInitial, box: BoxPlan, *, sequ
                  settings: MdSettings | None = None, minimize: bool = False, gmx: str | None = None,
                  threads: int = 1, protocol: str = "paper", equilibrate_ps: float = defaults.EQUILIBRATE_PS,
                  axial_pressure: bool = False, meta: dict | None = None, progress=None,
-                 description: str = "periodic duplex", lb_nm: float | None = None) -> dict:
+                 description: str = "periodic duplex", lb_nm: float | None = None,
+                 hold_pairs: PairHold | None = None) -> dict:
     """Write every MD input into OUTDIR and return the content of build.json.
     gmx: as find_gmx (the given path, else $DNAROD_GMX, else the project's build, else PATH).
 
@@ -106,7 +110,9 @@ def build_inputs(outdir: Path, structure, rod: RodInitial, box: BoxPlan, *, sequ
     optionally with the axis-only barostat, then rod velocities added.
     progress, if given, is called as progress(stage, done, total, unit) while the
     minimisation ("minimisation", steps) and the equilibration ("equilibration", ps) run
-    (workflows/progress.py, Stages, draws it)."""
+    (workflows/progress.py, Stages, draws it).
+    hold_pairs: flat-bottomed restraints keep the Watson-Crick pairs closed (pair_hold.py);
+    they act in the minimisation, the equilibration and the run alike."""
     gmx = find_gmx(gmx)
     outdir = Path(outdir)
     outdir.mkdir(parents=True, exist_ok=True)
@@ -119,6 +125,7 @@ def build_inputs(outdir: Path, structure, rod: RodInitial, box: BoxPlan, *, sequ
     box_nm = np.asarray(box.box_A, float) / NM
 
     top = _topology(outdir, gmx, structure, shift, box_nm, forcefield, electrostatics, lb_nm)     # 1-3
+    held = None if hold_pairs is None else add_pair_hold(outdir / "topol.top", top.mols, n, hold_pairs)
     g = top.gro
     (outdir / "em.mdp").write_text(render_em(settings))
     (outdir / "md.mdp").write_text(render_md(settings))
@@ -132,17 +139,19 @@ def build_inputs(outdir: Path, structure, rod: RodInitial, box: BoxPlan, *, sequ
     v_rod = _write_conf(outdir, g, x_nm, v_th, box_nm, rod, shift,
                         f"dnarod {description} {n} bp, {forcefield}, T={temperature_K} K, seed={seed}")
     contact, frames_t0, links = _t0_checks(outdir, top, x_nm, box_nm, rod, shift, box.box_A)
-    _grompp_check(outdir, gmx)                                                              # 6
+    junction_run_input = _grompp_check(outdir, gmx)                                        # 6
 
     info = {
         "sequence": sequence, "n_bp": n, "seed": seed, "temperature_K": temperature_K,
         "forcefield": forcefield, "electrostatics": electrostatics,
+        "pair_hold": held,
         "electrostatics_doc": charges.__doc__.strip(),
         **_charge_record(top),
         "units": Units.paper().as_dict(),
         "box": box.as_dict(), "box_nm": box_nm.tolist(),
         "md_settings": settings.as_dict(),
         "junctions": top.junctions,
+        "junction_run_input": junction_run_input,
         "junction_O3P_t0_A": {s: {"junction": float(d["junction_A"]), "interior_min": float(d["interior_A"].min()),
                                   "interior_max": float(d["interior_A"].max())} for s, d in links.items()},
         "frames_t0_vs_rod": frames_t0,
@@ -298,13 +307,23 @@ def _t0_checks(outdir: Path, top: _Topology, x_nm, box_nm, rod: RodInitial, shif
     return contact, frames_t0, links
 
 
-def _grompp_check(outdir: Path, gmx):
-    """Step 6: grompp proves the inputs are accepted (its outputs are not kept)."""
+def _grompp_check(outdir: Path, gmx) -> list[dict]:
+    """Step 6: grompp proves the inputs are accepted, and the run input it makes shows the
+    ligation junction equal, in everything mdrun computes, to the interior steps with the
+    same bases (junction.py junction_parameters; its outputs are not kept)."""
     run_gmx(gmx, ["grompp", "-f", "md.mdp", "-c", "conf.gro", "-p", "topol.top", "-o",
                   "grompp_check.tpr", "-po", "grompp_check.mdp", "-maxwarn", "0"], outdir,
             log_name="gmx_grompp_check.log")
-    for p in ("grompp_check.tpr", "grompp_check.mdp"):
-        (outdir / p).unlink(missing_ok=True)
+    try:
+        report = junction_parameters(dump_tpr(gmx, outdir / "grompp_check.tpr"))
+    finally:
+        for p in ("grompp_check.tpr", "grompp_check.mdp"):
+            (outdir / p).unlink(missing_ok=True)
+    bad = [r for r in report if r["differs_from_steps"]]
+    if bad:
+        raise DnarodError(f"{outdir}: the ligation junction differs from interior steps with the same "
+                          f"bases in the run input: {json.dumps(bad)}")
+    return report
 
 
 def _charge_record(top: _Topology) -> dict:

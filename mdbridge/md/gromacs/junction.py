@@ -93,3 +93,59 @@ def o3p_links(x_nm, resid, names, n_bp: int, box_nm) -> dict:
         L = np.array(lengths)          # (n_bp, [T])
         out[strand] = {"junction_A": L[-1], "interior_A": L[:-1]}
     return out
+
+
+def _offset(r: int, a: int, n_res: int) -> int:
+    """Residue r relative to residue a on a ring of n_res residues, in (-n_res/2, n_res/2]."""
+    d = (r - a) % n_res
+    return d - n_res if d > n_res // 2 else d
+
+
+def step_signature(mol, a: int) -> dict:
+    """Everything mdrun computes for the step from residue a to a + 1 (cyclic) of a dump's
+    moltype (tpr_dump.MolType), in names and residue offsets relative to a, free of atom
+    numbers: the two residues' atoms (name, type, charge, mass), the exclusions of their
+    atoms, and every interaction that touches both, with its resolved parameters."""
+    n_res = len(mol.resname)
+    res = {a % n_res, (a + 1) % n_res}
+    mine = [i for i, r in enumerate(mol.resind) if r in res]
+
+    def tag(i):
+        return (mol.atomname[i], _offset(mol.resind[i], a, n_res))
+    atoms = sorted((tag(i), mol.type[i], round(mol.charge[i], 6), round(mol.mass[i], 4)) for i in mine)
+    excls = sorted((tag(i), tuple(sorted(tag(j) for j in mol.excls.get(i, ())))) for i in mine)
+    terms = []
+    for kind, ft, at in mol.interactions:
+        rs = {mol.resind[i] for i in at}
+        if res <= rs:
+            pattern = tuple(tag(i) for i in at)
+            terms.append((kind, ft, min(pattern, pattern[::-1])))
+    return {"resnames": (mol.resname[a % n_res], mol.resname[(a + 1) % n_res]),
+            "atoms": atoms, "exclusions": excls, "interactions": sorted(terms)}
+
+
+def junction_parameters(dump) -> list[dict]:
+    """Per strand (moltype) of a dump (tpr_dump.Dump): the junction step (last residue ->
+    first) against every interior step with the same two bases, on everything mdrun
+    computes (step_signature; interactions compared by their resolved parameters, since
+    equal functype indices are equal parameters). ok: the junction equals every such step,
+    and there is at least one to compare with."""
+    out = []
+    for mol in dump.moltypes:
+        n_res = len(mol.resname)
+        junction = step_signature(mol, n_res - 1)
+        same = [a for a in range(n_res - 1)
+                if (mol.resname[a], mol.resname[a + 1]) == junction["resnames"]]
+        differing = {}
+        for a in same:
+            sig = step_signature(mol, a)
+            for k in ("atoms", "exclusions", "interactions"):
+                if sig[k] != junction[k]:
+                    differing.setdefault(k, []).append(a)
+        n_terms = len(junction["interactions"])
+        out.append({"molecule": mol.name, "junction_bases": "-".join(junction["resnames"]),
+                    "interior_steps_compared": len(same), "n_interactions": n_terms,
+                    "n_exclusion_lists": len(junction["exclusions"]),
+                    "differs_from_steps": differing,
+                    "ok": bool(same) and not differing})
+    return out

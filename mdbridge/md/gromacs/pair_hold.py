@@ -1,0 +1,116 @@
+"""Holding the Watson-Crick pairs closed with the same force field: flat-bottomed restraints.
+
+In the full-charge vacuum setting (the paper's) the duplex frays: pairs open and the broken
+steps enter every analysis as non-rod motion (docs/md.md, "Intact duplex"). `build-md
+--hold-pairs` adds, for every Watson-Crick hydrogen bond of every pair (donor-acceptor
+heavy atoms, dna_models.nucleotides.WATSON_CRICK_HBONDS), GROMACS's flat-bottomed
+"restraint potential" (bonds type 10):
+
+    V(r) = 0                               r <= up1
+         = k (r - up1)^2 / 2               up1 < r <= up2
+         = k (up2 - up1) (2 r - up2 - up1) / 2   r > up2 (a constant pull)
+
+It exerts no force while a pair is closed (every distance below up1; an intact pair's
+N1-N3 is ~2.9 A), and it acts below the 3.5-A open rule of mdbridge/md/integrity.py, so a
+held pair never counts as open. The restraints go into topol.top's
+[ intermolecular_interactions ] (the two strands are separate molecules): an interaction
+type that generates no exclusions, so every non-bonded pair of the force field is kept
+(tests/python/test_md_pair_hold.py compares the run input's exclusions with and without).
+GROMACS reports their energy as "Restraint Pot." in md.edr; checks.json has it per frame.
+"""
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass
+from pathlib import Path
+
+from dna_models.errors import DnarodError, InputError
+from dna_models.nucleotides import PURINES, WATSON_CRICK_HBONDS
+from dna_models.units import ANGSTROM_PER_NM as NM
+from mdbridge.md.integrity import INTACT_CUTOFF_A
+
+from .topology import Molecule
+
+SECTION = "[ intermolecular_interactions ]"
+ENERGY_TERM = "Restraint Pot."     # gmx energy's name of the bonds-type-10 energy
+
+
+@dataclass(frozen=True)
+class PairHold:
+    """The flat-bottomed restraint on each Watson-Crick H-bond distance (A, kJ/mol/nm^2).
+    up1_A below the open rule (INTACT_CUTOFF_A); the force at the open rule is
+    k (cutoff - up1), 400 kJ/mol/nm with the defaults."""
+    up1_A: float = 3.3
+    up2_A: float = 4.0
+    k_kJ_mol_nm2: float = 20000.0
+
+    def __post_init__(self):
+        if not (0 < self.up1_A < INTACT_CUTOFF_A):
+            raise InputError(f"pair hold: up1 {self.up1_A} A must lie in (0, {INTACT_CUTOFF_A}) A, "
+                             "below the open-pair rule, so that a held pair never counts as open")
+        if not self.up2_A > self.up1_A:
+            raise InputError(f"pair hold: up2 {self.up2_A} A must exceed up1 {self.up1_A} A")
+        if not self.k_kJ_mol_nm2 > 0:
+            raise InputError(f"pair hold: k {self.k_kJ_mol_nm2} kJ/mol/nm^2 must be > 0")
+
+    def as_dict(self) -> dict:
+        return {**asdict(self), "gromacs": "bonds type 10 (restraint potential), low 0",
+                "section": SECTION, "energy_term": ENERGY_TERM}
+
+
+def _base(resname: str) -> str:
+    b = resname.strip().upper().lstrip("D")[:1]
+    if b not in "ACGT":
+        raise InputError(f"residue {resname}: not a DNA nucleotide (allowed DA DC DG DT)")
+    return b
+
+
+def hbond_atom_pairs(mols: list[Molecule], n_bp: int) -> list[tuple[int, int, int, str, str]]:
+    """[(global atom nr i, global atom nr j (1-based, topol.top order), pair index (0-based),
+    name i, name j)] of every Watson-Crick H-bond. mols: strand I then strand II, one copy
+    each, residues 5'->3'; pair k = strand I residue k with strand II residue n - 1 - k."""
+    residues: list[dict[str, int]] = []      # per residue over both strands: name -> global nr
+    resnames: list[str] = []
+    offset = 0
+    for m in mols:
+        last = None
+        for i, (r, name) in enumerate(zip(m.resnr, m.atomname)):
+            if r != last:
+                residues.append({})
+                resnames.append(m.resname[i])
+                last = r
+            residues[-1][name] = offset + i + 1
+        offset += len(m.atomname)
+    if len(residues) != 2 * n_bp:
+        raise DnarodError(f"pair hold: the topology has {len(residues)} residues, expected 2 x {n_bp}")
+    out = []
+    for k in range(n_bp):
+        a, b = k, 2 * n_bp - 1 - k
+        if _base(resnames[a]) not in PURINES:
+            a, b = b, a                      # the purine first, as the table is keyed
+        pu, py = _base(resnames[a]), _base(resnames[b])
+        if {pu, py} not in ({"A", "T"}, {"G", "C"}):
+            raise InputError(f"pair {k}: {resnames[a]}-{resnames[b]} is not a Watson-Crick pair")
+        for na, nb in WATSON_CRICK_HBONDS[pu]:
+            try:
+                out.append((residues[a][na], residues[b][nb], k, na, nb))
+            except KeyError as e:
+                raise DnarodError(f"pair hold: atom {e.args[0]} missing in residue "
+                                  f"{resnames[a] if e.args[0] == na else resnames[b]} of pair {k}")
+    return out
+
+
+def add_pair_hold(top: Path, mols: list[Molecule], n_bp: int, hold: PairHold) -> dict:
+    """Append the restraints to TOP (after [ molecules ], as GROMACS requires) and return
+    build.json's record of them."""
+    top = Path(top)
+    text = top.read_text()
+    if SECTION in text:
+        raise DnarodError(f"{top}: already has {SECTION}")
+    bonds = hbond_atom_pairs(mols, n_bp)
+    lines = ["", "; dnarod build-md --hold-pairs: flat-bottomed restraints on the Watson-Crick",
+             "; H-bond distances (mdbridge/md/gromacs/pair_hold.py); no exclusions", SECTION,
+             "[ bonds ]", ";   ai     aj  type  low    up1    up2    kdr   ; pair, atoms"]
+    lines += [f"{i:6d} {j:6d}  10  0.0  {hold.up1_A / NM:.4f} {hold.up2_A / NM:.4f} "
+              f"{hold.k_kJ_mol_nm2:g}  ; {k} {na}-{nb}" for i, j, k, na, nb in bonds]
+    top.write_text(text.rstrip("\n") + "\n" + "\n".join(lines) + "\n")
+    return {**hold.as_dict(), "n_restraints": len(bonds), "n_pairs": n_bp}
