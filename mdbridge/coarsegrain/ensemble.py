@@ -7,6 +7,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from dna_models.errors import InputError
+from mdbridge.geometry.steps import twist_continuous_in_time
 
 
 @dataclass
@@ -39,6 +40,9 @@ class StepEnsemble:
                              f"duplex of {len(self.sequence)} bp (expected {want})")
         if not np.all(np.isfinite(self.q)):
             raise InputError(f"{self.source}: step parameters contain NaN/Inf")
+        # each step's twist continuous in time (a broken step's 3DNA twist crossing +-180
+        # degrees is no motion), before any mean or covariance is taken
+        self.q = twist_continuous_in_time(self.q)
         self.times_ps = np.arange(T, dtype=float) if self.times_ps is None else np.asarray(self.times_ps, float)
         if self.times_ps.shape != (T,):
             raise InputError(f"{self.source}: times_ps of shape {self.times_ps.shape} for {T} frames "

@@ -130,6 +130,26 @@ def step_parameters_along(R, o, box=None, periodic=False):
     return step_parameters(R1, o1, R2, o2n)
 
 
+def unwrap_twist_deg(twist_deg, reference_deg):
+    """Each twist (deg) on the branch nearest its reference: reference + (twist - reference)
+    wrapped into [-180, 180). 3DNA's twist lies in (-180, 180]; a step whose pairs are broken
+    can cross that cut between two frames, a 360-degree jump that is no motion at all."""
+    t = np.asarray(twist_deg, float)
+    r = np.asarray(reference_deg, float)
+    return r + np.mod(t - r + 180.0, 360.0) - 180.0
+
+
+def twist_continuous_in_time(q):
+    """Step parameters (T, ..., 6) with each step's twist continuous along the time axis 0
+    (unwrap_twist_deg against the frame before). Where twist enters a time-series analysis
+    (mode spectra, coarse-graining) it comes through here; a single structure keeps 3DNA's
+    convention."""
+    out = np.array(q, dtype=float, copy=True)
+    if out.shape[0] > 1:
+        out[..., 5] = np.degrees(np.unwrap(np.radians(out[..., 5]), axis=0))
+    return out
+
+
 def step_transform(params):
     """Frame of base pair 2 in the frame of base pair 1 (tech-details Eqs 6-8).
 
