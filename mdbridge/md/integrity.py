@@ -13,25 +13,29 @@ import numpy as np
 from MDAnalysis.lib.distances import calc_bonds
 
 from dna_models.errors import InputError
-from dna_models.nucleotides import PURINES
+from dna_models.nucleotides import PURINES, WATSON_CRICK_HBONDS
 from mdbridge.geometry.analysis_base import AnalysisBase, UniverseFrames
 
 INTACT_CUTOFF_A = 3.5
 
 
-def _central_atom(residue):
+def _base(residue) -> str:
     base = residue.resname.strip().upper().lstrip("D")[:1]
-    if base in PURINES:
-        name = "N1"
-    elif base in ("C", "T", "U"):
-        name = "N3"
-    else:
+    if base not in ("A", "C", "G", "T", "U"):
         raise InputError(f"residue {residue.resname}{residue.resid}: not a DNA base "
                          "(allowed: DA DC DG DT and A C G T)")
+    return base
+
+
+def _named(residue, name: str):
     sel = residue.atoms.select_atoms(f"name {name}")
     if len(sel) != 1:
         raise InputError(f"residue {residue.resname}{residue.resid}: atom {name} not found")
     return sel[0]
+
+
+def _central_atom(residue):
+    return _named(residue, "N1" if _base(residue) in PURINES else "N3")
 
 
 def central_atoms(pairs):
@@ -40,6 +44,34 @@ def central_atoms(pairs):
     import MDAnalysis as mda
     return (mda.AtomGroup([_central_atom(r1) for r1, _ in pairs]),
             mda.AtomGroup([_central_atom(r2) for _, r2 in pairs]))
+
+
+def hbond_atoms(pairs):
+    """(AtomGroup a, AtomGroup b, index (m,) of the pair each H-bond belongs to, slot (m,)
+    0..2 within its pair, names [(a, b)]) of every Watson-Crick H-bond of PAIRS
+    [(residue of strand I, residue of strand II)]: the donor-acceptor heavy atoms of
+    dna_models.nucleotides.WATSON_CRICK_HBONDS, the purine's first, N1-N3 in slot 0."""
+    import MDAnalysis as mda
+    a, b, pair, slot, names = [], [], [], [], []
+    for k, (r1, r2) in enumerate(pairs):
+        pu, py = (r1, r2) if _base(r1) in PURINES else (r2, r1)
+        for j, (na, nb) in enumerate(WATSON_CRICK_HBONDS[_base(pu)]):
+            a.append(_named(pu, na))
+            b.append(_named(py, nb))
+            pair.append(k)
+            slot.append(j)
+            names.append((na, nb))
+    return mda.AtomGroup(a), mda.AtomGroup(b), np.array(pair), np.array(slot), names
+
+
+def hbond_table(pairs, distances_A) -> np.ndarray:
+    """The H-bond distances (T, m) of hbond_atoms(PAIRS) as (T, n_pairs, 3), NaN where a pair
+    has fewer than three (A-T: two)."""
+    _, _, pair, slot, _ = hbond_atoms(pairs)
+    d = np.asarray(distances_A, float)
+    out = np.full(d.shape[:-1] + (len(pairs), 3), np.nan)
+    out[..., pair, slot] = d
+    return out
 
 
 def pair_distances(a_A, b_A, dimensions=None) -> np.ndarray:

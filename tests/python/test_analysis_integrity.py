@@ -35,3 +35,45 @@ def test_wrong_residue_is_named(refdata):
     nuc = u.select_atoms("nucleic").residues[:1]
     with pytest.raises(InputError, match="HOH"):
         bp_intact_fraction(u, [(water[0], nuc[0])])
+
+
+def test_every_watson_crick_hbond_of_the_dodecamer(refdata):
+    """CGCGAATTCGCG: 8 G-C pairs (three H-bonds) and 4 A-T pairs (two), all at H-bond
+    distances in the crystal (2.6-3.3 A), N1-N3 in the first slot."""
+    import MDAnalysis as mda
+    from mdbridge.geometry.structure import BasePairFrames
+    from mdbridge.md.integrity import hbond_atoms, hbond_table, pair_distances
+    u = mda.Universe(str(refdata / "355d" / "355d.pdb"))
+    u = mda.Merge(u.select_atoms("nucleic"))
+    pairs = BasePairFrames(u).pairs
+    a, b, pair, slot, names = hbond_atoms(pairs)
+    assert len(a) == 8 * 3 + 4 * 2
+    d = pair_distances(a.positions, b.positions)
+    assert np.all((d > 2.6) & (d < 3.3)), d
+    table = hbond_table(pairs, d[None])
+    assert table.shape == (1, 12, 3)
+    _, _, n13 = bp_intact_fraction(u, pairs)
+    np.testing.assert_allclose(table[0, :, 0], n13[0], atol=1e-6)     # slot 0 is N1-N3
+    assert np.isnan(table[0, 4:8, 2]).all() and not np.isnan(table[0, :4, 2]).any()  # AATT: two
+
+
+def test_integrity_summary_junction_against_interior():
+    """Open fractions from distances with a known pattern: the junction pairs [n-2, n-1, 0,
+    1] open half the time, pair 10 always, the rest never."""
+    from mdbridge.md.integrity import integrity_summary
+    n, T = 20, 8
+    d = np.full((T, n), 2.9)
+    d[::2, [18, 19, 0, 1]] = 4.0
+    d[:, 10] = 5.0
+    s = integrity_summary(d, np.arange(T) * 0.5)
+    assert s["junction_pairs"] == [18, 19, 0, 1]
+    assert s["junction_open_fraction"] == 0.5
+    assert s["interior_open_fraction"] == pytest.approx(1 / 16)
+    assert s["open_fraction"] == pytest.approx((4 * 0.5 + 1) / n)
+    assert s["open_fraction_per_pair"][10] == 1.0 and s["open_fraction_per_pair"][5] == 0.0
+    # after a 1-ps discard frames 2..7 remain: the same fractions
+    s2 = integrity_summary(d, np.arange(T) * 0.5, discard_ps=1.0)
+    assert s2["junction_open_fraction"] == 0.5 and len(s2["open_fraction_time"]) == T
+    # control: a pair exactly at the rule is closed (open means beyond 3.5 A)
+    d[:, 3] = 3.5
+    assert integrity_summary(d, np.arange(T))["open_fraction_per_pair"][3] == 0.0

@@ -5,7 +5,10 @@
 - NVE energy drift from md.edr (via `gmx energy`; MDAnalysis's EDR reader needs
   pyedr, which Debian does not ship): linear-fit slope and largest excursion;
 - fraction of intact Watson-Crick pairs per frame: N1(purine)-N3(pyrimidine)
-  < 3.5 A, minimum image (mdbridge/md/integrity.py, the one definition);
+  < 3.5 A, minimum image (mdbridge/md/integrity.py, the one definition); `integrity`:
+  the open fraction over time, per pair and at the junction against the interior; every
+  pair's N1-N3 and Watson-Crick H-bond distances per frame in DIR/integrity.npz;
+- a --hold-pairs run's restraint energy per frame (`pair_hold`);
 - base-pair frames at t = 0 re-analysed from the built structure vs the rod's
   (copied from build.json, where they were measured);
 - smallest distance between the duplex and its side-wall images (the images
@@ -23,7 +26,9 @@ from dna_models.errors import ExternalToolError
 from dna_models.units import ANGSTROM_PER_NM as NM
 from mdbridge.geometry.analysis_base import AnalysisBase, UniverseFrames
 from mdbridge.md.builder.duplex import base_pairs
-from mdbridge.md.integrity import INTACT_CUTOFF_A, central_atoms, integrity_summary, pair_distances
+from dna_models.nucleotides import WATSON_CRICK_HBONDS
+from mdbridge.md.integrity import (INTACT_CUTOFF_A, central_atoms, hbond_atoms, hbond_table, integrity_summary,
+                                   pair_distances)
 
 from .energy import read_energies
 from .junction import o3p_links
@@ -147,12 +152,15 @@ class DuplexFrameChecks(AnalysisBase):
         self._resid = universe.atoms.resids
         self._names = list(universe.atoms.names)
         residue = {int(r.resid): r for r in universe.residues}
-        self._wc = central_atoms([(residue[i], residue[j]) for i, j in base_pairs(n_bp)])
+        self.pairs = [(residue[i], residue[j]) for i, j in base_pairs(n_bp)]
+        self._wc = central_atoms(self.pairs)
+        self._hb = hbond_atoms(self.pairs)[:2]
 
     def _prepare(self):
         self.results.links = []
         self.results.side_image_A = np.empty(self.n_frames)
         self.results.pair_distance_A = np.empty((self.n_frames, self.n_bp))
+        self.results.hbond_distance_A = np.empty((self.n_frames, len(self._hb[0])))
 
     def _single_frame(self):
         u, r, k = self.universe, self.results, self._frame_index
@@ -160,6 +168,7 @@ class DuplexFrameChecks(AnalysisBase):
         box = u.dimensions[:3].astype(float)
         r.side_image_A[k] = min_side_image_distance(x, box, self.axis)
         r.pair_distance_A[k] = pair_distances(self._wc[0].positions, self._wc[1].positions, u.dimensions)
+        r.hbond_distance_A[k] = pair_distances(self._hb[0].positions, self._hb[1].positions, u.dimensions)
         r.links.append(o3p_links(x / NM, self._resid, self._names, self.n_bp, box / NM))
 
 
@@ -195,6 +204,11 @@ def write_checks(directory: Path, *, gmx: str) -> dict:
         junction[s] = {"junction_min_A": float(j.min()), "junction_max_A": float(j.max()),
                        "interior_min_A": float(inner.min()), "interior_max_A": float(inner.max())}
     intact = (dist < INTACT_CUTOFF_A).mean(axis=1)   # (T,) mdbridge/md/integrity.py
+    # per pair and frame, as data: N1-N3 and every Watson-Crick H-bond (too large for JSON)
+    np.savez_compressed(d / "integrity.npz", times_ps=np.asarray(times, float),
+                        n1_n3_A=dist.astype(np.float32),
+                        hbond_A=hbond_table(per_frame.pairs, per_frame.results.hbond_distance_A).astype(np.float32),
+                        hbond_names=np.array([" ".join(f"{a}-{b}" for a, b in WATSON_CRICK_HBONDS[p]) for p in "AG"]))
     cutoff_A = float(build["md_settings"]["cutoff_nm"]) * NM
     checks = {
         "n_frames": len(times), "times_ps": [float(times[0]), float(times[-1])],
