@@ -174,3 +174,53 @@ def test_control_a_fresh_run_from_the_checkpoint_time_differs(built, reference, 
     _, x_ref, _ = final_state(reference, gmx)
     assert not np.array_equal(x, x_ref)
     assert json.loads((d / "md.done").read_text())["resumed_from_checkpoint"] is False
+
+
+def test_a_checkpoint_carried_without_its_outputs_continues_as_a_segment(resumed, reference, gmx,
+                                                                          tmp_path):
+    """What git carries to a new machine: the inputs, md.run.json, md.part.tpr and md.part.cpt,
+    no trajectory. The run continues from the checkpoint as a new segment: md.xtc holds the
+    frames from the checkpoint on, equal to the uninterrupted run's (-reprod)."""
+    src, _, _ = resumed
+    d = tmp_path / "carried"
+    d.mkdir()
+    # the state of an interrupted run: rebuild it from the killed run's inputs (a fresh
+    # copy of the build, killed after its first checkpoint, then only git's files kept)
+    for f in src.iterdir():
+        if f.suffix in (".gro", ".top", ".itp", ".mdp", ".json") and f.name not in ("md.done", "checks.json"):
+            shutil.copy(f, d / f.name)
+    (d / "md.done").unlink(missing_ok=True)
+    err: list[BaseException] = []
+
+    def first_run():
+        try:
+            run_md(d, gmx=gmx, checkpoint_min=0.005, **RUN)
+        except ExternalToolError as e:
+            err.append(e)
+    th = threading.Thread(target=first_run)
+    th.start()
+    deadline = time.time() + 600
+    while not (d / "md.part.cpt").exists():
+        assert th.is_alive() and time.time() < deadline, "mdrun ended before its first checkpoint"
+        time.sleep(0.05)
+    time.sleep(0.1)
+    pids = mdrun_children()
+    assert len(pids) == 1, "mdrun finished before the kill"
+    os.kill(pids[0], signal.SIGKILL)
+    th.join()
+    kept = {"md.part.cpt", "md.part.tpr", "md.run.json", "conf.gro", "topol.top", "md.mdp", "build.json"}
+    for f in d.iterdir():
+        if f.name not in kept and f.suffix != ".itp":
+            f.unlink()
+    t_cpt = float(subprocess.run([gmx, "check", "-f", "md.part.cpt"], cwd=d, capture_output=True,
+                                 text=True).stderr.split("Last frame")[-1].split("time")[1].split()[0])
+    rec = run_md(d, gmx=gmx, **RUN)
+    assert rec["resumed_from_checkpoint"] is True
+    t, x = frames(d)
+    t_ref, x_ref = frames(reference)
+    assert 0 < t[0] and t[-1] == pytest.approx(t_ref[-1])
+    assert t[0] == pytest.approx(t_cpt, abs=OUT_PS)
+    k = np.searchsorted(t_ref, t[0] - 1e-6)
+    assert np.array_equal(t, t_ref[k:])
+    assert np.array_equal(x, x_ref[k:])
+    assert not list(d.glob("*.part*"))

@@ -38,6 +38,8 @@ PARTS = {"md.part.xtc": "md.xtc", "md.part.edr": "md.edr", "md.part.log": "md.lo
          "confout.part.gro": "confout.gro", "md.part.cpt": "md.cpt", "md.part.tpr": "md.tpr"}
 FINAL = ("md.tpr", "md.xtc", "md.edr", "md.log", "confout.gro", "md.cpt", "md.done", "checks.json")
 STATE = ("md.run.json", "md.part_prev.cpt", "md.part.trr")
+# what a continuation appends to; without them a checkpoint continues as a new segment
+SEGMENT_OUTPUTS = ("md.part.xtc", "md.part.edr", "md.part.log")
 
 
 def _set_keys(mdp_text: str, values: dict) -> str:
@@ -128,11 +130,15 @@ def _request(d: Path, mdp_text: str, gmx_path: str, steps: int) -> dict:
 
 
 def _resumable(d: Path, request: dict) -> bool:
+    """The same inputs and length, and a checkpoint to continue. The gmx may differ (a run
+    carried through git to a machine whose CPU needs the project's own GROMACS build:
+    scripts/build_gromacs.sh): mdrun itself checks that a checkpoint fits its run input."""
     try:
         old = json.loads((d / "md.run.json").read_text())
     except (OSError, ValueError):
         return False
-    return old == request and (d / "md.part.cpt").is_file() and (d / "md.part.tpr").is_file()
+    same = all(old.get(k) == request[k] for k in ("inputs_sha256", "steps"))
+    return same and (d / "md.part.cpt").is_file() and (d / "md.part.tpr").is_file()
 
 
 def _checkpoint_step(d: Path) -> int | None:
@@ -250,6 +256,12 @@ def _start_or_resume(d: Path, request: dict, run_mdp: str, gmx_path: str, dt: fl
     return False
 
 
+def _current_log(d: Path) -> Path:
+    """mdrun's log being written: md.part.log, or a new segment's md.part.partNNNN.log."""
+    seg = sorted(d.glob("md.part.part[0-9][0-9][0-9][0-9].log"))
+    return seg[-1] if seg else d / "md.part.log"
+
+
 def _mdrun(d: Path, gmx_path: str, *, resume: bool, reprod: bool, threads, checkpoint_min: float,
            on_step) -> float:
     """mdrun into the part files (appending to them when RESUME); on failure an
@@ -257,8 +269,12 @@ def _mdrun(d: Path, gmx_path: str, *, resume: bool, reprod: bool, threads, check
     args = ["mdrun", "-v", "-s", "md.part.tpr", "-x", "md.part.xtc", "-e", "md.part.edr",
             "-g", "md.part.log", "-c", "confout.part.gro", "-cpo", "md.part.cpt",
             "-o", "md.part.trr", "-cpt", f"{checkpoint_min:g}"]
+    segment = resume and not all((d / f).is_file() for f in SEGMENT_OUTPUTS)
     if resume:
-        args += ["-cpi", "md.part.cpt", "-append"]
+        # A checkpoint without the outputs it continues (a run carried to a new machine
+        # through git: inputs and md.part.cpt, no trajectory) starts a new segment: mdrun
+        # -noappend writes *.partNNNN.* files, renamed below to the usual part names.
+        args += ["-cpi", "md.part.cpt", "-noappend" if segment else "-append"]
     if reprod:
         args += ["-reprod"]
     if threads:
@@ -266,7 +282,7 @@ def _mdrun(d: Path, gmx_path: str, *, resume: bool, reprod: bool, threads, check
     t0 = time.time()
     try:
         run_gmx_with_progress(gmx_path, args, d, log_name="gmx_mdrun_md.log", on_step=on_step,
-                              append_log=resume, watch=lambda: blow_up(d / "md.part.log"))
+                              append_log=resume, watch=lambda: blow_up(_current_log(d)))
     except ExternalToolError as e:
         output = (d / "gmx_mdrun_md.log").read_text(errors="replace")
         log = (d / "md.part.log").read_text(errors="replace") if (d / "md.part.log").exists() else ""
@@ -274,4 +290,9 @@ def _mdrun(d: Path, gmx_path: str, *, resume: bool, reprod: bool, threads, check
                                 "\nNo MD result was kept "
                                 f"(no md.done; partial files md.part.* in {d}; rerunning the "
                                 "same command continues from the last checkpoint).") from None
+    if segment:
+        for name in SEGMENT_OUTPUTS + ("confout.part.gro",):
+            stem, ext = name.rsplit(".", 1)
+            for f in sorted(d.glob(f"{stem}.part[0-9][0-9][0-9][0-9].{ext}"))[-1:]:
+                f.replace(d / name)
     return time.time() - t0

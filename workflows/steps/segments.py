@@ -1,0 +1,165 @@
+"""A long MD carried over sessions in segments, reduced segment by segment.
+
+A run longer than a session continues from its checkpoint on the next machine as a new
+segment (`dnarod run-md`: md.part.cpt without the outputs it appended to;
+mdbridge/md/gromacs/run.py). The trajectory of each segment never leaves its machine: before
+it goes, `reduce` turns it into what the analyses read (docs/dispersion.md, "The intact
+duplex"):
+
+    python3 -m dnarod.steps.segments reduce MDDIR OUT/segNN
+
+      OUT/segNN/mode_series.npz   `dnarod modes` of the segment's frames (the raw amplitudes)
+      OUT/segNN/integrity.npz     N1-N3 distance of every pair in every frame (float16)
+      OUT/segNN/energies.npz      the virial tension, the box and, with --hold-pairs, the
+                                  restraint energy per energy frame
+
+and `join` puts the segments of one run together in time, checking that they follow one
+another without a gap or an overlap:
+
+    python3 -m dnarod.steps.segments join OUT/seg01 OUT/seg02 ... -o OUT --discard-ps T
+
+      OUT/mode_series.npz  one realisation, the layout of every mode_series.npz
+      OUT/integrity.json   open fraction after the discard, per pair, at the junction
+      OUT/energies.npz     the joined energy series
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import subprocess
+import sys
+import tempfile
+import warnings
+from pathlib import Path
+
+import numpy as np
+
+from dna_models.errors import InputError
+from mdbridge.jsonio import write_json
+
+# the trajectory of a finished run or of the segment being written (run.py's part files)
+_VIEWS = ({"md.tpr": "md.tpr", "md.xtc": "md.xtc", "md.edr": "md.edr"},
+          {"md.tpr": "md.part.tpr", "md.xtc": "md.part.xtc", "md.edr": "md.part.edr"})
+
+
+def _sources(md_dir: Path) -> dict:
+    for view in _VIEWS:
+        if all((md_dir / f).is_file() for f in view.values()):
+            return view
+    raise InputError(f"{md_dir}: neither md.tpr + md.xtc + md.edr (a finished run) nor md.part.tpr + "
+                     "md.part.xtc + md.part.edr (a segment being run): nothing to reduce")
+
+
+def reduce_segment(md_dir, out) -> dict:
+    """The segment's mode series, pair distances and energies into OUT (module doc)."""
+    import MDAnalysis as mda
+    from mdbridge.md.builder.duplex import base_pairs
+    from mdbridge.md.gromacs.energy import read_energies
+    from mdbridge.md.gromacs.gmx import find_gmx
+    from mdbridge.md.gromacs.tension import tension_series
+    from mdbridge.md.integrity import PairIntegrity
+    d, out = Path(md_dir), Path(out)
+    src = _sources(d)
+    build = json.loads((d / "build.json").read_text())
+    out.mkdir(parents=True, exist_ok=True)
+    with tempfile.TemporaryDirectory(prefix="dnarod-segment-") as tmp:
+        view = Path(tmp) / "md"
+        view.mkdir()
+        for name in ("build.json", "conf.gro"):
+            (view / name).symlink_to((d / name).resolve())
+        for name, real in src.items():
+            (view / name).symlink_to((d / real).resolve())
+        subprocess.run([sys.executable, "-m", "dnarod.cli", "modes", str(view), "--discard-ps", "0",
+                        "-o", str(Path(tmp) / "modes")], check=True)
+        (Path(tmp) / "modes" / "mode_series.npz").replace(out / "mode_series.npz")
+        gmx = find_gmx(None)
+        energies = read_energies(view, gmx, edr="md.edr")
+        tension = tension_series(view, gmx, edr="md.edr")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        u = mda.Universe(str(d / src["md.tpr"]), str(d / src["md.xtc"]))
+    res = {int(r.resid): r for r in u.residues}
+    pairs = [(res[i], res[j]) for i, j in base_pairs(int(build["n_bp"]))]
+    a = PairIntegrity(u, pairs).run()
+    np.savez_compressed(out / "integrity.npz", times_ps=np.asarray(a.times_ps, float),
+                        n1_n3_A=a.results.distance_A.astype(np.float16))
+    extra = {"restraint_kJ_mol": energies["Restraint Pot."]} if "Restraint Pot." in energies else {}
+    np.savez_compressed(out / "energies.npz", times_ps=np.asarray(tension["time"], float),
+                        tension_pN=tension["tension_pN"], length_nm=tension["length_nm"],
+                        area_nm2=tension["area_nm2"], temperature_K=energies["Temperature"], **extra)
+    rec = {"md_dir": str(d.resolve()), "files": src, "frames": int(len(a.times_ps)),
+           "times_ps": [float(a.times_ps[0]), float(a.times_ps[-1])]}
+    write_json(out / "segment.json", rec)
+    return rec
+
+
+def _check_sequence(times: list[np.ndarray], what: str, names: list[str]) -> None:
+    for (a, na), (b, nb) in zip(zip(times, names), zip(times[1:], names[1:])):
+        dt = float(np.median(np.diff(a)))
+        if not (0 < b[0] - a[-1] <= 1.5 * dt):
+            raise InputError(f"{nb}: its {what} start at {b[0]:g} ps, {na}'s end at {a[-1]:g} ps: "
+                             f"segments must follow one another (one frame, {dt:g} ps, apart)")
+
+
+def join_segments(segments, out, discard_ps: float = 0.0) -> dict:
+    """The segments of one run (in time order) as one mode series, integrity and energies."""
+    from mdbridge.analysis.mode_spectra import ModeSeries, load_npz, save_npz
+    from mdbridge.md.integrity import integrity_summary
+    segs = [Path(s) for s in segments]
+    series = []
+    for s in segs:
+        r = load_npz(s / "mode_series.npz")
+        if len(r) != 1:
+            raise InputError(f"{s / 'mode_series.npz'}: {len(r)} realisations; a segment has one")
+        series.append(r[0])
+    names = [str(s) for s in segs]
+    _check_sequence([s.times_ps for s in series], "mode frames", names)
+    first = series[0]
+    cat = {k: np.concatenate([getattr(s, k) for s in series]) for k in ("times_ps", "bend", "twist", "stretch")}
+    of = None if any(s.open_fraction is None for s in series) else np.concatenate([s.open_fraction for s in series])
+    joined = ModeSeries(cat["times_ps"], first.n, cat["bend"], cat["twist"], cat["stretch"],
+                        float(np.mean([s.length_A for s in series])), first.n_bp, first.helical_repeat,
+                        f"{len(segs)} segments of {first.meta.get('md_dir', first.source)}", first.kind, of,
+                        {**first.meta, "segments": names})
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    save_npz(out / "mode_series.npz", [joined], extra={"segments": names})
+    integ = [np.load(s / "integrity.npz") for s in segs]
+    _check_sequence([z["times_ps"] for z in integ], "pair frames", names)
+    t = np.concatenate([z["times_ps"] for z in integ])
+    dist = np.concatenate([z["n1_n3_A"].astype(float) for z in integ])
+    summary = integrity_summary(dist, t, discard_ps=discard_ps)
+    summary.pop("times_ps")
+    step = max(1, len(t) // 500)          # the curve, at most ~500 points
+    summary["open_fraction_time"] = summary["open_fraction_time"][::step]
+    summary["open_fraction_times_ps"] = t[::step].tolist()
+    write_json(out / "integrity.json", {**summary, "segments": names})
+    en = [np.load(s / "energies.npz") for s in segs]
+    _check_sequence([z["times_ps"] for z in en], "energy frames", names)
+    np.savez_compressed(out / "energies.npz", **{k: np.concatenate([z[k] for z in en]) for k in en[0].files})
+    return summary
+
+
+def main(argv=None) -> int:
+    from dnarod.steps.analyse import run_step
+    ap = argparse.ArgumentParser(prog="python3 -m dnarod.steps.segments", description=__doc__.splitlines()[0])
+    sub = ap.add_subparsers(dest="step", required=True)
+    p = sub.add_parser("reduce")
+    p.add_argument("md_dir")
+    p.add_argument("out")
+    p = sub.add_parser("join")
+    p.add_argument("segments", nargs="+")
+    p.add_argument("-o", "--out", required=True)
+    p.add_argument("--discard-ps", type=float, default=0.0)
+    a = ap.parse_args(argv)
+
+    def step():
+        if a.step == "reduce":
+            reduce_segment(a.md_dir, a.out)
+        else:
+            join_segments(a.segments, a.out, a.discard_ps)
+    return run_step(a.step, step)
+
+
+if __name__ == "__main__":
+    sys.exit(main())
