@@ -68,7 +68,7 @@ def test_one_restraint_per_watson_crick_hbond_on_the_right_atoms(builds):
         # the two atoms belong to pair k: strand I residue k + 1 and strand II residue 42 - k
         assert {g.resid[i - 1], g.resid[j - 1]} == {k + 1, 42 - k}
         # and at t = 0 (the built B-DNA) they are H-bonded: inside the flat bottom
-        assert 2.5 < np.linalg.norm(x[i - 1] - x[j - 1]) < rec["up1_A"]
+        assert 2.5 < np.linalg.norm(x[i - 1] - x[j - 1]) < PairHold().up1_of(na, nb)
     assert all(len(v) in (2, 3) for v in WATSON_CRICK_HBONDS.values())
 
 
@@ -104,8 +104,9 @@ def test_restraint_is_flat_while_closed_and_acts_below_the_open_rule(builds, gmx
     assert rows and float(rows[0][1]) == 0.0, out.stdout[-500:]
     with pytest.raises(InputError, match="open-pair rule"):
         PairHold(up1_A=3.6)
-    with pytest.raises(InputError, match="up2"):
-        PairHold(up1_A=3.3, up2_A=3.0)
+    with pytest.raises(InputError, match="width"):
+        PairHold(width_A=0.0)
+    assert PairHold().up1_of("N1", "N3") < 3.5 < PairHold().up1_of("N6", "O4")
 
 
 def test_junction_equals_interior_steps_with_the_same_bases_in_the_run_input(builds, gmx):
