@@ -11,8 +11,9 @@ mdbridge/analysis/wavespeed.py's mode_amplitude). The fields:
            fixed laboratory directions e1, e2 (one complex c_n each) [A];
   twist    the twist density Omega3 = twist_i / h of each step, the closing step
            included (3DNA twist of consecutive frames, mdbridge.geometry.steps) [rad/A],
-           each step's twist continuous in time: a broken step crossing 3DNA's +-180-degree
-           cut between frames would otherwise enter every twist mode as a 360-degree spike;
+           each step's twist on the branch nearest the frame's mean twist: a broken step
+           crossing 3DNA's +-180-degree cut between frames would otherwise enter every twist
+           mode as a 360-degree spike;
   stretch  the rise of each step (3DNA rise) [A].
 
 The axis. The one-turn window (mdbridge/analysis/axis.py) passes a bend mode n of the
@@ -34,7 +35,7 @@ import numpy as np
 
 from mdbridge.analysis.axis import helical_axis, mean_twist, one_turn_weights
 from mdbridge.geometry.analysis_base import AnalysisBase
-from mdbridge.geometry.steps import step_parameters, unwrap_twist_deg
+from mdbridge.geometry.steps import circular_mean_deg, step_parameters, unwrap_twist_deg
 
 KINDS = ("bend", "twist", "stretch")
 VARIANCE_UNIT = {"bend": "A^2", "twist": "rad^2/A^2", "stretch": "A^2"}
@@ -70,12 +71,13 @@ def _fourier(f: np.ndarray, n_max: int) -> np.ndarray:
     return 2.0 / f.shape[0] * np.fft.fft(f, axis=0)[1:n_max + 1]
 
 
-def frame_modes(origins, R, period, n_max: int, e1, e2, weights, twist_reference_deg=None):
+def frame_modes(origins, R, period, n_max: int, e1, e2, weights, branch: bool = True):
     """One frame's mode amplitudes: bend (n_max, 2), twist (n_max,), stretch (n_max,) complex,
-    the helical offset (d, e) and the step twists used (n,) deg. origins (n, 3) continuous
-    along the strand, R (n, 3, 3), period (3,) with origin_{i+n} = origin_i + period.
-    twist_reference_deg: the previous frame's step twists, so that each step's twist is
-    continuous in time (geometry/steps.py unwrap_twist_deg); None keeps 3DNA's branch."""
+    and the helical offset (d, e). origins (n, 3) continuous along the strand, R (n, 3, 3),
+    period (3,) with origin_{i+n} = origin_i + period. branch: each step's twist on the
+    branch nearest the frame's circular-mean twist (geometry/steps.py unwrap_twist_deg), so
+    that a broken step crossing 3DNA's +-180-degree cut is continuous in time; False keeps
+    3DNA's branch."""
     n = len(origins)
     d, e = helical_offset(origins, R, period, weights)
     axis = origins - d * R[:, :, 0] - e * R[:, :, 1]
@@ -84,11 +86,11 @@ def frame_modes(origins, R, period, n_max: int, e1, e2, weights, twist_reference
     o_next[-1] += period
     steps = step_parameters(R, origins, np.roll(R, -1, axis=0), o_next)
     h = np.linalg.norm(period) / n
-    twist_deg = steps[:, 5] if twist_reference_deg is None else unwrap_twist_deg(steps[:, 5], twist_reference_deg)
+    twist_deg = unwrap_twist_deg(steps[:, 5], circular_mean_deg(steps[:, 5])) if branch else steps[:, 5]
     twist_density = np.radians(twist_deg) / h
     rise = steps[:, 2]
     return (_fourier(u, n_max), _fourier(twist_density, n_max), _fourier(rise, n_max),
-            np.array([d, e]), twist_deg)
+            np.array([d, e]))
 
 
 class ModeAnalysis(AnalysisBase):
@@ -122,13 +124,12 @@ class ModeAnalysis(AnalysisBase):
         self._twist = np.empty((T, n_max), complex)
         self._stretch = np.empty((T, n_max), complex)
         self._offset = np.empty((T, 2))
-        self._twist_deg = None     # the last frame's step twists: each step's twist continuous in time
 
     def _single_frame(self):
         tr, t, i = self._trajectory, self._frame, self._frame_index
-        self._bend[i], self._twist[i], self._stretch[i], self._offset[i], self._twist_deg = frame_modes(
+        self._bend[i], self._twist[i], self._stretch[i], self._offset[i] = frame_modes(
             np.asarray(tr.origins[t], float), np.asarray(tr.R[t], float), np.asarray(tr.period[t], float),
-            self._n_max, self._e1, self._e2, self._weights, twist_reference_deg=self._twist_deg)
+            self._n_max, self._e1, self._e2, self._weights)
 
     def _conclude(self):
         tr, r = self._trajectory, self.results

@@ -136,17 +136,28 @@ def unwrap_twist_deg(twist_deg, reference_deg):
     can cross that cut between two frames, a 360-degree jump that is no motion at all."""
     t = np.asarray(twist_deg, float)
     r = np.asarray(reference_deg, float)
-    return r + np.mod(t - r + 180.0, 360.0) - 180.0
+    return t + 360.0 * np.round((r - t) / 360.0)     # exactly t where no turn is added
+
+
+def circular_mean_deg(angles_deg, axis=0):
+    """The direction of the mean unit vector of angles (deg), in (-180, 180]."""
+    a = np.radians(np.asarray(angles_deg, float))
+    return np.degrees(np.arctan2(np.sin(a).mean(axis=axis), np.cos(a).mean(axis=axis)))
 
 
 def twist_continuous_in_time(q):
-    """Step parameters (T, ..., 6) with each step's twist continuous along the time axis 0
-    (unwrap_twist_deg against the frame before). Where twist enters a time-series analysis
-    (mode spectra, coarse-graining) it comes through here; a single structure keeps 3DNA's
+    """Step parameters (T, ..., 6) with each step's twist on the branch nearest its circular
+    mean over time: the cut moves from +-180 degrees to the mean +- 180 (about -146 and 214
+    degrees for B-DNA), where no step, closed or frayed, goes between frames; a broken step
+    that crosses +-180 is then continuous. Not np.unwrap along time: a broken step's twist
+    can wander across the cut several times, and unwrapping would carry a 360-degree offset
+    into the frames after the pair has closed again. Where twist enters a time-series
+    analysis (mode spectra, coarse-graining) it comes through here or through
+    unwrap_twist_deg with the same kind of reference; a single structure keeps 3DNA's
     convention."""
     out = np.array(q, dtype=float, copy=True)
     if out.shape[0] > 1:
-        out[..., 5] = np.degrees(np.unwrap(np.radians(out[..., 5]), axis=0))
+        out[..., 5] = unwrap_twist_deg(out[..., 5], circular_mean_deg(out[..., 5], axis=0))
     return out
 
 

@@ -43,7 +43,22 @@ def test_unwrap_takes_the_branch_nearest_the_reference():
     assert unwrap_twist_deg(36.0, 34.0) == 36.0
     q = np.zeros((4, 1, 6))
     q[:, 0, 5] = [179.0, -179.0, 179.0, -178.0]
-    assert np.allclose(twist_continuous_in_time(q)[:, 0, 5], [179.0, 181.0, 179.0, 182.0])
+    out = twist_continuous_in_time(q)[:, 0, 5]
+    assert np.allclose(np.diff(out), [2.0, -2.0, 3.0])              # continuous, on one branch
+    assert np.allclose(np.mod(out, 360.0), np.mod(q[:, 0, 5], 360.0))
+
+
+def test_a_broken_step_that_wanders_leaves_no_offset_once_closed():
+    """A step at 34 degrees breaks, wanders once round the cut (34 -> 170 -> -170 -> -60 ->
+    34 as 3DNA reports it, a net full turn of its meaningless broken-pair twist) and closes
+    again: afterwards it is at 34 degrees, not 394 (np.unwrap along time would leave 394)."""
+    tw = np.concatenate([np.full(50, 34.0), [100, 170, -170, -120, -60, 0], np.full(50, 34.0)])
+    q = np.zeros((tw.size, 1, 6))
+    q[:, 0, 5] = tw
+    out = twist_continuous_in_time(q)[:, 0, 5]
+    assert np.allclose(out[-50:], 34.0)
+    assert np.allclose(out[51:53], [170.0, 190.0])                  # continuous across +-180
+    assert np.allclose(np.degrees(np.unwrap(np.radians(tw)))[-50:], 394.0)   # the control
 
 
 def test_the_twist_modes_see_no_jump_at_a_step_crossing_the_cut():
@@ -60,7 +75,7 @@ def test_the_twist_modes_see_no_jump_at_a_step_crossing_the_cut():
     # control, the code before: 3DNA's branch taken as it is puts a 358-degree jump in
     e1, e2 = np.array([1.0, 0, 0]), np.array([0, 1.0, 0])
     w = np.ones(N) / N
-    old = np.array([frame_modes(traj.origins[t], traj.R[t], traj.period[t], 4, e1, e2, w)[1]
+    old = np.array([frame_modes(traj.origins[t], traj.R[t], traj.period[t], 4, e1, e2, w, branch=False)[1]
                     for t in range(traj.n_frames)])
     assert np.abs(np.diff(old, axis=0)).max() > 50 * bound
 
