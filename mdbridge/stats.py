@@ -200,38 +200,54 @@ def block_sums(x: np.ndarray, starts: np.ndarray, b: int, chunk: int = 16) -> np
 
 
 def _moments(ref, s1, s2u, n, p, shape):
+    """n: frames per replicate (B,), or per replicate and series (B, K) under a mask."""
     iu, ju = np.triu_indices(p)
     B = len(s1)
-    m = s1.reshape(B, -1, p) / n[:, None, None]
-    covu = (s2u.reshape(B, -1, len(iu)) - n[:, None, None] * m[:, :, iu] * m[:, :, ju]) / (n - 1)[:, None, None]
+    n = np.asarray(n, dtype=float).reshape(B, -1, 1)
+    m = s1.reshape(B, -1, p) / n
+    covu = (s2u.reshape(B, -1, len(iu)) - n * m[:, :, iu] * m[:, :, ju]) / (n - 1)
     cov = np.empty((B, m.shape[1], p, p))
     cov[:, :, iu, ju] = covu
     cov[:, :, ju, iu] = covu
     return ref + m.reshape((B,) + shape + (p,)), cov.reshape((B,) + shape + (p, p))
 
 
-def _centred(q):
+def _centred(q, mask=None):
+    """q's reference mean, centred values and their distinct products, flattened per frame.
+    mask (T, ...) of q.shape[:-1]: frames to leave out of each series (False), which then
+    contribute nothing; the reference is the mean over the frames kept."""
     q = np.asarray(q, dtype=float)
     T, p = q.shape[0], q.shape[-1]
-    ref = q.mean(axis=0)
-    d = (q - ref).reshape(T, -1, p)
+    if mask is None:
+        ref = q.mean(axis=0)
+        d = (q - ref).reshape(T, -1, p)
+    else:
+        w = np.asarray(mask, dtype=float)[..., None]
+        ref = (w * q).sum(axis=0) / np.maximum(w.sum(axis=0), 1.0)
+        d = (w * (q - ref)).reshape(T, -1, p)
     iu, ju = np.triu_indices(p)
     return ref, d.reshape(T, -1), (d[:, :, iu] * d[:, :, ju]).reshape(T, -1), p, q.shape[1:-1]
 
 
-def replicate_moments(q: np.ndarray, starts: np.ndarray, b: int):
+def replicate_moments(q: np.ndarray, starts: np.ndarray, b: int, mask=None):
     """Means (n_boot, ..., p) and covariances (n_boot, ..., p, p) of the moving-block
-    replicates of q (T, ..., p). Only the p (p + 1) / 2 distinct products are summed."""
-    ref, d, outer, p, shape = _centred(q)
-    n = np.full(len(starts), float(q.shape[0]))
+    replicates of q (T, ..., p). Only the p (p + 1) / 2 distinct products are summed.
+    mask (T, ...): per series, the frames it keeps (a replicate's moments are over the kept
+    frames among its blocks)."""
+    ref, d, outer, p, shape = _centred(q, mask)
+    if mask is None:
+        n = np.full(len(starts), float(q.shape[0]))
+    else:
+        n = block_sums(np.asarray(mask, dtype=float).reshape(q.shape[0], -1), starts, b)
     return _moments(ref, block_sums(d, starts, b), block_sums(outer, starts, b), n, p, shape)
 
 
-def weighted_moments(q: np.ndarray, W: np.ndarray):
+def weighted_moments(q: np.ndarray, W: np.ndarray, mask=None):
     """Means and covariances of q (T, ..., p) under a few frame weightings W (n_w, T)
-    (counts; normalisation sum(w) - 1): halves, prefixes."""
-    ref, d, outer, p, shape = _centred(q)
-    return _moments(ref, W @ d, W @ outer, W.sum(axis=1), p, shape)
+    (counts; normalisation sum(w) - 1): halves, prefixes. mask as replicate_moments."""
+    ref, d, outer, p, shape = _centred(q, mask)
+    n = W.sum(axis=1) if mask is None else W @ np.asarray(mask, dtype=float).reshape(q.shape[0], -1)
+    return _moments(ref, W @ d, W @ outer, n, p, shape)
 
 
 def spread(samples: np.ndarray, axis: int = 0) -> np.ndarray:

@@ -18,7 +18,9 @@ class StepEnsemble:
     base pair to the first. excluded (n_steps,) bool: steps not to be used at all;
     opened (n_steps,) bool: steps touching a base pair that the opening rule counts as
     opened: used, and left out only for the rule's sensitivity (estimator.py);
-    times_ps (T,)."""
+    open_frames (T, n_steps) bool: the frames in which a step touches an open pair (N1-N3 >
+    3.5 A, mdbridge/md/integrity.py): left out of that step's local estimates, frame by
+    frame (docs/coarse-graining.md); times_ps (T,)."""
 
     q: np.ndarray
     sequence: str
@@ -26,6 +28,7 @@ class StepEnsemble:
     times_ps: np.ndarray | None = None
     excluded: np.ndarray | None = None
     opened: np.ndarray | None = None
+    open_frames: np.ndarray | None = None
     source: str = "arrays"
     meta: dict = field(default_factory=dict)
 
@@ -47,6 +50,11 @@ class StepEnsemble:
         if self.times_ps.shape != (T,):
             raise InputError(f"{self.source}: times_ps of shape {self.times_ps.shape} for {T} frames "
                              "of step parameters")
+        of = np.zeros((T, n), dtype=bool) if self.open_frames is None else np.asarray(self.open_frames, dtype=bool)
+        if of.shape != (T, n):
+            raise InputError(f"{self.source}: 'open_frames' has shape {of.shape}, expected ({T}, {n}) "
+                             "(one per frame and step)")
+        self.open_frames = of
         for name in ("excluded", "opened"):
             v = getattr(self, name)
             v = np.zeros(n, dtype=bool) if v is None else np.asarray(v, dtype=bool)

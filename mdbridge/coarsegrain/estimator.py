@@ -118,6 +118,25 @@ def _constants_of(mean, cov, T_K, n_eff, contour_A, sums=None):
     return out
 
 
+def closed_filled(q: np.ndarray, open_frames: np.ndarray) -> np.ndarray:
+    """q (T, n, 6) with each open (frame, step) set to that step's mean over its closed
+    frames (the step's overall mean where it is never closed)."""
+    if not open_frames.any():
+        return q
+    w = (~open_frames)[..., None].astype(float)
+    n_closed = w.sum(axis=0)
+    mean = np.where(n_closed > 0, (w * q).sum(axis=0) / np.maximum(n_closed, 1.0), q.mean(axis=0))
+    return np.where(open_frames[..., None], mean[None], q)
+
+
+def window_closed(open_frames: np.ndarray, starts: np.ndarray, m: int) -> np.ndarray:
+    """(T, n_w): True where none of the m steps from each start is open in that frame
+    (steps wrap around a closed duplex)."""
+    n = open_frames.shape[1]
+    idx = (starts[:, None] + np.arange(m)[None, :]) % n
+    return ~open_frames[:, idx].any(axis=-1)
+
+
 def window_sums(q: np.ndarray, starts: np.ndarray, m: int) -> np.ndarray:
     """(T, n_w, 2): sum of rise and of twist over the m steps of each window
     (wrapping for a closed duplex: starts + m may pass n_steps)."""
@@ -175,6 +194,11 @@ class CoarseGrain(AnalysisBase):
         if not use.any():
             raise InputError(f"{ens.source}: every step is excluded (base pairs opened)")
         q_all = ens.q[self.frames]
+        open_all = ens.open_frames[self.frames]
+        # the open (step, frame)s carry no rod physics: where a whole-trajectory statistic
+        # needs every frame (equilibration, correlation times, the q -> 0 modes) they stand
+        # at their step's mean over its closed frames; the local estimates leave them out
+        q_all = closed_filled(q_all, open_all)
         # 1. equilibration: sequence-averaged parameters of the usable steps
         if self.discard is None:
             t0, _ = equilibration_start(q_all[:, use].mean(axis=1))
@@ -182,6 +206,7 @@ class CoarseGrain(AnalysisBase):
         else:
             t0, rule = int(self.discard), "given"
         q = q_all[t0:]
+        open_ = open_all[t0:]
         T = q.shape[0]
         if T < 10:
             raise InputError(f"{ens.source}: {T} frames after discarding {t0}; need far more "
@@ -219,8 +244,9 @@ class CoarseGrain(AnalysisBase):
             if self.progress is not None:
                 self.progress("lengths analysed", k, len(self.m_values), "lengths")
             qm, starts = series[m]
+            keep = window_closed(open_, starts, m)
             by_m[m] = self._estimate(m, qm, starts, (starts_boot, b), W_half, W_conv, n_conv,
-                                      q[:, :, 2].mean(axis=0), window_sums(q, starts, m))
+                                      q[:, :, 2].mean(axis=0), window_sums(q, starts, m), keep)
         lw = long_wavelength(q, use, ens.closed, (starts_boot, b), W_half)
         keep_rule = use & ~ens.opened
         by_rule = None
@@ -235,20 +261,25 @@ class CoarseGrain(AnalysisBase):
                "long_wavelength": lw, "rule": by_rule, "opened_steps": np.flatnonzero(ens.opened & use),
                "temperature_K": self.T_K, "used_steps": np.flatnonzero(use),
                "excluded_steps": np.flatnonzero(ens.excluded), "convergence_frames": n_conv,
+               "open_step_frames": float(open_[:, use].mean()),
                "dt_ps": float(np.median(np.diff(self.times_ps))) if self.n_frames > 1 else 0.0}
         if self.progress is not None:
             self.progress("lengths analysed", len(self.m_values), len(self.m_values), "lengths")
         self.results.update(res)
 
-    def _estimate(self, m, qm, starts, boot, W_half, W_conv, n_conv, rise, sums):
+    def _estimate(self, m, qm, starts, boot, W_half, W_conv, n_conv, rise, sums, keep):
+        """One window length m. keep (T, n_w): the frames in which each window's steps are all
+        closed; every moment of a window is over those frames only."""
         T = qm.shape[0]
         n = len(rise)
         contour = rise[(starts[:, None] + np.arange(m)[None, :]) % n].sum(axis=1)   # (n_w,) A
-        mean = qm.mean(axis=0)
-        d = qm - mean
-        cov = np.einsum("twi,twj->wij", d, d) / (T - 1)
-        tau2 = mahalanobis_time(qm, mean, cov)                      # (n_w,)
-        n2 = T / (2.0 * tau2)
+        T_w = keep.sum(axis=0)                                      # (n_w,) frames kept
+        w = keep[..., None].astype(float)
+        mean = (w * qm).sum(axis=0) / T_w[:, None]
+        d = w * (qm - mean)
+        cov = np.einsum("twi,twj->wij", d, d) / (T_w - 1)[:, None, None]
+        tau2 = mahalanobis_time(qm, mean, cov, keep)                # (n_w,)
+        n2 = T_w / (2.0 * tau2)
         if np.any(n2 <= P + 2):
             w = int(np.argmin(n2))
             need = math.ceil((P + 3) * 2.0 * tau2[w] * 2.0)
@@ -273,15 +304,19 @@ class CoarseGrain(AnalysisBase):
         # the pooled covariance averages n_w windows, of which ~n_w / m do not overlap:
         # its degrees of freedom for the bias correction are ~N_eff max(1, n_w / m)
         n_pool = float(np.median(n2)) * max(1.0, len(starts) / m)
-        ds = sums - sums.mean(axis=0)
-        sums_full = (sums.mean(axis=0), np.einsum("twi,twj->wij", ds, ds) / (T - 1))
+        sums_mean = (w * sums).sum(axis=0) / T_w[:, None]
+        ds = w * (sums - sums_mean)
+        sums_full = (sums_mean, np.einsum("twi,twj->wij", ds, ds) / (T_w - 1)[:, None, None])
         phys = _constants_of(mean, cov, self.T_K, n_pool, contour, sums_full)
 
-        bm, bc = replicate_moments(qm, *boot)                        # (B, n_w, 6), (B, n_w, 6, 6)
+        bm, bc = replicate_moments(qm, *boot, mask=keep)             # (B, n_w, 6), (B, n_w, 6, 6)
         bK = K_of(bc, n2[None, :])
-        bphys = _constants_of(bm, bc, self.T_K, n_pool, contour, replicate_moments(sums, *boot))
-        # tangent correlation <cos Gamma> of the segments (static + dynamic bending)
-        cosG = np.cos(np.radians(np.hypot(qm[..., 3], qm[..., 4]))).mean(axis=1)   # (T,)
+        bphys = _constants_of(bm, bc, self.T_K, n_pool, contour, replicate_moments(sums, *boot, mask=keep))
+        # tangent correlation <cos Gamma> of the segments (static + dynamic bending); a window
+        # left out of a frame stands at its mean over the frames kept
+        cos_w = np.cos(np.radians(np.hypot(qm[..., 3], qm[..., 4])))                # (T, n_w)
+        cos_w = np.where(keep, cos_w, (keep * cos_w).sum(axis=0) / T_w)
+        cosG = cos_w.mean(axis=1)                                                   # (T,)
         L_nm = float(np.mean(contour)) / 10.0
         phys["bend_persistence_length_tangent"] = -L_nm / np.log(cosG.mean())
         bphys["bend_persistence_length_tangent"] = -L_nm / np.log(block_sums(cosG[:, None], *boot)[:, 0] / T)
@@ -297,16 +332,16 @@ class CoarseGrain(AnalysisBase):
                "physical_err": {k: float(spread(v)) for k, v in bphys.items()},
                "physical_boot": bphys, "n_eff_pooled": n_pool}
         # first half vs second half
-        hm, hc = weighted_moments(qm, W_half)
+        hm, hc = weighted_moments(qm, W_half, mask=keep)
         n2h = n2[None, :] / 2.0
         ok = np.all(n2h > P + 2)
         hK = K_series(hc, n_pool / 2.0) if ok and n_pool / 2.0 > P + 2 else np.full_like(hc[:, 0], np.nan)
-        hphys = (_constants_of(hm, hc, self.T_K, n_pool / 2.0, contour, weighted_moments(sums, W_half))
+        hphys = (_constants_of(hm, hc, self.T_K, n_pool / 2.0, contour, weighted_moments(sums, W_half, mask=keep))
                  if n_pool / 2 > 4 else None)
         out["halves"] = {"K_series": hK, "mean_avg": hm.mean(axis=1),
                          "physical": None if hphys is None else {k: v for k, v in hphys.items()}}
         # convergence: first n frames
-        cm, cc = weighted_moments(qm, W_conv)
+        cm, cc = weighted_moments(qm, W_conv, mask=keep)
         n2c = n2[None, :] * (n_conv[:, None] / T)
         okc = np.all(n2c > P + 2, axis=1)
         n_c = n_pool * n_conv / T
@@ -315,7 +350,7 @@ class CoarseGrain(AnalysisBase):
         if okc.any():
             cK[okc] = K_series(cc[okc], n_c[okc])
         cphys = _constants_of(cm, cc, self.T_K, n_c if np.all(n_c > 4) else None, contour,
-                              weighted_moments(sums, W_conv))
+                              weighted_moments(sums, W_conv, mask=keep))
         out["convergence"] = {"frames": n_conv, "K_series": cK, "mean_avg": cm.mean(axis=1),
                               "physical": cphys}
         return out

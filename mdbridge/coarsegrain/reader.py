@@ -48,10 +48,11 @@ def open_pairs(universe, pairs, start, stop, step, max_fraction=MAX_OPEN_FRACTIO
 
 
 def steps_of_pairs(opened: np.ndarray, closed: bool) -> np.ndarray:
-    """Steps (n_steps,) touching an opened base pair."""
-    n = len(opened)
+    """Steps (..., n_steps) touching an opened base pair, of opened (..., n_bp): per pair, or
+    per frame and pair."""
+    n = opened.shape[-1]
     k = np.arange(n if closed else n - 1)
-    return opened[k] | opened[(k + 1) % n]
+    return opened[..., k] | opened[..., (k + 1) % n]
 
 
 class PairMassInertia(AnalysisBase):
@@ -127,14 +128,17 @@ def read_ensemble(universe, pairs=None, pair_numbering="resid", closed=None, sta
     q = bpf.step_parameters(periodic=closed)
     with warnings.catch_warnings():   # "Reader has no dt information" for PDB models
         warnings.simplefilter("ignore")
-        opened, frac, _ = open_pairs(universe, bpf.pairs, start, stop, step, max_open_fraction,
-                                     progress=stage("pairs checked"))
+        opened, frac, dist = open_pairs(universe, bpf.pairs, start, stop, step, max_open_fraction,
+                                        progress=stage("pairs checked"))
     opened_steps = steps_of_pairs(opened, closed)
+    from mdbridge.md.integrity import INTACT_CUTOFF_A
+    open_frames = steps_of_pairs(dist > INTACT_CUTOFF_A, closed)
     T = q.shape[0]
     fi = np.unique(np.linspace(0, T - 1, min(T, INERTIA_FRAMES)).astype(int))
     mi = mass_inertia(bpf, fi)
     ens = StepEnsemble(q=q, sequence=bpf.sequence, closed=bool(closed),
-                       times_ps=np.asarray(bpf.results.time, float), opened=opened_steps, source=source)
+                       times_ps=np.asarray(bpf.results.time, float), opened=opened_steps,
+                       open_frames=open_frames, source=source)
     extras = {"open_fraction": frac, "opened_pairs": np.flatnonzero(opened), "mass_inertia": mi,
               "pairs": [(f"{a.resname}{a.resid}", f"{b.resname}{b.resid}") for a, b in bpf.pairs],
               "bpf": bpf}

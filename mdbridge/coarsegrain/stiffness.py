@@ -39,12 +39,15 @@ def stiffness(cov, kT: float = 1.0, n_eff=None):
     return K
 
 
-def mahalanobis_time(q: np.ndarray, mean=None, cov=None) -> np.ndarray:
-    """tau_2 (frames) of d2(t) = dq^T cov^-1 dq for each series q (T, ..., p)."""
+def mahalanobis_time(q: np.ndarray, mean=None, cov=None, keep=None) -> np.ndarray:
+    """tau_2 (frames) of d2(t) = dq^T cov^-1 dq for each series q (T, ..., p). keep (T, ...):
+    the frames each series keeps; a frame left out stands at the series' mean d2."""
     q = np.asarray(q, dtype=float)
     mean = q.mean(axis=0) if mean is None else mean
     d = q - mean
     if cov is None:
         cov = np.einsum("t...i,t...j->...ij", d, d) / (len(q) - 1)
     d2 = np.einsum("t...i,...ij,t...j->t...", d, np.linalg.inv(cov), d)
+    if keep is not None:
+        d2 = np.where(keep, d2, (keep * d2).sum(axis=0) / np.maximum(keep.sum(axis=0), 1))
     return integrated_time(d2)
