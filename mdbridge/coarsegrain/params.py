@@ -87,7 +87,10 @@ def build_params(cg, temperature_source: str, extras: dict | None = None,
         "opening_rule": {"rule": "a base pair whose N1-N3 distance exceeds 3.5 A (mdbridge.md.integrity) "
                                  "in more than max_open_fraction of the frames counts as opened; the "
                                  "sensitivity leaves out every step touching it",
-                         "steps": [int(k) + 1 for k in r["opened_steps"]]},
+                         "steps": [int(k) + 1 for k in r["opened_steps"]],
+                         # the local estimates leave each step out where it touches an open
+                         # pair, frame by frame (estimator.py): the fraction left out
+                         "open_step_frames": r.get("open_step_frames", 0.0)},
         "halves": _halves(bm),
         "box_constraint": _box_constraint(ens.closed, tension_pN, torque_pN_nm, stressed,
                                           r["long_wavelength"]),
