@@ -147,8 +147,8 @@ def test_the_workflow_reproduces_the_committed_prediction(pred):
     the committed prediction.json came from the mode series (float32 amplitudes) by the steps
     run by hand. The same modes are refused, and every frequency agrees to 1e-5. The one
     allowed difference is a stationarity verdict at its threshold: a half-record fit of a
-    wandering peak moves within its error with the amplitudes' rounding (docs/analysis.md,
-    "Nearly undamped modes that wander"), so a refusal at halves z <= 3.1 may pass on the
+    wandering peak moves within its error with the amplitudes' rounding (docs/modes.md,
+    "The common background"), so a refusal at halves z <= 3.1 may pass on the
     other side (bend n = 8: 3.02 from the series, 2.52 from the trajectory)."""
     wf = json.loads((R / "workflow" / "dispersion.json").read_text())
     rows = {(r["kind"], r["n"]): r for r in wf["rows"]}
