@@ -1,5 +1,5 @@
 """The errors of `dnarod modes` on thermal-rod series, against linear theory
-(bench/mode_spectrum_calibration.py --thermal-rod; docs/modes.md, "Calibration").
+(bench/mode_spectrum_calibration.py --thermal-rod; docs/modes.md, "How it is verified").
 
 The series: Langevin runs of the paper's 158-bp rod at 0.03 K, damped modes of Q ~ 1.5-30,
 each through the command's own code path (the rod file read as `dnarod modes` reads it,
