@@ -5,7 +5,7 @@ floor), synthetic with known omega_n and Q (bench/mode_spectrum_calibration.py m
 
 * The modes are found on their dispersive branch with calibrated errors; the control, each
   mode fitted alone with the rule before the common background, locks onto the local band
-  or the red noise, as it did on the 158-bp MD (docs/analysis.md, "Mode spectra").
+  or the red noise, as it did on the 158-bp MD (docs/modes.md).
 * The halves test is calibrated on stationary records of the MD's Q and length (signed z of
   RMS 0.7-1.4, false refusals at the nominal rate), and refuses a record whose frequency
   steps; the control, errors half as large, fails the window.

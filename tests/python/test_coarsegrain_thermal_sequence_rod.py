@@ -3,7 +3,7 @@ sequence-dependent material (docs/coarse-graining.md, "A thermal rod through the
 
 The rod is `dnarod dna-rod` of a 42-bp sequence under Olson et al. 1998 (per-point coupled
 6 x 6 K, `--shape exact`: read at its base pairs the intrinsic shape has Olson's step
-parameters), two grid points per base pair (docs/scenes.md: one point per bp under-resolves
+parameters), two grid points per base pair (docs/dna-rod.md: one point per bp under-resolves
 the sequence's fields; the uniform loop, tests/python/test_coarsegrain_thermal_rod.py, shows
 what one point per bp does to the per-step stiffness). It starts from its intrinsic, curved,
 stress-free shape and runs as a Langevin rod at the Olson table's temperature (dt = 0.025:

@@ -140,7 +140,7 @@ def test_static_variance_is_timoshenko_and_does_not_see_the_masses():
                            rtol=0.1)
 
 
-# stated relative errors of the lowest bend frequencies of a 4-ns record (docs/analysis.md's
+# stated relative errors of the lowest bend frequencies of a 4-ns record (docs/modes.md's
 # calibration: periods 1100, 375, 187, 111 ps)
 NS = [1, 2, 3, 4]
 REL = np.array([0.06, 0.035, 0.02, 0.01])

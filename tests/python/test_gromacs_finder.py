@@ -1,5 +1,5 @@
-"""Which gmx runs (mdbridge/md/gromacs/gmx.py: find_gmx; docs/md.md "Using your own
-GROMACS"): --gmx, else DNAROD_GMX, else the project's own build of
+"""Which gmx runs (mdbridge/md/gromacs/gmx.py: find_gmx; docs/dependencies.md "GROMACS:
+which `gmx` runs"): --gmx, else DNAROD_GMX, else the project's own build of
 scripts/build_gromacs.sh when it exists, else `gmx` on PATH.
 
 The real build takes ~20 min, so here the project's build is stood in for by
@@ -133,8 +133,8 @@ def test_the_workflow_passes_no_path_that_bypasses_the_project_build(prefix):
 @pytest.mark.parametrize("built_with_rdtscp", [True, False])
 def test_a_build_that_uses_rdtscp_is_rebuilt_where_the_cpu_lacks_it(tmp_path, cpu_has_rdtscp, built_with_rdtscp):
     """scripts/build_gromacs.sh --check: a kept gmx of the right version is rebuilt only
-    when it uses rdtscp and the CPU does not list it (mdrun would refuse to start: docs/md.md,
-    "GROMACS built for the machine"). The stand-in gmx prints what a real one's --version does."""
+    when it uses rdtscp and the CPU does not list it (mdrun would refuse to start:
+    docs/dependencies.md, "GROMACS built for the machine"). The stand-in gmx prints what a real one's --version does."""
     bin_dir = tmp_path / "prefix" / "bin"
     bin_dir.mkdir(parents=True)
     gmx = bin_dir / "gmx"

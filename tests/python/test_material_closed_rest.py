@@ -65,7 +65,7 @@ def test_rest_state_is_a_prestressed_equilibrium(olson21, space):
     assert abs(r.tension) > 2e-3
     if space == "spectral":
         # the intrinsic shape is not closed (0.03 rad, 0.15 l); the exact semi-discrete
-        # equilibrium is, to its discretisation error (docs/scenes.md: 0.04 rad here)
+        # equilibrium is, to its discretisation error (0.04 rad here)
         assert r.closure_rotation_rad < 0.1 and r.closure_length_error < 1e-3 * L
     # control: a perturbed copy is not in equilibrium
     rng = np.random.default_rng(0)
@@ -86,7 +86,7 @@ def test_closed_mode_closes_exactly(olson21):
     from mdbridge.rod.material.closed_rest import _shooting_minimiser
     x = _shooting_minimiser(g, L, L, 8)
     assert np.max(np.abs(np.concatenate([r.Gamma, r.Omega], axis=1) - x)) < 3e-3     # strains ~ 1
-    assert r.tension == pytest.approx(25.3 / 908.0, rel=2e-2)   # 25.3 pN, docs/scenes.md
+    assert r.tension == pytest.approx(25.3 / 908.0, rel=2e-2)   # 25.3 pN, docs/dna-rod.md
 
 
 def test_uniform_paper_rod_exact_solution():

@@ -1,5 +1,5 @@
 """The errors of `dnarod modes` on thermal-rod series, against linear theory
-(bench/mode_spectrum_calibration.py --thermal-rod; docs/analysis.md, "Calibration").
+(bench/mode_spectrum_calibration.py --thermal-rod; docs/modes.md, "How it is verified").
 
 The series: Langevin runs of the paper's 158-bp rod at 0.03 K, damped modes of Q ~ 1.5-30,
 each through the command's own code path (the rod file read as `dnarod modes` reads it,
@@ -11,7 +11,7 @@ checked against closed forms and a hand-built block in test_rod_linear.py).
   the control (each mode a sinusoid in white noise) is outside the band in every case;
   the overdamped bend n = 1 is refused in OVERDAMPED_REFUSED of them; the truth in the table
   is the scene's linear theory now; no passed fit lies more than 25 % off the truth (the
-  wrong peaks that the second background's floor removed, docs/analysis.md);
+  wrong peaks that the second background's floor removed, docs/modes.md);
 * one new realisation (a seed not in the table), run here: the median |z| of its modes
   about the truth, z = (omega - truth) / stated error, is that of a standard normal
   (0.674, within 3 of its sampling errors for the number of modes); the control's is far
@@ -41,15 +41,15 @@ ROOT = Path(__file__).resolve().parents[2]
 CAL = load_bench("mode_spectrum_calibration.py")
 TABLE = ROOT / "bench" / "results" / "mode_spectrum_calibration_thermal_rod.json"
 REALISATIONS = ROOT / "bench" / "results" / "mode_spectrum_calibration_thermal_rod_realisations.json"
-# kind n whose stated / RMS lies outside 0.7-1.4 in the committed table (docs/analysis.md,
+# kind n whose stated / RMS lies outside 0.7-1.4 in the committed table (docs/modes.md,
 # "Thermal-rod series"): twist 9, whose errors are ~45 % too large (1.45)
 OUTSIDE = {"twist 9"}
 # the overdamped bend n = 1 is refused in this many of the 30 realisations (reported as an
-# oscillation of Q ~ 1 in the others: docs/analysis.md)
+# oscillation of Q ~ 1 in the others: docs/modes.md)
 OVERDAMPED_REFUSED = 17
 NEW_SEED = 1001
 # axial modes whose kinetic inertia fails its calibration in the committed table
-# (docs/analysis.md, "Kinetic equipartition on the same series"): stated / RMS 1.46
+# (docs/modes.md, "Kinetic equipartition on the same series"): stated / RMS 1.46
 # (conservative) and 0.67
 INERTIA_OUTSIDE = {"stretch 1", "stretch 11"}
 
@@ -97,8 +97,8 @@ def test_committed_inertia_is_the_scenes_and_its_control_fails(table):
     # the control (omega for omega0) is rejected by its mean where the damping matters (Q 2)
     ctl = next(c["inertia"]["control"] for c in cases if (c["kind"], c["n"]) == ("stretch", 1))
     assert ctl["z"] < -3 and not ctl["pass"]
-    # the docs' summary (docs/analysis.md)
-    doc = re.sub(r"\s+", " ", (ROOT / "docs" / "analysis.md").read_text())
+    # the docs' summary (docs/modes.md)
+    doc = re.sub(r"\s+", " ", (ROOT / "docs" / "modes.md").read_text())
     mean = {k: [c["inertia"]["mean"] for c in cases if c["kind"] == k and c["n"] >= 2] for k in ("twist", "stretch")}
     tw, st = np.array(mean["twist"]), np.array(mean["stretch"])
     assert f"twist n = 2-14 give {tw.min():.3f}-{tw.max():.3f} of the truth" in doc
@@ -155,7 +155,7 @@ def test_a_new_realisation_scatters_as_its_errors_say(tmp_path):
 def test_no_passed_fit_is_on_a_wrong_peak(table):
     """From each realisation's committed numbers: no fit that the command passed lies more
     than 25 % from the truth (before the second background's floor, 20 twist and stretch
-    fits did, docs/analysis.md), and the ratio over the fits is the table's: twist 9 alone
+    fits did, docs/modes.md), and the ratio over the fits is the table's: twist 9 alone
     outside the band."""
     rows = json.loads(REALISATIONS.read_text())
     assert len(rows) == table["realisations"]

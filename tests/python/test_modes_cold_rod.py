@@ -118,7 +118,7 @@ def test_control_a_ten_percent_stiffer_material_fails(cold_modes, kind, constant
 
 
 def test_synthetic_lines_each_at_its_frequency_and_a_wandering_one_kept():
-    """The three rules of undamped spectra (docs/analysis.md) on synthetic modes that are all
+    """The three rules of undamped spectra (docs/modes.md) on synthetic modes that are all
     lines, c_n(t) = exp(-i (omega_n t + phi_n)) plus white noise 1e-2, every n also carrying
     one common line at 0.9 rad/ps that no mode owns (as the rod's bend series carry its
     shear line). Twist n = 4's phase wanders slowly (7 mrad over the record, as the cold

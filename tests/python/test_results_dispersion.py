@@ -20,7 +20,9 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[2]
 R = ROOT / "results" / "dispersion"
-DOC = (ROOT / "docs" / "dispersion.md").read_text()
+# the prose wraps lines anywhere: the quotes are matched with every run of whitespace as one space
+DOC = re.sub(r"\s+", " ", (ROOT / "docs" / "dispersion.md").read_text())
+RESULTS_DOC = re.sub(r"\s+", " ", (ROOT / "docs" / "results.md").read_text())   # the seeds and the stretched boxes
 
 
 @pytest.fixture(scope="module")
@@ -147,8 +149,8 @@ def test_the_workflow_reproduces_the_committed_prediction(pred):
     the committed prediction.json came from the mode series (float32 amplitudes) by the steps
     run by hand. The same modes are refused, and every frequency agrees to 1e-5. The one
     allowed difference is a stationarity verdict at its threshold: a half-record fit of a
-    wandering peak moves within its error with the amplitudes' rounding (docs/analysis.md,
-    "Nearly undamped modes that wander"), so a refusal at halves z <= 3.1 may pass on the
+    wandering peak moves within its error with the amplitudes' rounding (docs/modes.md,
+    "The common background"), so a refusal at halves z <= 3.1 may pass on the
     other side (bend n = 8: 3.02 from the series, 2.52 from the trajectory)."""
     wf = json.loads((R / "workflow" / "dispersion.json").read_text())
     rows = {(r["kind"], r["n"]): r for r in wf["rows"]}
@@ -235,7 +237,7 @@ def test_statics_as_quoted(pred):
 
 
 def test_second_seed_as_quoted():
-    """docs/dispersion.md, "A second seed": the chi2 of the seed-to-seed differences per kind
+    """docs/results.md, "A second seed": the chi2 of the seed-to-seed differences per kind
     (twist and stretch covered by their errors, bend not), bend n = 1's shift against the
     string's omega^2 ~ T + B k^2 at the two seeds' virial tensions (agrees within the
     tensions' errors; control: equal tensions, which a -22 % shift at z -4.4 refutes), and
@@ -253,24 +255,24 @@ def test_second_seed_as_quoted():
     for k in chi2:        # the invariance step's summary, which the README's headline reads
         assert d["differences_by_kind"]["seed2"][k]["chi2"] == pytest.approx(chi2[k], rel=1e-12)
         assert d["differences_by_kind"]["seed2"][k]["dof"] == dof[k]
-    assert f"| twist | n = 1-6 | {chi2['twist']:.1f} for {dof['twist']} |" in DOC
-    assert f"| stretch | n = 2-5 | {chi2['stretch']:.1f} for {dof['stretch']} |" in DOC
-    assert f"| {chi2['bend']:.1f} for {dof['bend']} |" in DOC
+    assert f"| twist | n = 1-6 | {chi2['twist']:.1f} for {dof['twist']} |" in RESULTS_DOC
+    assert f"| stretch | n = 2-5 | {chi2['stretch']:.1f} for {dof['stretch']} |" in RESULTS_DOC
+    assert f"| {chi2['bend']:.1f} for {dof['bend']} |" in RESULTS_DOC
     from scipy.stats import chi2 as chi2_dist
     assert chi2_dist.sf(chi2["twist"], dof["twist"]) > 0.05 and chi2_dist.sf(chi2["stretch"], dof["stretch"]) > 0.05
     assert chi2_dist.sf(chi2["bend"], dof["bend"]) < 1e-6
-    assert f"about {math.sqrt(chi2['bend'] / dof['bend']):.1f}x too small" in DOC
+    assert f"about {math.sqrt(chi2['bend'] / dof['bend']):.1f}x too small" in RESULTS_DOC
     t1 = json.loads((R / "tension.json").read_text())["halves"]["first"]      # 1000-3000 ps of seed 1
     t2 = json.loads((S / "tension.json").read_text())
-    assert f"Seed 2 holds {t2['tension_pN']:.1f} +- {t2['tension_err_pN']:.1f} pN" in DOC
-    assert f"seed 1 held {t1:.1f} pN" in DOC
+    assert f"Seed 2 holds {t2['tension_pN']:.1f} +- {t2['tension_err_pN']:.1f} pN" in RESULTS_DOC
+    assert f"seed 1 held {t1:.1f} pN" in RESULTS_DOC
     shift, z = diffs[("bend", 1)]
-    assert f"its n = 1 is {-100 * shift:.1f} % lower (z {z:.1f})" in DOC
+    assert f"its n = 1 is {-100 * shift:.1f} % lower (z {z:.1f})" in RESULTS_DOC
     B = json.loads((R / "prediction.json").read_text())["fit"]["dynamics"]["B_pN_nm2"]
     k_nm = 2 * math.pi / (json.loads((S / "modes_1000_3000.json").read_text())["length_A"] / 10)
     Bk2 = B * k_nm ** 2
     string = math.sqrt((t2["tension_pN"] + Bk2) / (t1 + Bk2)) - 1
-    assert f"predicts {100 * string:.1f} %" in DOC and f"(B k^2 = {Bk2:.1f} pN at n = 1)" in DOC
+    assert f"predicts {100 * string:.1f} %" in RESULTS_DOC and f"(B k^2 = {Bk2:.1f} pN at n = 1)" in RESULTS_DOC
     t1_err = json.loads((R / "tension.json").read_text())["tension_err_pN"] * math.sqrt(2)   # a half of 4 ns
     string_err = 0.5 * (1 + string) * math.hypot(t2["tension_err_pN"] / (t2["tension_pN"] + Bk2), t1_err / (t1 + Bk2))
     shift_err = abs(shift / z)
@@ -320,7 +322,7 @@ def test_twist_inertia_from_kinetic_equipartition_as_quoted(pred):
 
 
 def test_frequencies_against_tension_as_quoted(tmp_path):
-    """docs/dispersion.md, "Frequencies against tension": the series recomputed from the four
+    """docs/results.md, "Frequencies against tension": the series recomputed from the four
     committed predictions equals boxes/series.json, and the table and prose are its numbers."""
     from dna_models.units import Units
     B = R / "boxes"
@@ -335,7 +337,7 @@ def test_frequencies_against_tension_as_quoted(tmp_path):
     again = json.loads((tmp_path / "s.json").read_text())
     for a, b in zip(again["modes"], rec["modes"]):
         assert a.get("slope") == pytest.approx(b.get("slope"), rel=1e-6) and a.get("reason") == b.get("reason")
-    doc = re.sub(r"\s+", " ", DOC)
+    doc = re.sub(r"\s+", " ", RESULTS_DOC)
     runs = {x["name"]: x for x in rec["runs"]}
     for name, label in (("seed1", "seed 1, 1000-5000 ps"), ("seed2", "seed 2, 1000-3000 ps"),
                         ("box1.015", "+1.5 %, 500-1400 ps"), ("box1.03", "+3 %, 500-1400 ps")):
