@@ -107,7 +107,6 @@ def test_control_the_raw_full_charge_record_fails_the_same_criterion():
     assert f"against {k.min():.1f}-{k.max():.1f} in the committed" in text
 
 
-
 def test_every_full_charge_headline_states_its_open_fraction():
     """The README's full-charge vacuum rows carry the open fraction of the records they come
     from (modes.json of the 5-ns seed 1 and of seed 2), to the percent."""
