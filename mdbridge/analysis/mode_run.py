@@ -14,6 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from dna_models.errors import InputError
+from mdbridge.analysis.results import ModeTable
 from mdbridge.jsonio import write_json
 from mdbridge.md.realisation import kind_of, open_realisation
 
@@ -91,11 +92,12 @@ def _quiet(stage, done, total, unit=""):
 
 
 def mode_spectra(paths, output, discard_ps: float = 0.0, until_ps: float | None = None,
-                 progress=None) -> dict:
+                 progress=None) -> ModeTable:
     """The mode table of the realisations PATHS (each from discard_ps to until_ps after its
     start), written to OUTPUT/modes.json with mode_series.npz, spectra.png and
-    dispersion.png; returns the table. progress: as dnarod.progress.Stages (called with
-    (stage, done, total, unit); its close() ends the reading stages)."""
+    dispersion.png; returns the table (typed: mdbridge/analysis/results.py). progress: as
+    dnarod.progress.Stages (called with (stage, done, total, unit); its close() ends the
+    reading stages)."""
     from mdbridge.analysis.mode_figures import dispersion_figure, spectra_figure
     from mdbridge.analysis.mode_spectra import mode_table, save_npz
     if not (math.isfinite(discard_ps) and discard_ps >= 0):
@@ -120,4 +122,4 @@ def mode_spectra(paths, output, discard_ps: float = 0.0, until_ps: float | None 
     write_json(out / "modes.json", table)
     spectra_figure(used, table, out / "spectra.png")
     dispersion_figure(table, out / "dispersion.png")
-    return table
+    return ModeTable.from_json(table)

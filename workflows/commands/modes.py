@@ -63,22 +63,22 @@ def run(args):
     with Stages("modes") as stages:
         table = mode_spectra(args.paths, out, args.discard_ps, args.until_ps, progress=stages)
     _warn(table)
-    ok = [e for e in table["modes"] if e["reason"] is None]
-    counts = ", ".join(f"{kind} {sum(1 for e in ok if e['kind'] == kind)}" for kind in ("bend", "twist", "stretch"))
-    print(f"modes: {len(ok)} of {len(table['modes'])} modes measured ({counts}); "
+    counts = ", ".join(f"{kind} {len(table.measured(kind))}" for kind in ("bend", "twist", "stretch"))
+    print(f"modes: {len(table.measured())} of {len(table.modes)} modes measured ({counts}); "
           f"wrote {out}/modes.json, mode_series.npz, spectra.png, dispersion.png")
     return 0
 
 
-def _warn(table: dict) -> None:
-    """The table's warnings on stderr: an open fraction or the frequencies drifting."""
-    for r in table["realisations"]:
+def _warn(table) -> None:
+    """The table's (mdbridge.analysis.results.ModeTable) warnings on stderr: an open fraction
+    or the frequencies drifting."""
+    for r in table.realisations:
         of = r.get("open_fraction")
         if of and of["stationary"] is False:
             print(f"modes: warning: {r['source']}: the open base-pair fraction drifts ({of['halves'][0]:.3f} "
                   f"then {of['halves'][1]:.3f} in the two halves, z = {of['z']:.1f}): the record may not be "
                   "stationary (modes.json realisations[].open_fraction)", file=sys.stderr)
-    for kind, d in table["drift"].items():
+    for kind, d in table.drift.items():
         if d["drifts"]:
             print(f"modes: warning: the {kind} frequencies move together between the record's halves: "
                   f"{100 * d['relative_shift']:+.1f} +- {100 * d['relative_shift_err']:.1f} % (z = {d['z']:.1f}; "
