@@ -84,6 +84,8 @@ class JsonRecord:
     which ends with the two bookkeeping fields `extra: dict` and `order: tuple` (a record
     made in code has order () and is written in its fields' order)."""
     NESTED: dict = {}
+    extra: dict         # declared again by each subclass (a dataclass field there)
+    order: tuple
 
     @classmethod
     def _keys(cls) -> list[str]:
@@ -93,7 +95,7 @@ class JsonRecord:
     @classmethod
     def from_json(cls, d: dict):
         keys = cls._keys()
-        kw = {}
+        kw: dict = {}
         for k in keys:
             if k in d:
                 v = d[k]
@@ -101,7 +103,8 @@ class JsonRecord:
                 if sub is not None and v is not None:
                     v = [sub.from_json(x) for x in v] if isinstance(v, list) else sub.from_json(v)
                 kw[k] = v
-        return cls(**kw, extra={k: v for k, v in d.items() if k not in keys}, order=tuple(d))
+        kw.update(extra={k: v for k, v in d.items() if k not in keys}, order=tuple(d))
+        return cls(**kw)
 
     def to_json(self) -> dict:
         keys = self._keys()
