@@ -152,7 +152,7 @@ def _atoms(args, md, build, out, R, o, t, stages) -> int:
            f"; t = 0 vs the build {rms_t0:.3f} A rms")
     links = contact = None
     if not args.no_chemistry:
-        links, contact, text = _chemistry(u, xyz, amap, t, out, stages)
+        links, contact, text = _chemistry(u, xyz, amap, t, out, stages, build.get("forcefield"))
         msg += text
     stages.close()
     print(msg)
@@ -185,17 +185,20 @@ def _write_frames(out, u, xyz, t, stages) -> None:
         u.atoms.write(str(out.with_suffix(".pdb")))
 
 
-def _chemistry(u, xyz, amap, t, out, stages):
+def _chemistry(u, xyz, amap, t, out, stages, forcefield_name):
     """(O3'-P link lengths, closest non-bonded contacts, the summary's text) of every frame,
-    written to OUT.chemistry.json."""
+    written to OUT.chemistry.json; the bond's equilibrium is the build's force field's."""
     from mdbridge.md.backmap import closest_nonbonded
     from mdbridge.md.builder.backbone import link_lengths
+    from mdbridge.md.forcefields import forcefield
+    from mdbridge.md.gromacs.defaults import FORCEFIELD
+    ff = forcefield(forcefield_name or FORCEFIELD)
     links = link_lengths(xyz, amap.links, amap.box_A)
     contact = closest_nonbonded(u, xyz, progress=lambda k, total: stages("frames checked", k, total, "frames"))
     report = {"times_ps": t.tolist(), "O3P_min_A": links.min(1).tolist(), "O3P_max_A": links.max(1).tolist(),
               "closest_nonbonded_heavy_A": [float(c) if np.isfinite(c) else None for c in contact],
               "definitions": {"O3P": "O3'(i)-P(i+1) bond lengths along both strands, minimum image; "
-                                     "CHARMM27 equilibrium 1.61 A",
+                                     f"{ff.name} equilibrium {ff.o3_p.length_A:.2f} A",
                               "closest_nonbonded_heavy_A": "closest heavy-atom pair that is not 1-2 or 1-3 "
                                                            "bonded, within 4 A (null: none)"}}
     path = out.with_suffix(".chemistry.json")
