@@ -203,6 +203,43 @@ def common_arguments(ap, results_name: str) -> None:
     ap.add_argument("--out", type=Path, default=REPO / "bench" / "results" / results_name)
 
 
+def comparison(res: dict, runs: dict, stretch: float) -> dict:
+    """The two fixed boxes' tension difference against every stiffness's prediction, and the
+    zero-tension length they imply against the barostat's."""
+    F1, F2 = runs[1.0]["tension_pN"], runs[stretch]["tension_pN"]
+    dF, dF_err = F2["mean"] - F1["mean"], math.hypot(F1["sem"], F2["sem"])
+    L1, L2 = runs[1.0]["box_length_nm"], runs[stretch]["box_length_nm"]
+    zt = res["zero_tension"]
+    L0, L0e = zt["zero_tension_length_nm"]["mean"], zt["zero_tension_length_nm"]["sem"]
+    strain = (L2 - L1) / L0
+    cmp = {"dF_measured_pN": dF, "dF_err_pN": dF_err, "strain_between_boxes": strain,
+           "S_from_dF_pN": dF / strain, "S_from_dF_err_pN": dF_err / strain, "predictions": {}}
+    Sb, Sbe = zt["S_from_length_fluctuation_pN"], zt["S_from_length_fluctuation_err_pN"]
+    preds = {"barostat length fluctuation": (Sb, Sbe)}
+    for f in (1.0, stretch):
+        for m, r in runs[f]["coarse_grain"]["by_m"].items():
+            preds[f"coarse-grain, box {f:.3f} (fixed-length corrected), m = {m}"] = (
+                r["S_corrected_pN"], r["S_corrected_err_pN"])
+    for m, r in res["coarse_grain_barostat"]["by_m"].items():
+        preds[f"coarse-grain, barostat run, m = {m}"] = (r["S_pN"], r["S_err_pN"])
+    for k, (S, Se) in preds.items():
+        p, pe = S * strain, Se * strain
+        cmp["predictions"][k] = {"S_pN": S, "S_err_pN": Se, "dF_pred_pN": p, "dF_pred_err_pN": pe,
+                                 "z": (dF - p) / math.hypot(dF_err, pe)}
+    # the zero-tension length the two fixed boxes imply (F linear in L between them), against
+    # the barostat's; F1 and F2 are independent runs
+    k = dF / (L2 - L1)                                  # pN/nm
+    L0f = L2 - F2["mean"] / k
+    dL0_dF1 = -F2["mean"] / (dF ** 2) * (L2 - L1)       # d L0f / d F1
+    dL0_dF2 = -(L2 - L1) / dF + F2["mean"] / (dF ** 2) * (L2 - L1)
+    L0f_err = math.hypot(dL0_dF1 * F1["sem"], dL0_dF2 * F2["sem"])
+    cmp["zero_tension_length_from_fixed_boxes_nm"] = {
+        "value": L0f, "err": L0f_err, "barostat": L0, "barostat_err": L0e,
+        "z": (L0f - L0) / math.hypot(L0f_err, L0e),
+        "how": "L2 - F2 (L2 - L1) / (F2 - F1): F linear in L between the two boxes"}
+    return cmp
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     common_arguments(ap, "md_tension.json")
@@ -258,44 +295,12 @@ def main(argv=None) -> int:
         s = tension_series(d, a.gmx)
         res["stretched_continued"] = {"dir": str(d), "ps": rec["length_ps"],
                                       "tension_pN": mean_with_error(s["time"], s["tension_pN"])}
-    # the comparison
-    F1, F2 = runs[1.0]["tension_pN"], runs[a.stretch]["tension_pN"]
-    dF, dF_err = F2["mean"] - F1["mean"], math.hypot(F1["sem"], F2["sem"])
-    L1, L2 = runs[1.0]["box_length_nm"], runs[a.stretch]["box_length_nm"]
-    zt = res["zero_tension"]
-    L0, L0e = zt["zero_tension_length_nm"]["mean"], zt["zero_tension_length_nm"]["sem"]
-    strain = (L2 - L1) / L0
-    cmp = {"dF_measured_pN": dF, "dF_err_pN": dF_err, "strain_between_boxes": strain,
-           "S_from_dF_pN": dF / strain, "S_from_dF_err_pN": dF_err / strain, "predictions": {}}
-    Sb, Sbe = zt["S_from_length_fluctuation_pN"], zt["S_from_length_fluctuation_err_pN"]
-    preds = {"barostat length fluctuation": (Sb, Sbe)}
-    for f in (1.0, a.stretch):
-        for m, r in runs[f]["coarse_grain"]["by_m"].items():
-            preds[f"coarse-grain, box {f:.3f} (fixed-length corrected), m = {m}"] = (
-                r["S_corrected_pN"], r["S_corrected_err_pN"])
-    for m, r in res["coarse_grain_barostat"]["by_m"].items():
-        preds[f"coarse-grain, barostat run, m = {m}"] = (r["S_pN"], r["S_err_pN"])
-    for k, (S, Se) in preds.items():
-        p, pe = S * strain, Se * strain
-        cmp["predictions"][k] = {"S_pN": S, "S_err_pN": Se, "dF_pred_pN": p, "dF_pred_err_pN": pe,
-                                 "z": (dF - p) / math.hypot(dF_err, pe)}
-    # the zero-tension length the two fixed boxes imply (F linear in L between them), against
-    # the barostat's; F1 and F2 are independent runs
-    k = dF / (L2 - L1)                                  # pN/nm
-    L0f = L2 - F2["mean"] / k
-    dL0_dF1 = -F2["mean"] / (dF ** 2) * (L2 - L1)       # d L0f / d F1
-    dL0_dF2 = -(L2 - L1) / dF + F2["mean"] / (dF ** 2) * (L2 - L1)
-    L0f_err = math.hypot(dL0_dF1 * F1["sem"], dL0_dF2 * F2["sem"])
-    cmp["zero_tension_length_from_fixed_boxes_nm"] = {
-        "value": L0f, "err": L0f_err, "barostat": L0, "barostat_err": L0e,
-        "z": (L0f - L0) / math.hypot(L0f_err, L0e),
-        "how": "L2 - F2 (L2 - L1) / (F2 - F1): F linear in L between the two boxes"}
-    res["comparison"] = cmp
+    res["comparison"] = cmp = comparison(res, runs, a.stretch)
     res["wall_s"] = time.time() - t0
     res["load_avg_1min"] = os.getloadavg()[0]
     a.out.parent.mkdir(parents=True, exist_ok=True)
     a.out.write_text(json.dumps(res, indent=1, default=float))
-    print(json.dumps({"L0": zt["zero_tension_length_nm"], "F": {k: v["tension_pN"]["mean"]
+    print(json.dumps({"L0": res["zero_tension"]["zero_tension_length_nm"], "F": {k: v["tension_pN"]["mean"]
                       for k, v in res["fixed_box"].items()}, "comparison": cmp}, indent=1, default=float))
     return 0
 

@@ -276,12 +276,12 @@ def thermal_rod_realisation(seed: int, workdir) -> dict:
     gamma, gamma_err, Q, Q_err, reason, undamped, oscillator_variance, oscillator_variance_err,
     length_A, control_omega, control_omega_err, control_reason}}, numbers in 1/ps (variances in
     modes.json's units)."""
-    from dnarod.commands.modes import _Input
+    from mdbridge.analysis.mode_run import ModeInput
     from mdbridge.analysis.mode_spectra import fit_mode, mode_table, refusal
     from mdbridge.rod.run import run_scene
     h5 = Path(workdir) / f"thermal_rod_{seed}.h5"
     run_scene(thermal_rod_scene(seed), output=h5)
-    series = _Input(str(h5)).mode_series(lambda *a, **k: None)
+    series = ModeInput(str(h5)).mode_series(lambda *a, **k: None)
     h5.unlink()
     table = mode_table(series)
     s = series[0]

@@ -35,11 +35,11 @@ from pathlib import Path
 import numpy as np
 import rodcore
 
+from dna_models.units import Units
+from mdbridge.jsonio import write_json
+from mdbridge.rod.slack import slack_tension
+
 HERE = Path(__file__).resolve().parent
-sys.path.insert(0, str(HERE.parent))
-from dna_models.units import Units  # noqa: E402
-from mdbridge.jsonio import write_json  # noqa: E402
-from mdbridge.rod.slack import slack_tension  # noqa: E402
 
 U = Units.paper()
 KT = U.kT_to_rod(300.0)

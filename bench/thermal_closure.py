@@ -59,10 +59,10 @@ import numpy as np
 import rodcore
 from scipy.linalg import expm
 
+from dna_models.units import Units
+from mdbridge.jsonio import write_json
+
 HERE = Path(__file__).resolve().parent
-sys.path.insert(0, str(HERE.parent))
-from dna_models.units import Units  # noqa: E402
-from mdbridge.jsonio import write_json  # noqa: E402
 
 U = Units.paper()
 N = 158

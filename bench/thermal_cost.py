@@ -22,9 +22,9 @@ from pathlib import Path
 
 import rodcore
 
+from mdbridge.jsonio import write_json
+
 HERE = Path(__file__).resolve().parent
-sys.path.insert(0, str(HERE.parent))
-from mdbridge.jsonio import write_json  # noqa: E402
 
 
 def scene(N: int, method: str, steps: int) -> dict:

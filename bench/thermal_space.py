@@ -22,11 +22,11 @@ from pathlib import Path
 
 import numpy as np
 
+from dna_models.units import Units
+from mdbridge.jsonio import write_json
+from mdbridge.rod.linear import LinearRod, UniformMaterial, dispersion
+
 HERE = Path(__file__).resolve().parent
-sys.path.insert(0, str(HERE.parent))
-from dna_models.units import Units  # noqa: E402
-from mdbridge.jsonio import write_json  # noqa: E402
-from mdbridge.rod.linear import LinearRod, UniformMaterial, dispersion  # noqa: E402
 
 
 @dataclasses.dataclass(frozen=True)

@@ -53,12 +53,12 @@ from pathlib import Path
 
 import numpy as np
 
+from dna_models.errors import InputError
+from dna_models.units import Units
+from mdbridge.jsonio import write_json
+from mdbridge.rod.slack import box_for_tension
+
 HERE = Path(__file__).resolve().parent
-sys.path.insert(0, str(HERE.parent))
-from dna_models.errors import InputError  # noqa: E402
-from dna_models.units import Units  # noqa: E402
-from mdbridge.jsonio import write_json  # noqa: E402
-from mdbridge.rod.slack import box_for_tension  # noqa: E402
 
 U = Units.paper()
 N_BP = 158

@@ -250,7 +250,10 @@ def inflated_in_band(row: dict, r0: float, p: float) -> bool:
     return BAND[0] <= ratio <= BAND[1]
 
 
-def main(argv=None):
+GRID = [(P, nr, tau) for P in PERIODS for nr in NOISE_REL for tau in TAU_PS]
+
+
+def parser() -> argparse.ArgumentParser:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--n-real", type=int, default=60)
     ap.add_argument("--n-boot", type=int, default=mode_error.N_BOOT)
@@ -276,70 +279,80 @@ def main(argv=None):
                          "each one at noise as large as the mode, the 5-95 %% range at noise 0.3")
     ap.add_argument("--table", action="store_true", help="print the grid of --out as docs/analysis.md's table")
     ap.add_argument("--merge", nargs="+", metavar="PART_JSON", help="join these parts into --out and stop")
-    a = ap.parse_args(argv)
-    grid = [(P, nr, tau) for P in PERIODS for nr in NOISE_REL for tau in TAU_PS]
-    if a.scan:
-        rows = json.loads(open(a.out).read())["grid"]
-        print("| noise limit | NOISE_SIGMA | other-peak limit | points neither in band nor refused |")
-        print("|---|---|---|---|")
-        for limit, sigma, other in itertools.product((0.3, 0.35, 0.4, 0.45, 0.5), range(5), (0.02, 0.1)):
-            bad = [r for r in rows if status(dict(r, **rescore(r, sigma, limit, other))) not in ("in band", "refused")]
-            print(f"| {limit:g} | {sigma} | {other:g} | {len(bad)} |")
-        return
-    if a.scan_inflation:
-        rows = json.loads(open(a.out).read())["grid"]
-        print("| r0 | p | points out of band |")
-        print("|---|---|---|")
-        for r0, p in itertools.product((0.1, 0.15, 0.2, 0.25, 0.3), (0.5, 1, 2, 3, 4, 6)):
-            bad = [r for r in rows if not inflated_in_band(r, r0, p)]
-            print(f"| {r0:g} | {p:g} | {len(bad)} |")
-        return
-    if a.slipped:
-        keys = ("noise_over_mode", "detection_margin", "tau_ps")
-        for r in json.loads(open(a.out).read())["grid"]:
-            kept = [x for x in r["records"] if x["rule"] is None and "noise_over_mode" in x]
-            if r["noise_rel"] == 0.3 and kept:
-                rng5_95 = {k: np.percentile([x[k] for x in kept], [5, 95]).round(3).tolist() for k in keys}
-                print(f"{r['periods']:g} periods, noise 0.3, tau {r['tau_ps']:g} ps: 5-95 % {rng5_95}")
-            elif r["noise_rel"] == 1.0:
-                for x in kept:
-                    z = x["omega_error_per_ps"] / x["omega_err_per_ps"]
-                    print(f"{r['periods']:g} periods, noise 1, tau {r['tau_ps']:g} ps: "
-                          + ", ".join(f"{k} {x[k]:.3g}" for k in keys) + f", error / stated {z:+.2f}")
-        return
-    if a.table:
-        print("\n".join(table_lines(json.loads(open(a.out).read())["grid"])))
-        return
-    if a.rescore:
-        rows = json.loads(open(a.out).read())["grid"]
-        print("| periods | noise / mode | tau [ps] | " + " | ".join(f"NOISE_SIGMA = {x:g}" for x in a.rescore) + " |")
-        print("|---|---|---|" + "---|" * len(a.rescore))
-        for r in rows:
-            cells = []
-            for x in a.rescore:
-                q = rescore(r, x)
-                ratio = f" ({q['stated_over_rms']:.2f})" if "stated_over_rms" in q else ""
-                cells.append(f"{q['n_reported']}{ratio}")
-            print(f"| {r['periods']:g} | {r['noise_rel']:g} | {r['tau_ps']:g} | " + " | ".join(cells) + " |")
-        return
-    if a.merge:
-        parts = [json.loads(open(f).read()) for f in a.merge]
-        rows = sorted((r for p in parts for r in p["grid"]),
-                      key=lambda r: grid.index((r["periods"], r["noise_rel"], r["tau_ps"])))
-        merged = dict(parts[0], grid=rows, points_in_band=sum(in_band(r) for r in rows), points=len(rows),
-                      command="; ".join([p["command"] for p in parts]
-                                        + [f"bench/wave_error_calibration.py --merge {' '.join(a.merge)}"]),
-                      wall_s=round(sum(p["wall_s"] for p in parts), 1), part="merged")
-        write_json(a.out, merged)
-        print(f"wrote {a.out}: {merged['points_in_band']} of {merged['points']} points in band")
-        return
+    return ap
+
+
+def print_scan(a) -> None:
+    """--scan: grid points neither in band nor refused under each rule's limits."""
+    rows = json.loads(open(a.out).read())["grid"]
+    print("| noise limit | NOISE_SIGMA | other-peak limit | points neither in band nor refused |")
+    print("|---|---|---|---|")
+    for limit, sigma, other in itertools.product((0.3, 0.35, 0.4, 0.45, 0.5), range(5), (0.02, 0.1)):
+        bad = [r for r in rows if status(dict(r, **rescore(r, sigma, limit, other))) not in ("in band", "refused")]
+        print(f"| {limit:g} | {sigma} | {other:g} | {len(bad)} |")
+
+
+def print_scan_inflation(a) -> None:
+    """--scan-inflation: grid points out of band under an error that grows with the noise."""
+    rows = json.loads(open(a.out).read())["grid"]
+    print("| r0 | p | points out of band |")
+    print("|---|---|---|")
+    for r0, p in itertools.product((0.1, 0.15, 0.2, 0.25, 0.3), (0.5, 1, 2, 3, 4, 6)):
+        bad = [r for r in rows if not inflated_in_band(r, r0, p)]
+        print(f"| {r0:g} | {p:g} | {len(bad)} |")
+
+
+def print_slipped(a) -> None:
+    """--slipped: what the records that give a number show of themselves."""
+    keys = ("noise_over_mode", "detection_margin", "tau_ps")
+    for r in json.loads(open(a.out).read())["grid"]:
+        kept = [x for x in r["records"] if x["rule"] is None and "noise_over_mode" in x]
+        if r["noise_rel"] == 0.3 and kept:
+            rng5_95 = {k: np.percentile([x[k] for x in kept], [5, 95]).round(3).tolist() for k in keys}
+            print(f"{r['periods']:g} periods, noise 0.3, tau {r['tau_ps']:g} ps: 5-95 % {rng5_95}")
+        elif r["noise_rel"] == 1.0:
+            for x in kept:
+                z = x["omega_error_per_ps"] / x["omega_err_per_ps"]
+                print(f"{r['periods']:g} periods, noise 1, tau {r['tau_ps']:g} ps: "
+                      + ", ".join(f"{k} {x[k]:.3g}" for k in keys) + f", error / stated {z:+.2f}")
+
+
+def print_rescore(a) -> None:
+    """--rescore: what the raised noise rule would keep at each grid point."""
+    rows = json.loads(open(a.out).read())["grid"]
+    print("| periods | noise / mode | tau [ps] | " + " | ".join(f"NOISE_SIGMA = {x:g}" for x in a.rescore) + " |")
+    print("|---|---|---|" + "---|" * len(a.rescore))
+    for r in rows:
+        cells = []
+        for x in a.rescore:
+            q = rescore(r, x)
+            ratio = f" ({q['stated_over_rms']:.2f})" if "stated_over_rms" in q else ""
+            cells.append(f"{q['n_reported']}{ratio}")
+        print(f"| {r['periods']:g} | {r['noise_rel']:g} | {r['tau_ps']:g} | " + " | ".join(cells) + " |")
+
+
+def merge(a) -> None:
+    """--merge: join the parts into --out."""
+    parts = [json.loads(open(f).read()) for f in a.merge]
+    rows = sorted((r for p in parts for r in p["grid"]),
+                  key=lambda r: GRID.index((r["periods"], r["noise_rel"], r["tau_ps"])))
+    merged = dict(parts[0], grid=rows, points_in_band=sum(in_band(r) for r in rows), points=len(rows),
+                  command="; ".join([p["command"] for p in parts]
+                                    + [f"bench/wave_error_calibration.py --merge {' '.join(a.merge)}"]),
+                  wall_s=round(sum(p["wall_s"] for p in parts), 1), part="merged")
+    write_json(a.out, merged)
+    print(f"wrote {a.out}: {merged['points_in_band']} of {merged['points']} points in band")
+
+
+def run_grid(a) -> None:
+    """The grid points of --part (and --points), printed as they finish, written to --out."""
     part, n_parts = (int(x) for x in a.part.split("/"))
     rows = []
     t0 = time.time()
     print("| periods | noise / mode | tau [ps] | reported | refused / no fit | stated / RMS (68 %) | fit | record "
           "| linear | oracle | bias / RMS |")
     print("|---|---|---|---|---|---|---|---|---|---|---|")
-    for k, (P, nr, tau) in enumerate(grid):
+    for k, (P, nr, tau) in enumerate(GRID):
         if k % n_parts != part or (a.points and k not in a.points):
             continue
         r = grid_point(P, nr, tau, a.n_real, a.seed + k, a.n_boot)
@@ -362,6 +375,20 @@ def main(argv=None):
                        "wall_s": round(time.time() - t0, 1), "part": a.part,
                        "date": time.strftime("%Y-%m-%d"), "machine": platform.node()})
     print(f"wrote {a.out}")
+
+
+def print_table(a) -> None:
+    """--table: the grid of --out as docs/analysis.md's table."""
+    print("\n".join(table_lines(json.loads(open(a.out).read())["grid"])))
+
+
+def main(argv=None):
+    a = parser().parse_args(argv)
+    for flag, report in (("scan", print_scan), ("scan_inflation", print_scan_inflation), ("slipped", print_slipped),
+                         ("table", print_table), ("rescore", print_rescore), ("merge", merge)):
+        if getattr(a, flag):
+            return report(a)
+    run_grid(a)
 
 
 if __name__ == "__main__":

@@ -203,6 +203,53 @@ def wall_at_error(points, target):
     return None
 
 
+def exact_truth(name, P, rodsim, scene, base, tmp, result):
+    """(truth(N), Gamma0, Omega0): the exact solution (Eq 24) at the scene's t_end."""
+    t_end = P["t_end"]
+    if run_rodsim(rodsim, scene, dict(base), tmp / "probe.h5")[0] is None:
+        raise SystemExit(f"{name}: probe run of {scene} failed")
+    a = RodRun.read(tmp / "probe.h5").attrs
+    L = float(a["rod.length"])
+    params = dict(mode=float(a["initial.mode"]), A=float(a["initial.A"]),
+                  Gamma03=float(a["rod.Gamma0"][2]), Omega03=float(a["rod.Omega0"][2]),
+                  D1=float(a["material.D"][0]))
+    G0, O0 = P["Gamma0"], P["Omega0"]
+
+    def truth(N):
+        s = L * np.arange(N) / N
+        return twisted_wave_exact(s, t_end, L, **params)
+    result["truth"] = "exact solution (Eq 24, checked form)"
+    return truth, G0, O0
+
+
+def reference_truth(name, P, rodsim, scene, base, tmp, result, log):
+    """(truth(N), Gamma0, Omega0): a spectral DOP853 reference at rtol = atol = 1e-13, its
+    self-convergence against a coarser one recorded in RESULT."""
+    Nr = P["N_ref"]
+    refs = []
+    for Nref in (Nr, Nr * 3 // 2):
+        sets = dict(base, **{"solver.space": "spectral", "solver.time": "dop853", "solver.rtol": 1e-13,
+                             "solver.atol": 1e-13, "rod.points": Nref})
+        w, info, y, _ = run_rodsim(rodsim, scene, sets, tmp / f"ref{Nref}.h5")
+        if y is None:
+            raise SystemExit(f"{name}: reference run failed: {info['error']}")
+        refs.append(y[-1])
+        log(f"{name}: reference N={Nref} rtol=1e-13: {w:.2f} s")
+    a = RodRun.read(tmp / f"ref{Nr}.h5").attrs
+    G0, O0 = tuple(a["rod.Gamma0"]), tuple(a["rod.Omega0"])
+    yref = refs[1]
+    Nfine = yref.shape[-1]
+    self_conv = rel_error(fourier_resample(refs[0], Nfine), yref, rest_state((G0, O0), Nfine))
+    result["truth"] = (f"reference: spectral N={Nfine} + DOP853 rtol=atol=1e-13; "
+                       f"vs N={Nr}: relative difference {self_conv:.2e}")
+    result["ref_self_convergence"] = self_conv
+    log(f"{name}: reference self-convergence {self_conv:.2e}")
+
+    def truth(N):
+        return fourier_resample(yref, N)
+    return truth, G0, O0
+
+
 def bench_problem(name, rodsim, tmp, quick, repeat, log):
     P = PROBLEMS[name]
     scene = (SCENES / P["scene"]).resolve()
@@ -213,44 +260,10 @@ def bench_problem(name, rodsim, tmp, quick, repeat, log):
             "checks.max_energy_drift": 1.0}
     result = {"problem": name, "scene": str(scene.relative_to(HERE.parent)), "t_end": t_end, "runs": []}
 
-    # Truth.
     if P["exact"]:
-        if run_rodsim(rodsim, scene, dict(base), tmp / "probe.h5")[0] is None:
-            raise SystemExit(f"{name}: probe run of {scene} failed")
-        a = RodRun.read(tmp / "probe.h5").attrs
-        L = float(a["rod.length"])
-        params = dict(mode=float(a["initial.mode"]), A=float(a["initial.A"]),
-                      Gamma03=float(a["rod.Gamma0"][2]), Omega03=float(a["rod.Omega0"][2]),
-                      D1=float(a["material.D"][0]))
-        G0, O0 = P["Gamma0"], P["Omega0"]
-
-        def truth(N):
-            s = L * np.arange(N) / N
-            return twisted_wave_exact(s, t_end, L, **params)
-        result["truth"] = "exact solution (Eq 24, checked form)"
+        truth, G0, O0 = exact_truth(name, P, rodsim, scene, base, tmp, result)
     else:
-        Nr = P["N_ref"]
-        refs = []
-        for Nref in (Nr, Nr * 3 // 2):
-            sets = dict(base, **{"solver.space": "spectral", "solver.time": "dop853", "solver.rtol": 1e-13,
-                                 "solver.atol": 1e-13, "rod.points": Nref})
-            w, info, y, _ = run_rodsim(rodsim, scene, sets, tmp / f"ref{Nref}.h5")
-            if y is None:
-                raise SystemExit(f"{name}: reference run failed: {info['error']}")
-            refs.append(y[-1])
-            log(f"{name}: reference N={Nref} rtol=1e-13: {w:.2f} s")
-        a = RodRun.read(tmp / f"ref{Nr}.h5").attrs
-        G0, O0, L = tuple(a["rod.Gamma0"]), tuple(a["rod.Omega0"]), float(a["rod.length"])
-        yref = refs[1]
-        Nfine = yref.shape[-1]
-        self_conv = rel_error(fourier_resample(refs[0], Nfine), yref, rest_state((G0, O0), Nfine))
-        result["truth"] = (f"reference: spectral N={Nfine} + DOP853 rtol=atol=1e-13; "
-                           f"vs N={Nr}: relative difference {self_conv:.2e}")
-        result["ref_self_convergence"] = self_conv
-        log(f"{name}: reference self-convergence {self_conv:.2e}")
-
-        def truth(N):
-            return fourier_resample(yref, N)
+        truth, G0, O0 = reference_truth(name, P, rodsim, scene, base, tmp, result, log)
 
     # Sweeps.
     for label, space, tm, Ns, rtols in methods(name, quick):

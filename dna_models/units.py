@@ -117,19 +117,13 @@ class Units:
     def velocity_to_A_per_ps(self, v):
         return v * self.velocity_A_per_ps
 
-    def angular_velocity_to_rod(self, w_rad_per_ps):
-        """omega* = tau omega."""
-        return w_rad_per_ps * self.tau_ps
-
     def angular_velocity_to_rad_per_ps(self, w):
+        """omega = omega* / tau."""
         return w / self.tau_ps
 
     def curvature_to_rod(self, k_rad_per_A):
         """Omega* = l Omega."""
         return k_rad_per_A * self.ell_A
-
-    def curvature_to_rad_per_A(self, k):
-        return k / self.ell_A
 
     # -- energy, stiffness and mass (the dimensionless energy is E / (C l)) ---
     @property
@@ -137,9 +131,6 @@ class Units:
         """Energy unit of the rod, C l [J]: the dimensionless energy density is
         e / C (Eq 15), so an energy E [J] of a rod piece is E / (C l)."""
         return self.C * self.ell_m
-
-    def energy_to_rod(self, E_J):
-        return E_J / self.energy_scale_J
 
     def kT_to_rod(self, temperature_K):
         """k_B T in the rod's energy unit."""
@@ -157,16 +148,11 @@ class Units:
         I domega/dt = ... - zeta_r omega becomes dimensionless with zeta_r* = zeta_r / (C tau)."""
         return self.C * self.tau_s
 
-    def stiffness_to_rod(self, K_SI):
-        """(..., 6, 6) stiffness per unit length on (Gamma [1], Omega [rad/m]) in SI
-        (N, N m, N m^2 blocks) -> dimensionless K* = S K S / C with
-        S = diag(1, 1, 1, 1/l, 1/l, 1/l), because Omega* = l Omega and the
-        dimensionless energy density is e / C."""
-        import numpy as np
-        s = np.array([1.0, 1.0, 1.0, 1.0 / self.ell_m, 1.0 / self.ell_m, 1.0 / self.ell_m])
-        return np.asarray(K_SI, dtype=float) * s[:, None] * s[None, :] / self.C
-
     def stiffness_to_SI(self, K_star):
+        """(..., 6, 6) dimensionless K* -> the stiffness per unit length on (Gamma [1],
+        Omega [rad/m]) in SI (N, N m, N m^2 blocks): K = S K* S C with
+        S = diag(1, 1, 1, l, l, l), because Omega* = l Omega and the dimensionless energy
+        density is e / C."""
         import numpy as np
         s = np.array([1.0, 1.0, 1.0, self.ell_m, self.ell_m, self.ell_m])
         return np.asarray(K_star, dtype=float) * s[:, None] * s[None, :] * self.C

@@ -18,9 +18,9 @@ import platform
 import sys
 from pathlib import Path
 
+from mdbridge.jsonio import write_json  # the one strict-JSON writer
+
 ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT))
-from mdbridge.jsonio import write_json  # noqa: E402  (the one strict-JSON writer)
 
 
 def machine() -> str:

@@ -451,8 +451,8 @@ def _num(v):
     return None if v is None or not np.isfinite(v) else float(v)
 
 
-def mode_table(series: list[ModeSeries], errors: str = "hessian") -> dict:
-    """The entries of modes.json["modes"] (module doc) for realisations of one duplex."""
+def _check_pooled(series: list[ModeSeries]) -> None:
+    """InputError unless every realisation has one frame interval, and all are of one duplex."""
     s0 = series[0]
     for s in series:
         d = np.diff(s.times_ps)
@@ -468,71 +468,98 @@ def mode_table(series: list[ModeSeries], errors: str = "hessian") -> dict:
         if abs(s.dt_ps - s0.dt_ps) > 1e-6 * s0.dt_ps:
             raise InputError(f"{s.source}: frames every {s.dt_ps:g} ps, {s0.source} every {s0.dt_ps:g} ps: "
                              "pooled realisations need one frame interval")
+
+
+def _entry(kind: str, n, length_A: float, n_series: int, var, fit, reason, record_ps: float) -> dict:
+    """One mode's entry before the halves' and the seeds' checks."""
+    var_i, var_err = var
+    e = {"kind": kind, "n": int(n), "k_per_A": 2 * np.pi * int(n) / length_A,
+         "omega_per_ps": None, "omega_err_per_ps": None, "omega0_per_ps": None, "omega0_err_per_ps": None,
+         "damping_per_ps": None, "damping_err_per_ps": None, "Q": None, "Q_err": None,
+         "variance": var_i, "variance_err": _num(var_err), "variance_unit": VARIANCE_UNIT[kind],
+         "oscillator_variance": None, "oscillator_variance_err": None, "periods_in_record": None,
+         "reason": reason, "n_series": n_series, "record_ps": record_ps}
+    if fit is not None:
+        e["periods_in_record"] = fit.omega_per_ps * record_ps / (2 * np.pi)
+        e["peak_to_background"] = fit.peak_to_floor()
+        e["common_background"] = fit.background is not None
+        e["band_per_ps"] = list(fit.band_per_ps)
+        e["fit"] = _fit_record(fit)
+    return e
+
+
+def _measured(e: dict, fit, half_fits, half_ps: float, seed_fits, record_ps: float) -> None:
+    """A measured mode's numbers into E, then the halves' check (a line's scatter enters
+    its error; another mode whose halves differ is refused) and the seeds' Birge ratio."""
+    e.update(_numbers(fit))
+    e["halves"] = _halves(half_fits, half_ps)
+    z_halves = e["halves"].get("z")
+    if z_halves is not None and z_halves > STATIONARY_Z and fit.line is not None:
+        # a line's frequency wanders (module doc): the halves' scatter enters its error
+        w1, w2 = e["halves"]["omega_per_ps"]
+        e["halves"]["scatter_per_ps"] = abs(w1 - w2) / 2
+        for k in ("omega_err_per_ps", "omega0_err_per_ps"):
+            if e[k] is not None:
+                e[k] = math.hypot(e[k], e["halves"]["scatter_per_ps"])
+    elif z_halves is not None and z_halves > STATIONARY_Z:
+        e["reason"] = (f"not stationary: the halves' frequencies differ by "
+                       f"{e['halves']['z']:.1f} of their combined error (> {STATIONARY_Z:g})")
+        e.update({k: None for k in ("omega_per_ps", "omega_err_per_ps", "omega0_per_ps",
+                                    "omega0_err_per_ps", "damping_per_ps", "damping_err_per_ps",
+                                    "Q", "Q_err", "variance", "variance_err",
+                                    "oscillator_variance", "oscillator_variance_err")})
+    elif seed_fits is not None:
+        e["seeds"] = _seeds(seed_fits, record_ps, fit)
+        for k in ("omega_err_per_ps", "omega0_err_per_ps", "damping_err_per_ps", "Q_err"):
+            if e[k] is not None:
+                e[k] *= e["seeds"]["birge_ratio_applied"]
+
+
+def _kind_entries(series: list[ModeSeries], kind: str, n_frames: int, length_A: float, errors: str) -> list:
+    """The entries of one kind (bend, twist, stretch), every mode n of the duplex."""
+    s0 = series[0]
+    dt = s0.dt_ps
+    record_ps = n_frames * dt
+    h = length_A / s0.n_bp
+    scale = {"bend": h, "stretch": h, "twist": 2 * np.pi * s0.helical_repeat / length_A}[kind]
+    h2 = n_frames // 2
+    modes = range(len(s0.n))
+    xs = [pooled_series(series, kind, i, n_frames) for i in modes]
+    var = [_variance(series, kind, i, n_frames) for i in modes]
+    no_signal = [math.sqrt(v) < ROUND_OFF * scale for v, _ in var]
+    fits = fit_kind(xs, dt, errors, skip=no_signal)
+    reasons = off_branch(fits, [why or refusal(f, record_ps) for f, why in fits])
+    passed = [r is None for r in reasons]
+    halves = [fit_kind([pooled_series(series, kind, i, n_frames, part) for i in modes], dt, errors,
+                       skip=no_signal, wanted=passed)
+              for part in (slice(0, h2), slice(h2, 2 * h2))] if any(passed) else None
+    seeds = [fit_kind([pooled_series([s], kind, i, n_frames) for i in modes], dt, errors,
+                      skip=no_signal, wanted=passed)
+             for s in series] if len(series) >= 2 and any(passed) else None
+    entries = []
+    for i, n in enumerate(s0.n):
+        if no_signal[i]:
+            fit, reason = None, (f"no signal (rms amplitude {math.sqrt(var[i][0]):.2g} {AMPLITUDE_UNIT[kind]}, "
+                                 f"below {ROUND_OFF:g} of the field's scale: round-off)")
+        else:
+            fit, reason = fits[i][0], reasons[i]
+        e = _entry(kind, n, length_A, int(xs[i].shape[0]), var[i], fit, reason, record_ps)
+        if reason is None:
+            _measured(e, fit, [hf[i] for hf in halves], h2 * dt,
+                      None if seeds is None else [f[i] for f in seeds], record_ps)
+        entries.append(e)
+    return entries
+
+
+def mode_table(series: list[ModeSeries], errors: str = "hessian") -> dict:
+    """The entries of modes.json["modes"] (module doc) for realisations of one duplex."""
+    _check_pooled(series)
+    s0 = series[0]
     dt = s0.dt_ps
     n_frames = _common_length(series)
     record_ps = n_frames * dt
     length_A = float(np.mean([s.length_A for s in series]))
-    entries = []
-    h = length_A / s0.n_bp
-    scale = {"bend": h, "stretch": h, "twist": 2 * np.pi * s0.helical_repeat / length_A}
-    h2 = n_frames // 2
-    for kind in KINDS:
-        xs = [pooled_series(series, kind, i, n_frames) for i in range(len(s0.n))]
-        var = [_variance(series, kind, i, n_frames) for i in range(len(s0.n))]
-        no_signal = [math.sqrt(v) < ROUND_OFF * scale[kind] for v, _ in var]
-        fits = fit_kind(xs, dt, errors, skip=no_signal)
-        reasons = off_branch(fits, [why or refusal(f, record_ps) for f, why in fits])
-        passed = [r is None for r in reasons]
-        halves = [fit_kind([pooled_series(series, kind, i, n_frames, part) for i in range(len(s0.n))], dt, errors,
-                           skip=no_signal, wanted=passed)
-                  for part in (slice(0, h2), slice(h2, 2 * h2))] if any(passed) else None
-        seeds = [fit_kind([pooled_series([s], kind, i, n_frames) for i in range(len(s0.n))], dt, errors,
-                          skip=no_signal, wanted=passed)
-                 for s in series] if len(series) >= 2 and any(passed) else None
-        for i, n in enumerate(s0.n):
-            x = xs[i]
-            var_i, var_err = var[i]
-            if no_signal[i]:
-                fit, reason = None, (f"no signal (rms amplitude {math.sqrt(var_i):.2g} {AMPLITUDE_UNIT[kind]}, "
-                                     f"below {ROUND_OFF:g} of the field's scale: round-off)")
-            else:
-                fit, reason = fits[i][0], reasons[i]
-            e = {"kind": kind, "n": int(n), "k_per_A": 2 * np.pi * int(n) / length_A,
-                 "omega_per_ps": None, "omega_err_per_ps": None, "omega0_per_ps": None, "omega0_err_per_ps": None,
-                 "damping_per_ps": None, "damping_err_per_ps": None, "Q": None, "Q_err": None,
-                 "variance": var_i, "variance_err": _num(var_err), "variance_unit": VARIANCE_UNIT[kind],
-                 "oscillator_variance": None, "oscillator_variance_err": None, "periods_in_record": None,
-                 "reason": reason, "n_series": int(x.shape[0]), "record_ps": record_ps}
-            if fit is not None:
-                e["periods_in_record"] = fit.omega_per_ps * record_ps / (2 * np.pi)
-                e["peak_to_background"] = fit.peak_to_floor()
-                e["common_background"] = fit.background is not None
-                e["band_per_ps"] = list(fit.band_per_ps)
-                e["fit"] = _fit_record(fit)
-            if reason is None:
-                e.update(_numbers(fit))
-                e["halves"] = _halves([h[i] for h in halves], h2 * dt)
-                z_halves = e["halves"].get("z")
-                if z_halves is not None and z_halves > STATIONARY_Z and fit.line is not None:
-                    # a line's frequency wanders (module doc): the halves' scatter enters its error
-                    w1, w2 = e["halves"]["omega_per_ps"]
-                    e["halves"]["scatter_per_ps"] = abs(w1 - w2) / 2
-                    for k in ("omega_err_per_ps", "omega0_err_per_ps"):
-                        if e[k] is not None:
-                            e[k] = math.hypot(e[k], e["halves"]["scatter_per_ps"])
-                elif z_halves is not None and z_halves > STATIONARY_Z:
-                    e["reason"] = (f"not stationary: the halves' frequencies differ by "
-                                   f"{e['halves']['z']:.1f} of their combined error (> {STATIONARY_Z:g})")
-                    e.update({k: None for k in ("omega_per_ps", "omega_err_per_ps", "omega0_per_ps",
-                                                "omega0_err_per_ps", "damping_per_ps", "damping_err_per_ps",
-                                                "Q", "Q_err", "variance", "variance_err",
-                                                "oscillator_variance", "oscillator_variance_err")})
-                elif len(series) >= 2:
-                    e["seeds"] = _seeds([f[i] for f in seeds], record_ps, fit)
-                    for k in ("omega_err_per_ps", "omega0_err_per_ps", "damping_err_per_ps", "Q_err"):
-                        if e[k] is not None:
-                            e[k] *= e["seeds"]["birge_ratio_applied"]
-            entries.append(e)
+    entries = [e for kind in KINDS for e in _kind_entries(series, kind, n_frames, length_A, errors)]
     return {"modes": entries, "drift": {kind: common_drift([e for e in entries if e["kind"] == kind])
                                         for kind in KINDS},
             "record_ps": record_ps, "dt_ps": dt, "n_frames": n_frames,

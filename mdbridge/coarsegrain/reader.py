@@ -145,16 +145,6 @@ def read_ensemble(universe, pairs=None, pair_numbering="resid", closed=None, sta
     return ens, extras
 
 
-def is_hdf5(path) -> bool:
-    """True for an HDF5 file (its 8-byte signature): a rod output, not an MD structure."""
-    from pathlib import Path
-    p = Path(path)
-    if not p.is_file():
-        return False
-    with open(p, "rb") as f:
-        return f.read(8) == b"\x89HDF\r\n\x1a\n"
-
-
 def _material_file(path, run) -> dict | None:
     """The grid material file a rod run names (attribute `material.material_file`, written by
     `dnarod dna-rod`): its sequence, rho (N,) and I (N, 3, 3) in rod units; None without one."""

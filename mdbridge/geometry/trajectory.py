@@ -12,11 +12,10 @@ consecutive base pairs are the only safe way to follow the strand.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Callable, ClassVar
 
 import numpy as np
 
-from dna_models.errors import DnarodError, InputError
+from dna_models.errors import InputError
 from dna_models.units import Units
 
 from .pbc import minimum_image
@@ -95,20 +94,6 @@ class BasePairTrajectory:
         in A and ps: the run's own `RodRun.trajectory` (the rod layer knows its output;
         geometry, below it, only holds the result)."""
         return run.trajectory(n_bp, units)
-
-    # The reader of a rod output file. mdbridge/rod/run.py sets it to RodRun.read when it
-    # is imported (mdbridge.analysis imports it): geometry sits below the rod layer and
-    # never imports it (docs/architecture.md, "Layers").
-    rod_reader: ClassVar[Callable | None] = None
-
-    @classmethod
-    def from_rod_h5(cls, path, n_bp: int, units: Units | None = None):
-        """A rodsim output file (docs/contracts.md: time, s, fields/Gamma, centerline,
-        directors), read by mdbridge.rod.run.RodRun.read."""
-        if cls.rod_reader is None:
-            raise DnarodError("reading a rod output file needs the rod layer: import mdbridge.rod "
-                              "(or mdbridge.analysis) first")
-        return cls.from_rod(cls.rod_reader(path), n_bp, units)
 
     @classmethod
     def from_universe(cls, universe, pairs=None, start=None, stop=None, step=None, progress=None):

@@ -1,7 +1,12 @@
-"""An MD folder written by `dnarod build-md` and `dnarod run-md`, read as the analyses need it:
-the universe of md.tpr + md.xtc, build.json, and the base-pair trajectory of the pairs as
-built (mdbridge/md/builder/duplex.py base_pairs), never paired by distance: in a long vacuum
-run some pairs are open in whichever frame a search would look at.
+"""An MD folder: the one definition, and the folder read as the analyses need it.
+
+An MD folder is a directory that `dnarod build-md` wrote (build.json, conf.gro, topol.top,
+...) and `dnarod run-md` may have run (md.tpr, md.xtc). Its structure is md.tpr + md.xtc
+once run, else the built conf.gro (`md_files`); an analysis of the run itself (modes, the
+comparison) opens it with `open_md_folder`: the universe of md.tpr + md.xtc, build.json,
+and the base-pair trajectory of the pairs as built (mdbridge/md/builder/duplex.py
+base_pairs), never paired by distance: in a long vacuum run some pairs are open in
+whichever frame a search would look at.
 """
 from __future__ import annotations
 
@@ -53,7 +58,39 @@ class MDFolder:
 
 
 def is_md_folder(path) -> bool:
-    return Path(path).is_dir() and (Path(path) / "build.json").is_file()
+    """An MD folder is a directory (module doc); what it must hold, md_files and
+    open_md_folder say, naming what is missing."""
+    return Path(path).is_dir()
+
+
+def md_sequence(folder, option: str = "MD folder") -> str:
+    """Strand I's sequence (5'->3') of an MD folder, from its build.json; an InputError
+    naming OPTION, the folder and what is missing otherwise."""
+    from dna_models.sequence import validate
+    bj = Path(folder) / "build.json"
+    if not bj.is_file():
+        raise InputError(f"{option} {folder}: no build.json there (a folder written by `dnarod build-md`)")
+    try:
+        d = json.loads(bj.read_text())
+    except ValueError as e:
+        raise InputError(f"{bj}: not JSON ({e})") from None
+    if "sequence" not in d:
+        raise InputError(f"{bj}: key 'sequence' missing")
+    return validate(d["sequence"], f"{bj}: sequence")
+
+
+def md_files(folder) -> list[Path]:
+    """md.tpr + md.xtc, else conf.gro, of an MD folder; an InputError naming what is
+    missing otherwise."""
+    d = Path(folder)
+    if not d.is_dir():
+        raise InputError(f"{d}: not a folder (give a rod HDF5 file or an MD folder of `dnarod build-md`)")
+    if (d / "md.tpr").is_file() and (d / "md.xtc").is_file():
+        return [d / "md.tpr", d / "md.xtc"]
+    if (d / "conf.gro").is_file():
+        return [d / "conf.gro"]
+    raise InputError(f"{d}: no md.tpr + md.xtc and no conf.gro (an MD folder of `dnarod build-md`, "
+                     "run or not by `dnarod run-md`)")
 
 
 def open_md_folder(path) -> MDFolder:

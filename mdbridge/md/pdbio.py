@@ -13,10 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from dna_models.errors import InputError
-
-# PDB version 3 / 3DNA names -> the CHARMM27 names used throughout dnarod
-# (GROMACS charmm27.ff/dna.arn maps the same way).
-PDBV3_TO_CHARMM27 = {"OP1": "O1P", "OP2": "O2P", "C7": "C5M", "H2''": "H2'2"}
+from mdbridge.md.forcefields import PDBV3_TO_BUILDER as PDBV3_TO_CHARMM27
 
 
 def read_pdb(path, *, charmm_names: bool = True) -> dict:

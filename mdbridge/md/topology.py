@@ -13,7 +13,6 @@ The numbers themselves are mdbridge.geometry.topology's `duplex_topology`.
 from __future__ import annotations
 
 import warnings
-from pathlib import Path
 
 import numpy as np
 
@@ -23,22 +22,9 @@ from mdbridge.geometry.structure import load_universe
 from mdbridge.geometry.topology import duplex_topology
 
 from .builder.duplex import base_pairs
+from .folder import md_files
 
 STRAND_ATOM = ("C1'", "C1*")
-
-
-def md_files(folder) -> list[Path]:
-    """md.tpr + md.xtc, else conf.gro, of an MD folder; an InputError naming what is
-    missing otherwise."""
-    d = Path(folder)
-    if not d.is_dir():
-        raise InputError(f"{d}: not a folder (give a rod HDF5 file or an MD folder of `dnarod build-md`)")
-    if (d / "md.tpr").is_file() and (d / "md.xtc").is_file():
-        return [d / "md.tpr", d / "md.xtc"]
-    if (d / "conf.gro").is_file():
-        return [d / "conf.gro"]
-    raise InputError(f"{d}: no md.tpr + md.xtc and no conf.gro (an MD folder of `dnarod build-md`, "
-                     "run or not by `dnarod run-md`)")
 
 
 def strand_atoms(universe, source: str):

@@ -26,6 +26,16 @@ from mdbridge.geometry.trajectory import BasePairTrajectory
 from .frames import bp_frames_from_rod, bp_lab_velocities, period_vector
 
 FIELDS = ("gamma", "omega", "Gamma", "Omega")
+HDF5_SIGNATURE = b"\x89HDF\r\n\x1a\n"
+
+
+def is_hdf5(path) -> bool:
+    """True for an HDF5 file (its 8-byte signature): a rod output, not an MD structure."""
+    p = Path(path)
+    if not p.is_file():
+        return False
+    with open(p, "rb") as f:
+        return f.read(8) == HDF5_SIGNATURE
 
 
 def analytic():
@@ -243,8 +253,3 @@ def run_scene(scene, *, source=None, initial=None, set=(), output=None, progress
         raise InputError(f"{source}: {e}") from None
     except RuntimeError as e:         # any other rodcore.Error
         raise DnarodError(f"{source}: rod run failed: {e}") from None
-
-
-# BasePairTrajectory.from_rod_h5 reads rod output files through RodRun.read (geometry sits
-# below the rod layer and cannot import it).
-BasePairTrajectory.rod_reader = RodRun.read

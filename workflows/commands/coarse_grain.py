@@ -3,10 +3,6 @@
 mass and inertia), each number with its error (mdbridge.coarsegrain)."""
 from __future__ import annotations
 
-import math
-from pathlib import Path
-
-from dna_models.errors import InputError
 from dnarod.commands._options import add_output
 
 NAME = "coarse-grain"
@@ -103,120 +99,28 @@ def constants_table(params: dict) -> str:
     return "\n".join(rows)
 
 
-def run(args):
-    from mdbridge.coarsegrain.reader import is_hdf5
-    from mdbridge.geometry.structure import load_universe, read_pairs_file
+def request(args):
+    """The CoarseGrainRequest of the parsed options."""
+    from mdbridge.coarsegrain.pipeline import CoarseGrainRequest
+    return CoarseGrainRequest(
+        structure=args.structure, output=args.output, trajectories=list(args.trajectories),
+        temperature=args.temperature, edr=args.edr, length=args.length, m_max=args.m_max,
+        pairs_file=args.pairs, closed=args.closed, tension=args.tension, torque=args.torque,
+        discard=args.discard, min_effective=args.min_effective, max_open_fraction=args.max_open_fraction,
+        bootstrap=args.bootstrap, seed=args.seed, start=args.start, stop=args.stop, step=args.step)
 
-    if not (0.0 <= args.max_open_fraction < 1.0):
-        raise InputError(f"--max-open-fraction {args.max_open_fraction}: allowed 0 <= F < 1")
-    if is_hdf5(args.structure):
-        if args.trajectories:
-            raise InputError(f"{args.structure}: a rod output file is the whole input; give no trajectory "
-                             f"({' '.join(args.trajectories)})")
-        from dnarod.progress import Stages
-        with Stages("coarse-grain") as stages:
-            return _coarse_grain(args, None, args.structure, None, "resid", True, stages)
-    u = load_universe(args.structure, *args.trajectories)
-    source = " + ".join([args.structure] + list(args.trajectories))
-    pairs, numbering = (None, "resid")
-    if args.pairs:
-        pairs, numbering = read_pairs_file(args.pairs)
-    closed = {"auto": None, "yes": True, "no": False}[args.closed]
+
+def run(args):
+    from mdbridge.coarsegrain.pipeline import coarse_grain
     from dnarod.progress import Stages
     with Stages("coarse-grain") as stages:
-        return _coarse_grain(args, u, source, pairs, numbering, closed, stages)
-
-
-def _coarse_grain(args, u, source, pairs, numbering, closed, stages):
-    """coarse-grain's steps; STAGES (dnarod.progress.Stages) shows the frames read, the
-    base-pair check and the coarse-graining lengths analysed."""
-    from mdbridge.coarsegrain.cgrod import write_replicas
-    from mdbridge.coarsegrain.estimator import MIN_EFFECTIVE, CoarseGrain, default_m_values
-    from mdbridge.coarsegrain.figure import convergence_figure, length_figure, q_stiffness_figure
-    from mdbridge.coarsegrain.params import build_params, write_params
-    from mdbridge.coarsegrain.reader import read_ensemble
-    from mdbridge.coarsegrain.stepmaterial import write_material_files
-    from mdbridge.coarsegrain.temperature import edr_temperature, kinetic_temperature, parse_temperature
-
-    from mdbridge.coarsegrain.reader import read_rod_ensemble
-    out = Path(args.output)
-    if u is None:
-        ens, extras = read_rod_ensemble(args.structure, args.start, args.stop, args.step)
-    else:
-        ens, extras = read_ensemble(u, pairs, numbering, closed, args.start, args.stop, args.step,
-                                    args.max_open_fraction, source, progress=stages)
-    stages.close()
-    extras["max_open_fraction"] = args.max_open_fraction
-
-    caveats = []
-    if args.temperature is not None:
-        T_K, T_src = parse_temperature(args.temperature), "given"
-    elif u is None:
-        if extras.get("temperature_K") is None:
-            raise InputError(f"{source}: the rod file has no attribute 'temperature_K' (a scene with "
-                             "[thermal] temperature_K writes it): give --temperature K")
-        T_K, T_src = float(extras["temperature_K"]), "rod file (attribute temperature_K)"
-    elif args.edr:
-        T_K, sd = edr_temperature(args.edr)
-        T_src = f"edr ({args.edr}: mean of gmx energy 'Temperature', s.d. {sd:.1f} K)"
-    else:
-        kin = kinetic_temperature(u, args.start, args.stop, args.step)
-        if kin is None:
-            raise InputError(f"{source}: no velocities in the trajectory, so no kinetic temperature: "
-                             "give --temperature K (or --edr FILE)")
-        T_K, sd, n_at, note = kin
-        T_src = "kinetic"
-        caveats.append(f"kinetic temperature {T_K:.1f} K (s.d. {sd:.1f} K over frames) from {n_at} atoms: {note}")
-
-    m_values = default_m_values(ens.n_steps, ens.closed, args.m_max, ens.excluded)
-    m_rod = args.length if args.length is not None else max(m_values)
-    if m_rod < 1 or m_rod > max(m_values):
-        raise InputError(f"--length {m_rod}: allowed 1..{max(m_values)} (raise --m-max; "
-                         f"{'n_bp / 4 for a closed duplex' if ens.closed else 'at most the number of steps'})")
-    min_eff = MIN_EFFECTIVE if args.min_effective is None else args.min_effective
-    if min_eff < MIN_EFFECTIVE:
-        caveats.append(f"--min-effective {min_eff:g} is below the default {MIN_EFFECTIVE}: few independent "
-                       f"frames, stiffness errors ~ sqrt(2 / N_eff) = {100 * math.sqrt(2 / max(min_eff, 1)):.0f} % "
-                       "or more, and the bias correction is large")
-    if extras["opened_pairs"].size:
-        caveats.append("opened base pairs (1-based, opening rule): "
-                       + ", ".join(str(i + 1) for i in extras["opened_pairs"])
-                       + "; their steps are used, and left out only for the rule's sensitivity")
-    if ens.closed and args.tension is None and args.torque is None:
-        caveats.append("closed duplex: the means are the box's pre-stressed shape (no --tension/--torque given)")
-    if "mass_inertia" not in extras:
-        caveats.append("the rod file carries no uniform rho and I (a material file): no mass and inertia")
-    elif not extras["mass_inertia"]["hydrogens"]:
-        caveats.append("the topology has no hydrogens: masses and inertia are those of the heavy atoms only")
-    cg = CoarseGrain(ens, T_K, m_values=m_values, m_rod=m_rod, n_boot=args.bootstrap, seed=args.seed,
-                     discard=args.discard, min_effective=min_eff, progress=stages).run()
-    stages.close()
-    n_modes = cg.results["effective_samples_fit_modes"]
-    if n_modes < min_eff:
-        caveats.append(f"the slowest mode of the q -> 0 fit (autocorrelation time "
-                       f"{cg.results['tau_int_fit_modes_frames']:.0f} frames) has {n_modes:.0f} independent samples, "
-                       f"fewer than {min_eff:g}: the bootstrap's blocks are capped at T / 8, so the rod's K's error "
-                       "may be understated; a longer run settles it")
-    params = build_params(cg, T_src, extras, args.tension, args.torque, min_eff, caveats)
-    out.mkdir(parents=True, exist_ok=True)
-    write_params(out / "params.json", params)
-    params["convergence"]["figure"] = "convergence.png"
-    convergence_figure(out / "convergence.png", params)
-    length_figure(out / "by_length.png", params)
-    params["by_length_figure"] = "by_length.png"
-    q_stiffness_figure(out / "q_stiffness.png", params)
-    params["q_stiffness"]["figure"] = "q_stiffness.png"
-    params["files"] = write_material_files(out, cg, extras, source)
-    write_replicas(out / "replicas.h5", cg, extras)
-    params["files"]["replicas_file"] = "replicas.h5"
-    write_params(out / "params.json", params)
-    print(f"{ens.n_steps} steps ({len(cg.results['opened_steps'])} touch a pair the opening rule counts as opened), "
-          f"{cg.results['frames_used']} frames used after discarding {cg.results['discarded_frames']}, "
-          f"N_eff = {cg.results['effective_samples']:.0f}, T = {T_K:.1f} K ({T_src.split(' ')[0]})")
-    print(constants_table(params))
-    for c in caveats:
+        r = coarse_grain(request(args), progress=stages)
+    res = r.results
+    print(f"{r.n_steps} steps ({len(res['opened_steps'])} touch a pair the opening rule counts as opened), "
+          f"{res['frames_used']} frames used after discarding {res['discarded_frames']}, "
+          f"N_eff = {res['effective_samples']:.0f}, T = {r.T_K:.1f} K ({r.T_source.split(' ')[0]})")
+    print(constants_table(r.params))
+    for c in r.caveats:
         print(f"  caveat: {c}")
-    extra = [f for f in (params["files"].get("steps_file"), params["files"].get("material_file"), "replicas.h5") if f]
-    print(f"wrote {out / 'params.json'}, {out / 'q_stiffness.png'}, {out / 'convergence.png'}, {out / 'by_length.png'}"
-          + "".join(f", {out / f}" for f in extra))
+    print("wrote " + ", ".join(str(f) for f in r.written))
     return 0

@@ -1,15 +1,10 @@
 """`dnarod dna-rod`: a sequence-dependent DNA rod for rodsim (material, closed rest state, scene)."""
 from __future__ import annotations
 
-import json
 import sys
 from pathlib import Path
 
-import numpy as np
-
-from dna_models.errors import InputError
 from dnarod.commands._options import add_output
-from mdbridge.jsonio import write_json
 
 NAME = "dna-rod"
 HELP = "a sequence-dependent DNA rod: per-step file, grid material, closed pre-stressed rest state, scene"
@@ -72,74 +67,23 @@ def add_arguments(p):
 
 def _sequence(args):
     from dna_models.sequence import random_sequence, validate
+    from mdbridge.md.folder import md_sequence
     if args.sequence:
         return validate(args.sequence, "--sequence")
     if args.random:
         return random_sequence(args.random, seed=args.seed)
-    bj = Path(args.sequence_from_md) / "build.json"
-    if not bj.is_file():
-        raise InputError(f"--sequence-from-md {args.sequence_from_md}: no build.json there "
-                         "(a folder written by `dnarod build-md`)")
-    d = json.loads(bj.read_text())
-    if "sequence" not in d:
-        raise InputError(f"{bj}: key 'sequence' missing")
-    return validate(d["sequence"], f"{bj}: sequence")
+    return md_sequence(args.sequence_from_md, "--sequence-from-md")
 
 
 def run(args):
-    from dna_models.units import Units
-    from mdbridge.rod.material.closed_rest import closed_rest_state, tension_torque_physical, _frames_on_grid
-    from mdbridge.rod.material.gridfile import grid_scene, write_grid_material, write_initial_file
-    from mdbridge.rod.material.parameter_sets import step_material
-    from mdbridge.rod.material.stepfile import write_steps
-    from mdbridge.rod.material.steps_to_rod import grid_material, rod_material
-    from mdbridge.rod.scene import write_scene
-
-    u = Units.paper()
-    seq = _sequence(args)
-    if args.points_per_bp < 1:
-        raise InputError(f"--points-per-bp {args.points_per_bp}: must be >= 1")
-    out = Path(args.output)
-    out.mkdir(parents=True, exist_ok=True)
-    sm = step_material(seq, args.params, closed=True, mass=args.mass)
-    rm = rod_material(sm, units=u)
-    N = args.points_per_bp * rm.n_bp
-    g = grid_material(rm, N, args.interpolation, shape=args.shape)
-    L = rm.length
-    box = L if args.box_A is None else u.length_to_rod(args.box_A)
-    print(f"dna-rod: {rm.n_bp} bp, {args.params}, N = {N}; closed rest state ...", file=sys.stderr)
-    rest = closed_rest_state(g, L, box_length=box, space=args.space, mode=args.rest)
-    write_steps(out / "steps.h5", sm)
-    write_grid_material(out / "material.h5", g, source=sm.source,
-                        attrs={"sequence": seq, "interpolation": args.interpolation, "h_A": rm.h_A})
-    gamma = None
-    if args.kick:
-        R = _frames_on_grid(np.concatenate([rest.Gamma, rest.Omega], axis=1), L, 16)
-        a = rest.axis0
-        e = np.array([1.0, 0.0, 0.0]) - a[0] * a
-        e /= np.linalg.norm(e)
-        v = u.velocity_to_rod(args.kick) * np.sin(2 * np.pi * g["s"] / L)[:, None] * e[None, :]
-        gamma = np.einsum("jki,jk->ji", R, v)          # body frame: R^T v
-    write_initial_file(out / "rest.h5", g["s"], rest.Gamma, rest.Omega, gamma=gamma)
-    write_scene(out / "scene.toml", grid_scene(L, N, "material.h5", "rest.h5", space=args.space,
-                                               t_end_ps=args.t_end_ps, units=u),
-                comment=f"{rm.n_bp}-bp DNA, sequence {seq}\nparameters: {sm.source}\n"
-                f"t = 0: the closed, pre-stressed rest state" + (f", kicked with A_v = {args.kick} A/ps"
-                                                                    if args.kick else "")
-                + "\nwritten by `dnarod dna-rod` (docs/scenes.md, 'Sequence-dependent DNA')")
-    T_pN, M_pNnm = tension_torque_physical(rest, u)
-    info = {"sequence": seq, "params": args.params, "source": sm.source, "n_bp": rm.n_bp, "points": N,
-            "length": L, "box_length": box, "h_A": rm.h_A, "interpolation": args.interpolation, "shape": args.shape,
-            "space": args.space, "rest": args.rest, "tension": rest.tension, "torque": rest.torque, "tension_pN": T_pN,
-            "torque_pN_nm": M_pNnm, "statics_residual": rest.statics_residual,
-            "closure_rotation_rad": rest.closure_rotation_rad,
-            "closure_length_error_A": u.length_to_A(rest.closure_length_error),
-            "rest_iterations": rest.iterations, "elastic_energy": rest.energy,
-            "elastic_energy_kT": rest.energy / u.kT_to_rod(sm.temperature_K),
-            "axis0": rest.axis0.tolist(), "kick_A_per_ps": args.kick}
-    write_json(out / "rest.json", info)
-    print(f"dna-rod: rest state tension {T_pN:.2f} pN, torque {M_pNnm:.3f} pN nm, statics residual "
-          f"{rest.statics_residual:.2e}, closure {rest.closure_rotation_rad:.2e} rad / "
+    from mdbridge.rod.material.dna_rod import DnaRodRequest, dna_rod
+    req = DnaRodRequest(
+        sequence=_sequence(args), output=args.output, params=args.params, mass=args.mass,
+        points_per_bp=args.points_per_bp, interpolation=args.interpolation, space=args.space,
+        rest=args.rest, shape=args.shape, box_A=args.box_A, kick=args.kick, t_end_ps=args.t_end_ps)
+    info = dna_rod(req, log=lambda text: print(text, file=sys.stderr))
+    print(f"dna-rod: rest state tension {info['tension_pN']:.2f} pN, torque {info['torque_pN_nm']:.3f} pN nm, "
+          f"statics residual {info['statics_residual']:.2e}, closure {info['closure_rotation_rad']:.2e} rad / "
           f"{info['closure_length_error_A']:.2e} A", file=sys.stderr)
-    print(f"dna-rod: wrote {out}/ (steps.h5, material.h5, rest.h5, scene.toml, rest.json)")
+    print(f"dna-rod: wrote {Path(args.output)}/ (steps.h5, material.h5, rest.h5, scene.toml, rest.json)")
     return 0

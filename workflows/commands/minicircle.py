@@ -6,6 +6,8 @@ import secrets
 import sys
 from pathlib import Path
 
+from mdbridge.md.gromacs.defaults import TEMPERATURE_K
+
 NAME = "minicircle"
 HELP = "a DNA ring at a chosen linking-number difference: closed rod, relaxation, writhe, all-atom ring"
 DESCRIPTION = """\
@@ -64,8 +66,8 @@ def add_arguments(p):
     p.add_argument("--contact-diameter-nm", type=float, default=None, metavar="D",
                    help="self-contact: [contact] diameter_nm = D in the scene (needs a rodsim with [contact])")
     p.add_argument("--no-atoms", action="store_true", help="the rod only, no all-atom ring")
-    p.add_argument("--md-temperature-K", type=float, default=300.0, metavar="T",
-                   help="thermal velocities of the all-atom ring (300)")
+    p.add_argument("--md-temperature-K", type=float, default=TEMPERATURE_K, metavar="T",
+                   help=f"thermal velocities of the all-atom ring ({TEMPERATURE_K:g})")
     p.add_argument("--minimize", action="store_true", help="restrained minimisation of the all-atom ring")
     p.add_argument("--gmx", default=None, metavar="PATH", help="the gmx executable (as build-md)")
     p.add_argument("--threads", type=int, default=1, metavar="N",
@@ -106,21 +108,10 @@ def _choice(args):
     return c
 
 
-def run(args):
-    import numpy as np
-
+def _checked(args):
+    """(sequence, its source, RelaxationChoice, points per bp, gmx or None): every input
+    checked before any work."""
     from dna_models.errors import InputError
-    from dna_models.units import Units
-    from mdbridge.jsonio import write_json
-    from mdbridge.rod.material.gridfile import write_grid_material
-    from mdbridge.rod.material.parameter_sets import step_material
-    from mdbridge.rod.material.steps_to_rod import grid_material, rod_material
-    from mdbridge.rod.minicircle import check_relaxation, make_minicircle, relaxation_topology
-    from mdbridge.rod.run import run_scene
-    from mdbridge.rod.scene import with_absolute_paths, write_scene
-
-    # every input checked before any work
-    u = Units.paper()
     seq, seq_source = _sequence(args)
     if len(seq) < 10:
         raise InputError(f"{len(seq)} bp: a minicircle needs at least 10 base pairs")
@@ -136,6 +127,23 @@ def run(args):
     if not args.no_atoms:
         from mdbridge.md.gromacs.gmx import find_gmx
         gmx = find_gmx(args.gmx)
+    return seq, seq_source, choice, ppb, gmx
+
+
+def run(args):
+    import numpy as np
+
+    from dna_models.units import Units
+    from mdbridge.jsonio import write_json
+    from mdbridge.rod.material.gridfile import write_grid_material
+    from mdbridge.rod.material.parameter_sets import step_material
+    from mdbridge.rod.material.steps_to_rod import grid_material, rod_material
+    from mdbridge.rod.minicircle import check_relaxation, make_minicircle, relaxation_topology
+    from mdbridge.rod.run import run_scene
+    from mdbridge.rod.scene import with_absolute_paths, write_scene
+
+    u = Units.paper()
+    seq, seq_source, choice, ppb, gmx = _checked(args)
     sm = step_material(seq, args.params, closed=True)
 
     out = Path(args.output)
@@ -164,20 +172,27 @@ def run(args):
             "topology": top, "failure": top["failure"]}
     if top.get("Wr"):
         info.update(Tw_final=top["Tw"][-1], Wr_final=top["Wr"][-1],
-                    energy_kT=(np.asarray(run_.energy, float) / u.kT_to_rod(300.0)).tolist()
+                    energy_kT=(np.asarray(run_.energy, float) / u.kT_to_rod(TEMPERATURE_K)).tolist()
                     if run_.energy is not None else None)
     write_json(out / "minicircle.json", info)
     check_relaxation(top)
     print(f"minicircle: relaxed: Lk {mc.Lk} in all {len(top['Lk'])} frames; last frame Tw {top['Tw'][-1]:.4f}, "
           f"Wr {top['Wr'][-1]:.4f}", file=sys.stderr)
     if not args.no_atoms:
-        from mdbridge.md.ring import build_ring_md
-        frame = -1 if choice.relax_ps > 0 else 0
-        info["atoms"] = build_ring_md(run_, seq, out / "atoms", Lk=mc.Lk, frame=frame,
-                                      temperature_K=args.md_temperature_K, minimize=args.minimize, gmx=gmx,
-                                      threads=args.threads,
-                                      seed=choice.seed, meta={"minicircle": str(out / "minicircle.json")},
-                                      say=lambda s: print(f"minicircle: {s}", file=sys.stderr))
-        write_json(out / "minicircle.json", info)
+        _atoms(args, run_, seq, out, mc.Lk, choice, gmx, info)
     print(f"wrote {out}/")
     return 0
+
+
+def _atoms(args, run_, seq, out, Lk, choice, gmx, info) -> None:
+    """The all-atom ring of the relaxed rod's last frame (the planar ring's without a run),
+    recorded in minicircle.json."""
+    from mdbridge.jsonio import write_json
+    from mdbridge.md.ring import build_ring_md
+    frame = -1 if choice.relax_ps > 0 else 0
+    info["atoms"] = build_ring_md(run_, seq, out / "atoms", Lk=Lk, frame=frame,
+                                  temperature_K=args.md_temperature_K, minimize=args.minimize, gmx=gmx,
+                                  threads=args.threads,
+                                  seed=choice.seed, meta={"minicircle": str(out / "minicircle.json")},
+                                  say=lambda s: print(f"minicircle: {s}", file=sys.stderr))
+    write_json(out / "minicircle.json", info)

@@ -128,9 +128,7 @@ def _atoms(args, md, build, out, R, o, t, stages) -> int:
     """The all-atom trajectory; STAGES (dnarod.progress.Stages) shows the frames
     back-mapped, relaxed (--relax-steps), written and checked (chemistry report)."""
     import MDAnalysis as mda
-    from mdbridge.md.backmap import atom_map, closest_nonbonded, overlay_problems, rms_to_build_A
-    from mdbridge.md.builder.backbone import link_lengths
-    import warnings
+    from mdbridge.md.backmap import atom_map, overlay_problems, rms_to_build_A
     from mdbridge.md.gromacs.gmx import find_gmx, gmx_top_dir
     gmx = find_gmx(args.gmx)
     # topol.top #includes charmm27.ff/...: the force-field folder of the GROMACS install
@@ -149,6 +147,28 @@ def _atoms(args, md, build, out, R, o, t, stages) -> int:
                     workdir=out.with_name(out.stem + "_relax"),
                     progress=lambda k, total: stages("frames relaxed", k, total, "frames")
                     ).astype(np.float32)
+    _write_frames(out, u, xyz, t, stages)
+    msg = (f"rod-to-atoms: {len(t)} frames x {u.atoms.n_atoms} atoms -> {out} (+ {out.with_suffix('.gro').name})"
+           f"; t = 0 vs the build {rms_t0:.3f} A rms")
+    links = contact = None
+    if not args.no_chemistry:
+        links, contact, text = _chemistry(u, xyz, amap, t, out, stages, build.get("forcefield"))
+        msg += text
+    stages.close()
+    print(msg)
+    problems = overlay_problems(rms_t0, links, contact, t)
+    if problems:
+        hint = ("" if args.relax_steps or all("rms" in q for q in problems) else
+                "; to look at it anyway, --relax-steps N relaxes each frame (for viewing only)")
+        raise InputError(f"{out} (written, to look at) fails its checks: " + "; ".join(problems) + hint)
+    return 0
+
+
+def _write_frames(out, u, xyz, t, stages) -> None:
+    """OUT (XTC or another MDAnalysis format) with every frame, and its first frame as .gro and .pdb."""
+    import warnings
+
+    import MDAnalysis as mda
     # XTC at 1e-4 nm (GROMACS's default is 1e-3 nm = 0.01 A, which alone tilts a fitted
     # base frame by up to ~0.2 deg): re-analysed frames then equal the rod's to 0.1 deg
     opts = {"precision": 4} if out.suffix.lower() == ".xtc" else {}
@@ -163,28 +183,26 @@ def _atoms(args, md, build, out, R, o, t, stages) -> int:
     with warnings.catch_warnings():  # MDAnalysis lists the PDB columns a .gro lacks
         warnings.simplefilter("ignore", UserWarning)
         u.atoms.write(str(out.with_suffix(".pdb")))
-    msg = (f"rod-to-atoms: {len(t)} frames x {u.atoms.n_atoms} atoms -> {out} (+ {out.with_suffix('.gro').name})"
-           f"; t = 0 vs the build {rms_t0:.3f} A rms")
-    links = contact = None
-    if not args.no_chemistry:
-        links = link_lengths(xyz, amap.links, amap.box_A)
-        contact = closest_nonbonded(u, xyz, progress=lambda k, total: stages("frames checked", k, total,
-                                                                             "frames"))
-        report = {"times_ps": t.tolist(), "O3P_min_A": links.min(1).tolist(), "O3P_max_A": links.max(1).tolist(),
-                  "closest_nonbonded_heavy_A": [float(c) if np.isfinite(c) else None for c in contact],
-                  "definitions": {"O3P": "O3'(i)-P(i+1) bond lengths along both strands, minimum image; "
-                                         "CHARMM27 equilibrium 1.61 A",
-                                  "closest_nonbonded_heavy_A": "closest heavy-atom pair that is not 1-2 or 1-3 "
-                                                               "bonded, within 4 A (null: none)"}}
-        path = out.with_suffix(".chemistry.json")
-        write_json(path, report)
-        msg += (f"; O3'-P {links.min():.2f}-{links.max():.2f} A, closest contact "
-                f"{np.nanmin(np.where(np.isfinite(contact), contact, np.nan)):.2f} A ({path.name})")
-    stages.close()
-    print(msg)
-    problems = overlay_problems(rms_t0, links, contact, t)
-    if problems:
-        hint = ("" if args.relax_steps or all("rms" in q for q in problems) else
-                "; to look at it anyway, --relax-steps N relaxes each frame (for viewing only)")
-        raise InputError(f"{out} (written, to look at) fails its checks: " + "; ".join(problems) + hint)
-    return 0
+
+
+def _chemistry(u, xyz, amap, t, out, stages, forcefield_name):
+    """(O3'-P link lengths, closest non-bonded contacts, the summary's text) of every frame,
+    written to OUT.chemistry.json; the bond's equilibrium is the build's force field's."""
+    from mdbridge.md.backmap import closest_nonbonded
+    from mdbridge.md.builder.backbone import link_lengths
+    from mdbridge.md.forcefields import forcefield
+    from mdbridge.md.gromacs.defaults import FORCEFIELD
+    ff = forcefield(forcefield_name or FORCEFIELD)
+    links = link_lengths(xyz, amap.links, amap.box_A)
+    contact = closest_nonbonded(u, xyz, progress=lambda k, total: stages("frames checked", k, total, "frames"))
+    report = {"times_ps": t.tolist(), "O3P_min_A": links.min(1).tolist(), "O3P_max_A": links.max(1).tolist(),
+              "closest_nonbonded_heavy_A": [float(c) if np.isfinite(c) else None for c in contact],
+              "definitions": {"O3P": "O3'(i)-P(i+1) bond lengths along both strands, minimum image; "
+                                     f"{ff.name} equilibrium {ff.o3_p.length_A:.2f} A",
+                              "closest_nonbonded_heavy_A": "closest heavy-atom pair that is not 1-2 or 1-3 "
+                                                           "bonded, within 4 A (null: none)"}}
+    path = out.with_suffix(".chemistry.json")
+    write_json(path, report)
+    text = (f"; O3'-P {links.min():.2f}-{links.max():.2f} A, closest contact "
+            f"{np.nanmin(np.where(np.isfinite(contact), contact, np.nan)):.2f} A ({path.name})")
+    return links, contact, text

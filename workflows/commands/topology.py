@@ -43,22 +43,15 @@ def add_arguments(p):
 
 def _inputs(paths, writhe_points):
     """(path, kind, reader) of each PATH, everything checked before any work starts."""
-    from dna_models.errors import InputError
-    from mdbridge.md.topology import md_files
-    from mdbridge.rod import RodRun
+    from mdbridge.md.realisation import open_realisation
     from mdbridge.rod.topology import WRITHE_POINTS, writhe_stride
     writhe_stride(1, WRITHE_POINTS if writhe_points is None else writhe_points)
     out = []
     for p in map(Path, paths):
-        if p.is_dir():
-            md_files(p)
-            out.append((p, "md", None))
-        elif p.is_file():
-            run = RodRun.read(p)
-            run.require("time", "s", "centerline", "directors")
-            out.append((p, "rod", run))
-        else:
-            raise InputError(f"{p}: no such file or folder (give rod HDF5 files and MD folders)")
+        r = open_realisation(p)
+        if r.run is not None:
+            r.run.require("time", "s", "centerline", "directors")
+        out.append((p, r.kind, r.run))
     return out
 
 

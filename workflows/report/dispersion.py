@@ -4,7 +4,6 @@ measured modes against the coarse-grained and the paper rod's predicted ones
 from __future__ import annotations
 
 import html
-import json
 import math
 from pathlib import Path
 
@@ -19,11 +18,13 @@ Z_AGREE = 2.0
 
 
 def collect(cfg: dict, out: Path) -> dict:
-    """{box scale label: dispersion.json} of the scales that were analysed."""
+    """{box scale label: its dispersion.json as a Prediction (mdbridge/analysis/results.py)} of
+    the scales that were analysed."""
+    from mdbridge.analysis.results import Prediction
     found = {}
     d = out / "dispersion"
     for p in sorted(d.glob("box*/dispersion.json")) if d.is_dir() else []:
-        found[p.parent.name[3:]] = json.loads(p.read_text())
+        found[p.parent.name[3:]] = Prediction.read(p)
     return found
 
 
@@ -54,23 +55,23 @@ def results(cfg: dict, found: dict) -> dict | None:
     if base is None:
         return {"reason": "no dispersion result (dispersion/box1/dispersion.json): the MD or its analysis "
                           "has not finished", "rows": []}
-    rows = [_row(r) for r in base["rows"]]
-    out = {"rows": rows, "tension_pN": base["tension"]["tension_pN"],
-           "tension_err_pN": base["tension"]["tension_err_pN"], "temperature_K": base["temperature_K"],
-           "length_A": base["length_A"], "record_ps": base.get("record_ps"), "discard_ps": disp.get("discard_ps"),
-           "cg_rod_reason": base.get("cg_rod_reason"), "refused": base.get("refused", {}),
-           "rod_states": {n: p.get("state") for n, p in base["predictions"].items()},
+    rows = [_row(r) for r in base.rows]
+    out = {"rows": rows, "tension_pN": base.tension["tension_pN"],
+           "tension_err_pN": base.tension["tension_err_pN"], "temperature_K": base.temperature_K,
+           "length_A": base.length_A, "record_ps": base.record_ps, "discard_ps": disp.get("discard_ps"),
+           "cg_rod_reason": base.cg_rod_reason, "refused": base.refused,
+           "rod_states": {n: p.get("state") for n, p in base.predictions.items()},
            "summary": {name: dict(_summary(rows, name), **{kind: _summary([r for r in rows if r["kind"] == kind],
                                                                            name) for kind in KINDS})
                        for name, _ in MODELS},
-           "fit": base["fit"], "definition": base["definition"],
-           "box_scales": [{"scale": float(s), "tension_pN": j["tension"]["tension_pN"],
-                           "tension_err_pN": j["tension"]["tension_err_pN"],
-                           "length_A": j["length_A"],
-                           "fit_dynamics": {k: j["fit"]["dynamics"].get(k) for k in
+           "fit": base.fit, "definition": base.definition,
+           "box_scales": [{"scale": float(s), "tension_pN": j.tension["tension_pN"],
+                           "tension_err_pN": j.tension["tension_err_pN"],
+                           "length_A": j.length_A,
+                           "fit_dynamics": {k: j.fit["dynamics"].get(k) for k in
                                             ("tension_pN", "tension_err_pN", "B_pN_nm2", "B_err_pN_nm2", "reason")},
-                           "bend_omega0_per_ps": {r["n"]: r["md_omega0_per_ps"] for r in j["rows"]
-                                                  if r["kind"] == "bend" and r["md_omega0_per_ps"] is not None}}
+                           "bend_omega0_per_ps": {r["n"]: r["md_omega0_per_ps"] for r in j.rows_of("bend")
+                                                  if r["md_omega0_per_ps"] is not None}}
                           for s, j in sorted(found.items(), key=lambda kv: float(kv[0]))]}
     return out
 

@@ -41,9 +41,11 @@ from dnarod.steps.analyse import run_step
 
 def coarse_grain_md(md_dir, out_dir, m=None, temperature=None, min_effective=None, max_open_fraction=0.05,
                     discard=None, m_max=None) -> dict:
-    """`dnarod coarse-grain MD_DIR/md.tpr MD_DIR/md.xtc -o OUT_DIR` with T from md.edr unless
-    given; OUT_DIR/cg.json records success or the refusal."""
-    from dnarod.cli import build_parser
+    """The coarse-graining (mdbridge.coarsegrain.pipeline) of MD_DIR/md.tpr + MD_DIR/md.xtc into
+    OUT_DIR, as `dnarod coarse-grain`, with T from md.edr unless given; OUT_DIR/cg.json records
+    success or the refusal, and the equivalent command."""
+    from mdbridge.coarsegrain.pipeline import CoarseGrainRequest, coarse_grain
+    from dnarod.progress import Stages
     md, out = Path(md_dir), Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     # The pairs as built (mdbridge/md/builder/duplex.py), not found by distance: in a long
@@ -54,30 +56,35 @@ def coarse_grain_md(md_dir, out_dir, m=None, temperature=None, min_effective=Non
     n_bp = int(json.loads((md / "build.json").read_text())["n_bp"])
     pairs_file = out / "pairs.dat"
     pairs_file.write_text("".join(f"{a} {b}\n" for a, b in base_pairs(n_bp)))
-    argv = ["coarse-grain", str(md / "md.tpr"), str(md / "md.xtc"), "-o", str(out),
-            "--pairs", str(pairs_file), "--max-open-fraction", repr(float(max_open_fraction))]
-    if temperature is not None:
-        argv += ["--temperature", repr(float(temperature))]
-    elif (md / "md.edr").is_file():
-        argv += ["--edr", str(md / "md.edr")]
-    if m is not None:
-        argv += ["-m", str(int(m))]
-    if min_effective is not None:
-        argv += ["--min-effective", repr(float(min_effective))]
-    if discard is not None:
-        argv += ["--discard", str(int(discard))]
-    if m_max is not None:
-        argv += ["--m-max", str(int(m_max))]
-    rec: dict = {"md_dir": str(md), "command": "dnarod " + " ".join(argv)}
+    edr = str(md / "md.edr") if temperature is None and (md / "md.edr").is_file() else None
+    req = CoarseGrainRequest(
+        structure=str(md / "md.tpr"), trajectories=[str(md / "md.xtc")], output=str(out),
+        pairs_file=str(pairs_file), max_open_fraction=float(max_open_fraction),
+        temperature=None if temperature is None else float(temperature), edr=edr,
+        length=None if m is None else int(m), min_effective=None if min_effective is None else float(min_effective),
+        discard=None if discard is None else int(discard), m_max=None if m_max is None else int(m_max))
+    rec: dict = {"md_dir": str(md), "command": _command_line(req)}
     try:
-        args = build_parser().parse_args(argv)
-        args._run(args)
+        with Stages("coarse-grain") as stages:
+            coarse_grain(req, progress=stages)
         rec.update(ok=True, reason=None)
     except DnarodError as e:
         rec.update(ok=False, reason=str(e))
         print(f"coarse-graining refused: {e}", file=sys.stderr)
     write_json(out / "cg.json", rec)
     return rec
+
+
+def _command_line(req) -> str:
+    """The `dnarod coarse-grain` command that does what REQ does (for cg.json)."""
+    words = ["dnarod", "coarse-grain", req.structure, *req.trajectories, "-o", req.output,
+             "--pairs", req.pairs_file, "--max-open-fraction", repr(req.max_open_fraction)]
+    for option, value in (("--temperature", req.temperature), ("--edr", req.edr), ("-m", req.length),
+                          ("--min-effective", req.min_effective), ("--discard", req.discard),
+                          ("--m-max", req.m_max)):
+        if value is not None:
+            words += [option, repr(value) if isinstance(value, float) else str(value)]
+    return " ".join(words)
 
 
 def _material_scene(scene: dict, mat: dict) -> dict:
@@ -145,20 +152,7 @@ def cg_rod(scene_path, cg_dir, md_dir, out_dir, rodsim, m=None, n_replicas=20, n
                 f"dnarod compare: the uniform coarse-grained rod ({what}) of {cg_dir}, kicked like {scene_path}")
     _run_rodsim(rodsim, sc, out / "central" / "rod.h5")
     c = analyse_rod(sc, out / "central" / "rod.h5", out / "analysis_central", n_boot)
-    reps_out = []
-    for i, b in enumerate(boot):
-        if b is None:
-            reps_out.append({"replicate": i, "speed_A_per_ps": float("nan"),
-                             "reason": "replicate stiffness not positive definite"})
-            continue
-        d = out / f"replicate{i:03d}"
-        sp = d / "scene.toml"
-        write_scene(sp, _material_scene(scene, b), f"bootstrap replicate {i} of {cg_dir}")
-        _run_rodsim(rodsim, sp, d / "rod.h5")
-        r = _mode_speed(sp, d / "rod.h5", load_scene(sp))
-        r["replicate"] = i
-        reps_out.append(r)
-        (d / "rod.h5").unlink()          # the number is kept; 20 full records are not needed
+    reps_out = _replicate_runs(boot, scene, cg_dir, out, rodsim)
     v = np.array([r["speed_A_per_ps"] for r in reps_out], float)
     ok = np.isfinite(v)
     err_cg = float(spread(v[ok])) if ok.sum() > 1 else float("nan")
@@ -190,28 +184,55 @@ def cg_rod(scene_path, cg_dir, md_dir, out_dir, rodsim, m=None, n_replicas=20, n
          "shape_in_run": "the box's (the headline scene's straight twisted rod, Gamma0 = (0, 0, 1), "
                          "Omega0 = (0, 0, 2 pi turns / L)); the coarse-grained mean shape is material."
                          "Gamma0_star / Omega0_star, not imposed",
-         "cg": {"params": str(cg_dir / "params.json"), "temperature_K": params.get("temperature_K"),
-                "temperature_source": params.get("temperature_source"),
-                "frames_used": params.get("frames_used"), "effective_samples": params.get("effective_samples"),
-                "excluded_steps": params.get("excluded", {}).get("steps"), "caveats": params.get("caveats"),
-                "opening_rule_steps": params.get("opening_rule", {}).get("steps"),
-                "rod_constants": params.get("rod", {}).get("constants"),
-                "physical_m": params.get("physical_m"),
-                "physical": {k: params.get("physical", {}).get(k) for k in (
-                    "bend_persistence_length", "stretch_modulus", "torsional_modulus", "twist_stretch_coupling")},
-                "rho": params.get("mass_inertia", {}).get("rho")}}
+         "cg": _cg_summary(cg_dir, params)}
     if sequence_dependent:
         s["sequence_dependent"] = _sequence_dependent(cg_dir, md_dir, out, rodsim, scene, n_boot)
     write_json(out / "analysis.json", s)
     return s
 
 
+def _replicate_runs(boot, scene, cg_dir, out, rodsim) -> list:
+    """The standing-mode speed of the rod of each bootstrap-replicate material (a replicate
+    whose stiffness is not positive definite is recorded with its reason)."""
+    from mdbridge.rod.scene import load_scene
+    reps_out = []
+    for i, b in enumerate(boot):
+        if b is None:
+            reps_out.append({"replicate": i, "speed_A_per_ps": float("nan"),
+                             "reason": "replicate stiffness not positive definite"})
+            continue
+        d = out / f"replicate{i:03d}"
+        sp = d / "scene.toml"
+        write_scene(sp, _material_scene(scene, b), f"bootstrap replicate {i} of {cg_dir}")
+        _run_rodsim(rodsim, sp, d / "rod.h5")
+        r = _mode_speed(sp, d / "rod.h5", load_scene(sp))
+        r["replicate"] = i
+        reps_out.append(r)
+        (d / "rod.h5").unlink()          # the number is kept; 20 full records are not needed
+    return reps_out
+
+
+def _cg_summary(cg_dir: Path, params: dict) -> dict:
+    """The coarse-graining's numbers analysis.json repeats (from CG_DIR/params.json)."""
+    return {"params": str(cg_dir / "params.json"), "temperature_K": params.get("temperature_K"),
+            "temperature_source": params.get("temperature_source"),
+            "frames_used": params.get("frames_used"), "effective_samples": params.get("effective_samples"),
+            "excluded_steps": params.get("excluded", {}).get("steps"), "caveats": params.get("caveats"),
+            "opening_rule_steps": params.get("opening_rule", {}).get("steps"),
+            "rod_constants": params.get("rod", {}).get("constants"),
+            "physical_m": params.get("physical_m"),
+            "physical": {k: params.get("physical", {}).get(k) for k in (
+                "bend_persistence_length", "stretch_modulus", "torsional_modulus", "twist_stretch_coupling")},
+            "rho": params.get("mass_inertia", {}).get("rho")}
+
+
 def _sequence_dependent(cg_dir, md_dir, out, rodsim, scene, n_boot) -> dict:
-    """The per-step coarse-grained rod (closed pre-stressed rest state by `dnarod dna-rod`),
-    kicked like the headline scene; one run, no error estimate (each replicate would need
-    its own closed rest state)."""
+    """The per-step coarse-grained rod (closed pre-stressed rest state, as `dnarod dna-rod`
+    makes it: mdbridge.rod.material.dna_rod), kicked like the headline scene; one run, no
+    error estimate (each replicate would need its own closed rest state)."""
     from dna_models.units import Units
-    from dnarod.cli import main
+    from mdbridge.md.folder import md_sequence
+    from mdbridge.rod.material.dna_rod import DnaRodRequest, dna_rod
     from dnarod.steps.analyse import analyse_rod, rod_dispersion
     u = Units.paper()
     ini, o = scene["initial"], scene["output"]
@@ -221,11 +242,9 @@ def _sequence_dependent(cg_dir, md_dir, out, rodsim, scene, n_boot) -> dict:
     if not steps.is_file():
         return {"speed_A_per_ps": float("nan"), "reason": f"{steps} missing"}
     try:
-        rc = main(["dna-rod", "--sequence-from-md", str(md_dir), "--params", str(steps),
-                   "--kick", repr(float(ini.get("A_v_A_per_ps", 0.0))), "--t-end-ps", repr(t_ps), "-o", str(d)])
-        if rc != 0:
-            raise InputError(f"dnarod dna-rod exit {rc}")
-        info = json.loads((d / "rest.json").read_text())
+        info = dna_rod(DnaRodRequest(sequence=md_sequence(md_dir, "--sequence-from-md"), output=str(d),
+                                     params=str(steps), kick=float(ini.get("A_v_A_per_ps", 0.0)), t_end_ps=t_ps),
+                       log=lambda text: print(text, file=sys.stderr))
         a = np.asarray(info["axis0"], float)
         e = np.array([1.0, 0.0, 0.0]) - a[0] * a           # dna-rod's kick direction
         meta = {"in_plane": (e / np.linalg.norm(e)).tolist(), "n_bp": info["n_bp"],

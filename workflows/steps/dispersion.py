@@ -50,6 +50,7 @@ import numpy as np
 
 from dna_models.errors import DnarodError, InputError
 from mdbridge.jsonio import write_json
+from mdbridge.md.gromacs.defaults import TEMPERATURE_K
 
 from dnarod.steps.analyse import run_step
 
@@ -139,23 +140,12 @@ def _fit(kind_rows, observable, template, duplex, T0):
         return {"observable": observable, "n": ns, "reason": str(e)}
 
 
-def predict_and_compare(modes_json, out, tension_jsons, cg_dirs=(), m: int | None = None, n_replicas: int = 20,
-                        n_fit_max: int = 4, temperature_K: float | None = None) -> dict:
-    from mdbridge.analysis.dispersion_prediction import (Duplex, bend_stiffness_pN_nm2, box_twist, compare,
-                                                         paper_material, persistence_nm, predict, z_score)
-    table = json.loads(Path(modes_json).read_text())
-    tensions = [json.loads(Path(p).read_text()) for p in tension_jsons]
-    if not tensions:
-        raise InputError("no tension file: the prediction is taken at the MD's measured tension")
-    T, T_err = _pooled_tension(tensions)
-    temp = float(temperature_K or tensions[0].get("temperature_K") or 300.0)
-    duplex = Duplex(int(table["n_bp"]), int(table["helical_repeat"]), temp)
-    n_max = int(table["helical_repeat"]) - 1
-    paper = paper_material(duplex)
-    mats, cg_reasons = _materials(cg_dirs, m, n_replicas)
+def _predictions(paper, mats, cg_reasons, duplex, T, T_err, n_max) -> tuple[dict, dict]:
+    """(predictions, refused) by model: the paper's rod; the coarse-grained one as it is, and
+    with its intrinsic twist at the box's (torque-free when ligated); a rod that buckles at
+    the MD's tension is refused with the reason."""
+    from mdbridge.analysis.dispersion_prediction import box_twist, predict
     predictions, refused = {}, {}
-    # the paper's rod; the coarse-grained one as it is, and with its intrinsic twist at the box's
-    # (torque-free when ligated); a rod that buckles at the MD's tension is refused with the reason
     models: list[tuple[str, list]] = [("paper_rod", [(paper, [])])]     # per seed: (material, replicas)
     if mats:
         models.append(("cg_rod", [(c, reps) for _, c, reps in mats]))
@@ -168,6 +158,12 @@ def predict_and_compare(modes_json, out, tension_jsons, cg_dirs=(), m: int | Non
             refused[name] = f"no prediction at the MD's tension {T:.3g} +- {T_err:.2g} pN: {e}"
     if not mats:
         refused["cg_rod"] = refused["cg_rod_box_twist"] = "; ".join(cg_reasons) or "no coarse-graining"
+    return predictions, refused
+
+
+def _rows(table: dict, predictions: dict) -> list:
+    """Per MD mode: the comparison with each prediction and the MD's own numbers."""
+    from mdbridge.analysis.dispersion_prediction import compare
     rows = compare(table["modes"], predictions)
     for r, entry in zip(rows, table["modes"]):
         bend = entry["kind"] == "bend"
@@ -177,6 +173,55 @@ def predict_and_compare(modes_json, out, tension_jsons, cg_dirs=(), m: int | Non
                  md_oscillator_variance_A2=entry.get("oscillator_variance") if bend else None,
                  md_oscillator_variance_err_A2=entry.get("oscillator_variance_err") if bend else None,
                  k_per_A=2 * np.pi * r["n"] / table["length_A"])
+    return rows
+
+
+def _statics_over_dynamics(rows, template, duplex, dyn) -> list:
+    """Every measured oscillator variance over the variance of the rod the dynamics fit gives
+    (its T and B, the template's every other constant): where the statics agree with the
+    dynamics, mode by mode, beyond the modes the fits use."""
+    if dyn.get("tension_pN") is None:
+        return []
+    from mdbridge.analysis.dispersion_prediction import bend_variances_A2, scaled_bend
+    use = [r for r in rows if r["kind"] == "bend" and r.get("md_oscillator_variance_A2") is not None]
+    if not use:
+        return []
+    rod = bend_variances_A2(scaled_bend(template, dyn["bend_scale_of_template"]), duplex, dyn["tension_pN"],
+                            [r["n"] for r in use])
+    return [{"n": r["n"], "ratio": r["md_oscillator_variance_A2"] / v,
+             "ratio_err": r["md_oscillator_variance_err_A2"] / v, "rod_variance_A2": float(v)}
+            for r, v in zip(use, rod)]
+
+
+def _checks(dyn: dict, stat: dict, T: float, T_err: float) -> dict:
+    """z of the dynamics' and the statics' tension against the virial's, and of their B."""
+    from mdbridge.analysis.dispersion_prediction import z_score
+
+    def z(a, b, key):
+        err = {"tension_pN": "tension_err_pN", "B_pN_nm2": "B_err_pN_nm2"}[key]
+        return z_score(a.get(key), a.get(err), b.get(key), b.get(err))
+    virial = {"tension_pN": T, "tension_err_pN": T_err}
+    return {"z_T_dynamics_vs_virial": z(dyn, virial, "tension_pN"),
+            "z_T_statics_vs_virial": z(stat, virial, "tension_pN"),
+            "z_B_dynamics_vs_statics": z(dyn, stat, "B_pN_nm2")}
+
+
+def predict_and_compare(modes_json, out, tension_jsons, cg_dirs=(), m: int | None = None, n_replicas: int = 20,
+                        n_fit_max: int = 4, temperature_K: float | None = None) -> dict:
+    from mdbridge.analysis.dispersion_prediction import (Duplex, bend_stiffness_pN_nm2, box_twist, paper_material,
+                                                         persistence_nm)
+    table = json.loads(Path(modes_json).read_text())
+    tensions = [json.loads(Path(p).read_text()) for p in tension_jsons]
+    if not tensions:
+        raise InputError("no tension file: the prediction is taken at the MD's measured tension")
+    T, T_err = _pooled_tension(tensions)
+    temp = float(temperature_K or tensions[0].get("temperature_K") or TEMPERATURE_K)
+    duplex = Duplex(int(table["n_bp"]), int(table["helical_repeat"]), temp)
+    n_max = int(table["helical_repeat"]) - 1
+    paper = paper_material(duplex)
+    mats, cg_reasons = _materials(cg_dirs, m, n_replicas)
+    predictions, refused = _predictions(paper, mats, cg_reasons, duplex, T, T_err, n_max)
+    rows = _rows(table, predictions)
     # the MD's own T and B: the lowest bend modes that are measured
     # the template: the coarse-grained material (mass, inertia, shear, stretch, couplings of the
     # MD) with the box's twist, as the MD's mean state is (the ligation's torque is unknown)
@@ -189,28 +234,8 @@ def predict_and_compare(modes_json, out, tension_jsons, cg_dirs=(), m: int | Non
     # what that background does (docs/dispersion.md, "The statics")
     fits = {obs: _fit(low, obs, template, duplex, T) for obs in ("omega", "variance", "total_variance")}
     dyn, stat = fits["omega"], fits["variance"]
-
-    # every measured oscillator variance over the variance of the rod the dynamics fit gives
-    # (its T and B, the template's every other constant): where the statics agree with the
-    # dynamics, mode by mode, beyond the modes the fits use
-    over_dyn = []
-    if dyn.get("tension_pN") is not None:
-        from mdbridge.analysis.dispersion_prediction import bend_variances_A2, scaled_bend
-        use = [r for r in rows if r["kind"] == "bend" and r.get("md_oscillator_variance_A2") is not None]
-        if use:
-            rod = bend_variances_A2(scaled_bend(template, dyn["bend_scale_of_template"]), duplex, dyn["tension_pN"],
-                                    [r["n"] for r in use])
-            over_dyn = [{"n": r["n"], "ratio": r["md_oscillator_variance_A2"] / v,
-                         "ratio_err": r["md_oscillator_variance_err_A2"] / v, "rod_variance_A2": float(v)}
-                        for r, v in zip(use, rod)]
-
-    def z(a, b, key):
-        err = {"tension_pN": "tension_err_pN", "B_pN_nm2": "B_err_pN_nm2"}[key]
-        return z_score(a.get(key), a.get(err), b.get(key), b.get(err))
-    virial = {"tension_pN": T, "tension_err_pN": T_err}
-    checks = {"z_T_dynamics_vs_virial": z(dyn, virial, "tension_pN"),
-              "z_T_statics_vs_virial": z(stat, virial, "tension_pN"),
-              "z_B_dynamics_vs_statics": z(dyn, stat, "B_pN_nm2")}
+    over_dyn = _statics_over_dynamics(rows, template, duplex, dyn)
+    checks = _checks(dyn, stat, T, T_err)
     refs = {name: {"B_pN_nm2": bend_stiffness_pN_nm2(mat),
                    "persistence_length_nm": persistence_nm(bend_stiffness_pN_nm2(mat), temp)}
             for name, mat in ([("paper_rod", paper)] + ([("cg_rod", mats[0][1])] if mats else []))}

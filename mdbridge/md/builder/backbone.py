@@ -24,10 +24,12 @@ from dataclasses import dataclass
 import numpy as np
 
 from dna_models.errors import InputError
+from mdbridge.md.forcefields import BUILDER
 
-O3P_BOND_A = 1.60                 # CHARMM27 O3'-P
-ANGLE_C3_O3_P_DEG = 120.0         # CHARMM27 CN7-ON2-P
-ANGLE_O3_P_O5_DEG = 104.3         # CHARMM27 ON2-P-ON2
+# the templates' force field (mdbridge/md/forcefields.py): CHARMM27
+O3P_BOND_A = BUILDER.o3_p.length_A                # O3'-P
+ANGLE_C3_O3_P_DEG = BUILDER.angle_c3_o3_p_deg     # CN7-ON2-P
+ANGLE_O3_P_O5_DEG = BUILDER.angle_o3_p_o5_deg     # ON2-P-ON2
 LINK_RANGE_A = (1.5, 1.8)         # a link inside is kept as placed; outside it is closed
 # the choice among closing turns: squared angle errors in units of ANGLE_SCALE_DEG plus the
 # squared move of P in units of MOVE_SCALE_A (so that the backbone is not turned inside out)
@@ -35,8 +37,8 @@ ANGLE_SCALE_DEG = 10.0
 MOVE_SCALE_A = 0.5
 
 # the 5' end of a nucleotide that each torsion turns (those absent, e.g. hydrogens, skipped)
-GAMMA_MOVES = ("O5'", "P", "O1P", "O2P", "H5'1", "H5'2")   # about C4'-C5'
-BETA_MOVES = ("P", "O1P", "O2P")                           # about C5'-O5'
+GAMMA_MOVES = ("O5'", *BUILDER.phosphate, "H5'1", "H5'2")   # about C4'-C5'
+BETA_MOVES = BUILDER.phosphate                               # about C5'-O5'
 GAMMA_GRID_DEG = np.arange(-180.0, 180.0, 2.0)             # refined to 0.05 deg around the best
 
 

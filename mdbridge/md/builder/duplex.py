@@ -26,7 +26,7 @@ from __future__ import annotations
 import numpy as np
 
 from dna_models import sequence as dna_sequence
-from dna_models.nucleotides import CHARMM_RESNAME
+from mdbridge.md.forcefields import BUILDER
 from dna_models.errors import InputError
 from mdbridge.md.builder.structure import Structure
 from dna_models.templates import nucleotide_template
@@ -136,7 +136,7 @@ def build_duplex(sequence, origins, R, *, periodic_box=None, hydrogens=False,
         k0 = sum(len(c) for c in coords)
         start_of[resid] = (k0, t)
         names.append(t.names)
-        resnames.append(np.full(len(t.names), CHARMM_RESNAME[base]))
+        resnames.append(np.full(len(t.names), BUILDER.residue_names[base]))
         resids.append(np.full(len(t.names), resid))
         strands.append(np.full(len(t.names), strand))
         elements.append(t.elements)

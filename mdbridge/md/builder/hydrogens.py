@@ -34,11 +34,12 @@ def run_pdb2gmx_ignh(pdb: Path, workdir: Path, gmx: str | None = None) -> Path:
     """Run pdb2gmx -ignh on a heavy-atom linear duplex (5'/3' DNA termini) and
     return the PDB it writes (hydrogens added, A, 3 decimals). gmx: as
     mdbridge.md.gromacs.gmx.find_gmx (the given path, else $DNAROD_GMX, else PATH)."""
+    from mdbridge.md.forcefields import BUILDER
     from mdbridge.md.gromacs.gmx import find_gmx, run_gmx
     out = workdir / "with_h.pdb"
     # charmm27 lists the protein termini first: start 2 = 5', end 4 = 3'
     r = run_gmx(find_gmx(gmx), ["pdb2gmx", "-f", str(pdb), "-o", str(out), "-p",
-                                str(workdir / "topol.top"), "-ff", "charmm27", "-water", "none",
+                                str(workdir / "topol.top"), "-ff", BUILDER.name, "-water", "none",
                                 "-ter", "-ignh"], workdir, stdin="2\n4\n2\n4\n", timeout_s=300)
     log = r.stdout + r.stderr
     if len(re.findall(r"Start terminus D[ACGT]-\d+: 5'", log)) != 2 \

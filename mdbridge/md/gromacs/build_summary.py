@@ -5,7 +5,8 @@ Limits:
 - O3'-P links as built: 1.5-1.8 A (mdbridge/md/builder/backbone.py makes them so and
   refuses a build where it cannot). In conf.gro after an equilibration at T the bonds
   vibrate: about sqrt(kT / k_b) = 0.03 A rms at 300 K (CHARMM27 O3'-P, k_b = 225936
-  kJ/mol/nm^2), so no hard limit there.
+  kJ/mol/nm^2; the build's force field from mdbridge/md/forcefields.py), so no hard
+  limit there.
 - Base-pair frames of conf.gro against the rod's t = 0 frames: without an equilibration
   they differ only by the builder's placement (0.03 A / 0.3 deg, docs/builder.md) and
   the restrained minimisation (base heavy atoms held; about 0.01 A / 0.3 deg on the
@@ -21,9 +22,10 @@ from dna_models.errors import DnarodError
 from dna_models.units import BOLTZMANN_KJ_PER_MOL_K
 
 from mdbridge.md.builder.backbone import LINK_RANGE_A
+from mdbridge.md.forcefields import forcefield
+from mdbridge.md.gromacs import defaults
 
 FRAMES_LIMIT = {"max_origin_A": 0.1, "max_angle_deg": 1.0}
-O3P_BOND_K_KJ_MOL_NM2 = 225936.0    # CHARMM27 ON2-P (charmm27.ff/ffnabonded.itp)
 
 
 def summary_lines(info: dict, built_links_A, temperature_K: float) -> list[str]:
@@ -44,7 +46,8 @@ def summary_lines(info: dict, built_links_A, temperature_K: float) -> list[str]:
         gro = [x for v in js.values() for x in (v["interior_min"], v["interior_max"], v["junction"])]
         text += f"; in conf.gro {min(gro):.2f}-{max(gro):.2f} A, junctions {junctions} A"
         if info.get("equilibration") and temperature_K > 0:
-            sigma = np.sqrt(BOLTZMANN_KJ_PER_MOL_K * temperature_K / O3P_BOND_K_KJ_MOL_NM2) * 10.0
+            k_b = forcefield(info.get("forcefield", defaults.FORCEFIELD)).o3_p.k_kJ_mol_nm2
+            sigma = np.sqrt(BOLTZMANN_KJ_PER_MOL_K * temperature_K / k_b) * 10.0
             text += f" (bonds vibrate by {sigma:.2f} A rms at {temperature_K:g} K)"
     else:
         text += f"; junctions {junctions} A"

@@ -19,8 +19,11 @@ from pathlib import Path
 
 from dna_models.errors import InputError
 
+from ..forcefields import REGISTRY
+
 ELECTROSTATICS = ("paper", "neutral-phosphates")
-NEUTRALISING_ATOMS = {"O1P": 0.5, "O2P": 0.5}
+# +0.5 e on each non-bridging phosphate oxygen, as each registered force field names it
+NEUTRALISING_ATOMS = {o: 0.5 for ff in REGISTRY.values() for o in ff.phosphate_oxygens}
 
 
 def apply_electrostatics(itp: Path, mode: str) -> dict:

@@ -9,9 +9,12 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from ..forcefields import REGISTRY
 from .topology import Molecule
 
-BACKBONE_SUGAR = {"P", "O1P", "O2P", "O5'", "C5'", "C4'", "O4'", "C3'", "O3'", "C2'", "C1'"}
+# the phosphate as each registered force field's dna.rtp names it, and the sugar
+BACKBONE_SUGAR = {*(a for ff in REGISTRY.values() for a in ff.phosphate),
+                  "O5'", "C5'", "C4'", "O4'", "C3'", "O3'", "C2'", "C1'"}
 DEFINE = "POSRES_BASES"
 
 

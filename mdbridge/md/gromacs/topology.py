@@ -17,15 +17,10 @@ import numpy as np
 
 from dna_models.errors import ExternalToolError, InputError
 
+from ..forcefields import NAMES as FORCEFIELDS, ForceField, forcefield as registered
 from .gmx import gmx_top_dir, run_gmx
 
-FORCEFIELDS = ("charmm27", "amber99sb-ildn")
-
-# PDB atom names the builder writes (CHARMM27) -> what each force field's rtp wants.
-# charmm27's own dna.arn already maps the PDBv3 names (OP1, C7, ...); amber's
-# rtp calls the thymine methyl carbon C7 and has no arn entry for C5M.
-_RENAME = {"charmm27": {"OP1": "O1P", "OP2": "O2P", "C7": "C5M"},
-           "amber99sb-ildn": {"OP1": "O1P", "OP2": "O2P", "C5M": "C7"}}
+__all__ = ["FORCEFIELDS", "Molecule", "parse_itp", "write_pdb2gmx_input", "run_pdb2gmx", "read_pdb_chains"]
 
 
 @dataclass
@@ -107,22 +102,21 @@ def write_pdb2gmx_input(path: Path, chains: list[dict], forcefield: str) -> None
 
     chains: [{'id': 'A', 'residues': [(resid, resname, [(atomname, xyz_A), ...]), ...]}, ...]
     with whole (unwrapped) coordinates in Angstrom."""
-    if forcefield not in FORCEFIELDS:
-        raise InputError(f"force field {forcefield!r} not supported; allowed: {', '.join(FORCEFIELDS)}")
-    ren = _RENAME[forcefield]
+    ff = registered(forcefield)
+    phosphate = set(ff.phosphate)
     out = []
     serial = 0
     for ch in chains:
         for k, (resid, resname, atoms) in enumerate(ch["residues"]):
             names = [a for a, _ in atoms]
-            if k == 0 and not {"P", "O1P", "O2P"} <= {ren.get(a, a) for a in names}:
+            if k == 0 and not phosphate <= {ff.rtp_name(a) for a in names}:
                 raise InputError(f"strand {ch['id']}: first residue {resname}{resid} has no "
                                  "5' phosphate (P, O1P/OP1, O2P/OP2); ring closure across the "
                                  "periodic boundary needs it")
             for name, xyz in atoms:
                 if name.startswith("H") or (name[0].isdigit() and "H" in name):
                     continue    # pdb2gmx -ignh rebuilds hydrogens from the rtp
-                name = ren.get(name, name)
+                name = ff.rtp_name(name)
                 serial += 1
                 fname = f" {name:<3s}" if len(name) < 4 else f"{name:<4s}"
                 out.append(f"ATOM  {serial % 100000:5d} {fname} {resname:>3s} {ch['id']}"
@@ -133,22 +127,23 @@ def write_pdb2gmx_input(path: Path, chains: list[dict], forcefield: str) -> None
     Path(path).write_text("\n".join(out) + "\n")
 
 
-def _local_amber_ff(gmx: str, workdir: Path) -> None:
-    """A private copy of amber99sb-ildn whose dna.r2b maps every DNA residue to its
-    middle (phosphate-carrying) building block: pdb2gmx would otherwise give the
-    first and last residue the 5'/3' terminal forms (DA5 has no phosphate), which
-    cannot be ring-closed. pdb2gmx reads a force field in the working directory
-    before the shared one."""
-    src = gmx_top_dir(gmx) / "amber99sb-ildn.ff"
+def _local_ff_middle_residues(gmx: str, workdir: Path, ff: ForceField) -> None:
+    """A private copy of FF whose dna.r2b maps every DNA residue to its middle
+    (phosphate-carrying) building block: pdb2gmx would otherwise give the first and
+    last residue the 5'/3' terminal forms (amber's DA5 has no phosphate), which cannot
+    be ring-closed. pdb2gmx reads a force field in the working directory before the
+    shared one."""
+    src = gmx_top_dir(gmx) / f"{ff.name}.ff"
     if not src.is_dir():
-        raise ExternalToolError(f"amber99sb-ildn.ff not found in {src.parent} (the force-field "
+        raise ExternalToolError(f"{ff.name}.ff not found in {src.parent} (the force-field "
                                 "directory of this gmx)")
-    dst = workdir / "amber99sb-ildn.ff"
+    dst = workdir / f"{ff.name}.ff"
     if dst.exists():
         shutil.rmtree(dst)
     shutil.copytree(src, dst)
     lines = ["; dnarod: every DNA residue uses its middle building block (cyclic strands)"]
-    for r in ("DA", "DG", "DC", "DT"):
+    for b in ("A", "G", "C", "T"):
+        r = ff.residue_names[b]
         lines.append(f"{r}    {r}\t{r}\t{r}\t{r}")
     (dst / "dna.r2b").write_text("\n".join(lines) + "\n")
 
@@ -157,18 +152,17 @@ def run_pdb2gmx(gmx: str, pdb: Path, workdir: Path, forcefield: str, *, lb_nm: f
     """Run pdb2gmx (vacuum, hydrogens rebuilt, one moleculetype per strand, ring closure
     with -lb LB_NM). Returns {'gro', 'top', 'itps': [...], 'stdout'}."""
     workdir = Path(workdir)
+    ff = registered(forcefield)
     args = ["pdb2gmx", "-f", str(Path(pdb).resolve()), "-o", "pdb2gmx.gro", "-p", "topol.top", "-i", "posre.itp",
             "-ff", forcefield, "-water", "none", "-ignh", "-chainsep", "id", "-merge", "no",
-            "-lb", f"{lb_nm:.3f}"]
-    if forcefield == "charmm27":
-        args.append("-ter")   # default termini are protein ones; cyclic strands get none
-    elif forcefield == "amber99sb-ildn":
-        _local_amber_ff(gmx, workdir)
+            "-lb", f"{lb_nm:.3f}", *ff.pdb2gmx_options]
+    if ff.middle_residues_only:
+        _local_ff_middle_residues(gmx, workdir, ff)
     # With -ter pdb2gmx asks for each terminus it finds, and spins forever on a closed
-    # stdin. Closed rings have no termini; should closure fail, the answers below pick
-    # "None" for charmm27's DNA start (3) and end (5) termini, pdb2gmx finishes, and
-    # the junction check reports the failure.
-    proc = run_gmx(gmx, args, workdir, stdin="3\n5\n" * 8, log_name="gmx_pdb2gmx.log",
+    # stdin. Closed rings have no termini; should closure fail, the registry's answers
+    # pick "None" for each terminus, pdb2gmx finishes, and the junction check reports
+    # the failure.
+    proc = run_gmx(gmx, args, workdir, stdin=ff.terminus_answers, log_name="gmx_pdb2gmx.log",
                    timeout_s=600)
     itps = sorted(workdir.glob("topol_*.itp"))
     if not itps:   # a single chain goes straight into topol.top

@@ -1,0 +1,96 @@
+"""The sequence-dependent DNA rod, as a library call: per-step file, grid material, closed
+pre-stressed rest state (kicked or not) and scene, written into one folder.
+
+`dna_rod(DnaRodRequest(...))` is what `dnarod dna-rod` runs (workflows/commands/dna_rod.py
+parses, calls this and prints) and what the comparison's loop runs for the per-step
+coarse-grained rod (workflows/steps/cgloop.py). The files and rest.json's keys:
+docs/scenes.md, "Sequence-dependent DNA".
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from dna_models.errors import InputError
+from dna_models.units import Units
+from mdbridge.jsonio import write_json
+
+
+@dataclass
+class DnaRodRequest:
+    """The rod of SEQUENCE (validated) and how to make it; the fields are `dnarod dna-rod`'s options."""
+    sequence: str
+    output: str
+    params: str = "olson1998"          # paper | olson1998 | a per-step file STEPS.h5
+    mass: str = "paper"                # paper | atoms
+    points_per_bp: int = 1
+    interpolation: str = "trig"        # trig | smooth | step
+    space: str = "spectral"            # spectral | fd4
+    rest: str = "closed"               # closed | equilibrium
+    shape: str = "interpolated"        # interpolated | exact
+    box_A: float | None = None         # end-to-end length along the helix axis (default n_bp x rise)
+    kick: float = 0.0                  # A_v, A/ps (0: at rest)
+    t_end_ps: float = 600.0
+
+
+def _kicked_gamma(rest, g, L: float, kick_A_per_ps: float, u: Units) -> np.ndarray:
+    """Body-frame velocities of the paper's kick (Sec 6.1): lab velocity A_v sin(2 pi s / L) e_perp,
+    e_perp = d1(0) made normal to the helix axis."""
+    from mdbridge.rod.material.closed_rest import _frames_on_grid
+    R = _frames_on_grid(np.concatenate([rest.Gamma, rest.Omega], axis=1), L, 16)
+    a = rest.axis0
+    e = np.array([1.0, 0.0, 0.0]) - a[0] * a
+    e /= np.linalg.norm(e)
+    v = u.velocity_to_rod(kick_A_per_ps) * np.sin(2 * np.pi * g["s"] / L)[:, None] * e[None, :]
+    return np.einsum("jki,jk->ji", R, v)          # body frame: R^T v
+
+
+def dna_rod(req: DnaRodRequest, log=None) -> dict:
+    """Write REQ.output/steps.h5, material.h5, rest.h5, scene.toml and rest.json; returns
+    rest.json's content. log(text), if given, hears the stages."""
+    from mdbridge.rod.material.closed_rest import closed_rest_state, tension_torque_physical
+    from mdbridge.rod.material.gridfile import grid_scene, write_grid_material, write_initial_file
+    from mdbridge.rod.material.parameter_sets import step_material
+    from mdbridge.rod.material.stepfile import write_steps
+    from mdbridge.rod.material.steps_to_rod import grid_material, rod_material
+    from mdbridge.rod.scene import write_scene
+    u = Units.paper()
+    seq = req.sequence
+    if req.points_per_bp < 1:
+        raise InputError(f"--points-per-bp {req.points_per_bp}: must be >= 1")
+    out = Path(req.output)
+    out.mkdir(parents=True, exist_ok=True)
+    sm = step_material(seq, req.params, closed=True, mass=req.mass)
+    rm = rod_material(sm, units=u)
+    N = req.points_per_bp * rm.n_bp
+    g = grid_material(rm, N, req.interpolation, shape=req.shape)
+    L = rm.length
+    box = L if req.box_A is None else u.length_to_rod(req.box_A)
+    if log:
+        log(f"dna-rod: {rm.n_bp} bp, {req.params}, N = {N}; closed rest state ...")
+    rest = closed_rest_state(g, L, box_length=box, space=req.space, mode=req.rest)
+    write_steps(out / "steps.h5", sm)
+    write_grid_material(out / "material.h5", g, source=sm.source,
+                        attrs={"sequence": seq, "interpolation": req.interpolation, "h_A": rm.h_A})
+    gamma = _kicked_gamma(rest, g, L, req.kick, u) if req.kick else None
+    write_initial_file(out / "rest.h5", g["s"], rest.Gamma, rest.Omega, gamma=gamma)
+    write_scene(out / "scene.toml", grid_scene(L, N, "material.h5", "rest.h5", space=req.space,
+                                               t_end_ps=req.t_end_ps, units=u),
+                comment=f"{rm.n_bp}-bp DNA, sequence {seq}\nparameters: {sm.source}\n"
+                f"t = 0: the closed, pre-stressed rest state" + (f", kicked with A_v = {req.kick} A/ps"
+                                                                    if req.kick else "")
+                + "\nwritten by `dnarod dna-rod` (docs/scenes.md, 'Sequence-dependent DNA')")
+    T_pN, M_pNnm = tension_torque_physical(rest, u)
+    info = {"sequence": seq, "params": req.params, "source": sm.source, "n_bp": rm.n_bp, "points": N,
+            "length": L, "box_length": box, "h_A": rm.h_A, "interpolation": req.interpolation, "shape": req.shape,
+            "space": req.space, "rest": req.rest, "tension": rest.tension, "torque": rest.torque, "tension_pN": T_pN,
+            "torque_pN_nm": M_pNnm, "statics_residual": rest.statics_residual,
+            "closure_rotation_rad": rest.closure_rotation_rad,
+            "closure_length_error_A": u.length_to_A(rest.closure_length_error),
+            "rest_iterations": rest.iterations, "elastic_energy": rest.energy,
+            "elastic_energy_kT": rest.energy / u.kT_to_rod(sm.temperature_K),
+            "axis0": rest.axis0.tolist(), "kick_A_per_ps": req.kick}
+    write_json(out / "rest.json", info)
+    return info
