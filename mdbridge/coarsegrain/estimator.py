@@ -118,6 +118,19 @@ def _constants_of(mean, cov, T_K, n_eff, contour_A, sums=None):
     return out
 
 
+def _K_of(c, n):
+    """Stiffness of each covariance c (..., 6, 6), bias-corrected for n samples."""
+    K = np.linalg.inv(c) * bias_factor(n, P)[..., :, None, None]
+    return 0.5 * (K + np.swapaxes(K, -1, -2))
+
+
+def _K_series(c, n):
+    """The windows' compliance average: (mean covariance)^-1, bias-corrected with the
+    pooled degrees of freedom (windows in series add compliances, not stiffnesses)."""
+    K = np.linalg.inv(c.mean(axis=-3)) * np.asarray(bias_factor(n, P))[..., None, None]
+    return 0.5 * (K + np.swapaxes(K, -1, -2))
+
+
 def closed_filled(q: np.ndarray, open_frames: np.ndarray) -> np.ndarray:
     """q (T, n, 6) with each open (frame, step) set to that step's mean over its closed
     frames (the step's overall mean where it is never closed)."""
@@ -290,16 +303,6 @@ class CoarseGrain(AnalysisBase):
                 f"longer trajectory (about {need} frames), or smaller m (--m-max)")
         Kinv = np.linalg.inv(cov)
 
-        def K_of(c, n):
-            K = np.linalg.inv(c) * bias_factor(n, P)[..., :, None, None]
-            return 0.5 * (K + np.swapaxes(K, -1, -2))
-
-        def K_series(c, n):
-            """The windows' compliance average: (mean covariance)^-1, bias-corrected with the
-            pooled degrees of freedom (windows in series add compliances, not stiffnesses)."""
-            K = np.linalg.inv(c.mean(axis=-3)) * np.asarray(bias_factor(n, P))[..., None, None]
-            return 0.5 * (K + np.swapaxes(K, -1, -2))
-
         K = 0.5 * (Kinv + np.swapaxes(Kinv, -1, -2)) * bias_factor(n2, P)[:, None, None]
         # the pooled covariance averages n_w windows, of which ~n_w / m do not overlap:
         # its degrees of freedom for the bias correction are ~N_eff max(1, n_w / m)
@@ -310,7 +313,7 @@ class CoarseGrain(AnalysisBase):
         phys = _constants_of(mean, cov, self.T_K, n_pool, contour, sums_full)
 
         bm, bc = replicate_moments(qm, *boot, mask=keep)             # (B, n_w, 6), (B, n_w, 6, 6)
-        bK = K_of(bc, n2[None, :])
+        bK = _K_of(bc, n2[None, :])
         bphys = _constants_of(bm, bc, self.T_K, n_pool, contour, replicate_moments(sums, *boot, mask=keep))
         # tangent correlation <cos Gamma> of the segments (static + dynamic bending); a window
         # left out of a frame stands at its mean over the frames kept
@@ -323,34 +326,34 @@ class CoarseGrain(AnalysisBase):
         out = {"m": m, "first_step": starts,
                "mean": mean, "mean_err": spread(bm),
                "cov": cov, "K": K, "K_err": spread(bK), "tau2": tau2, "n_eff2": n2,
-               "K_series": K_series(cov, n_pool), "K_series_err": spread(K_series(bc, n_pool)),
+               "K_series": _K_series(cov, n_pool), "K_series_err": spread(_K_series(bc, n_pool)),
                "mean_avg": mean.mean(axis=0), "mean_avg_err": spread(bm.mean(axis=1)),
                # the replicates themselves: the m-step materials' errors are the spread of
                # rods built from them (cgrod.py)
-               "K_series_boot": K_series(bc, n_pool), "mean_avg_boot": bm.mean(axis=1),
+               "K_series_boot": _K_series(bc, n_pool), "mean_avg_boot": bm.mean(axis=1),
                "physical": {k: float(v) for k, v in phys.items()},
                "physical_err": {k: float(spread(v)) for k, v in bphys.items()},
                "physical_boot": bphys, "n_eff_pooled": n_pool}
-        # first half vs second half
+        out.update(self._subsets(qm, sums, keep, W_half, W_conv, n_conv, n2, n_pool, contour))
+        return out
+
+    def _subsets(self, qm, sums, keep, W_half, W_conv, n_conv, n2, n_pool, contour) -> dict:
+        """The estimate on the record's two halves and on its first n frames (convergence)."""
+        T = qm.shape[0]
         hm, hc = weighted_moments(qm, W_half, mask=keep)
-        n2h = n2[None, :] / 2.0
-        ok = np.all(n2h > P + 2)
-        hK = K_series(hc, n_pool / 2.0) if ok and n_pool / 2.0 > P + 2 else np.full_like(hc[:, 0], np.nan)
+        ok = np.all(n2[None, :] / 2.0 > P + 2)
+        hK = _K_series(hc, n_pool / 2.0) if ok and n_pool / 2.0 > P + 2 else np.full_like(hc[:, 0], np.nan)
         hphys = (_constants_of(hm, hc, self.T_K, n_pool / 2.0, contour, weighted_moments(sums, W_half, mask=keep))
                  if n_pool / 2 > 4 else None)
-        out["halves"] = {"K_series": hK, "mean_avg": hm.mean(axis=1),
-                         "physical": None if hphys is None else {k: v for k, v in hphys.items()}}
-        # convergence: first n frames
         cm, cc = weighted_moments(qm, W_conv, mask=keep)
-        n2c = n2[None, :] * (n_conv[:, None] / T)
-        okc = np.all(n2c > P + 2, axis=1)
+        okc = np.all(n2[None, :] * (n_conv[:, None] / T) > P + 2, axis=1)
         n_c = n_pool * n_conv / T
         cK = np.full_like(cc[:, 0], np.nan)
         okc &= n_c > P + 2
         if okc.any():
-            cK[okc] = K_series(cc[okc], n_c[okc])
+            cK[okc] = _K_series(cc[okc], n_c[okc])
         cphys = _constants_of(cm, cc, self.T_K, n_c if np.all(n_c > 4) else None, contour,
                               weighted_moments(sums, W_conv, mask=keep))
-        out["convergence"] = {"frames": n_conv, "K_series": cK, "mean_avg": cm.mean(axis=1),
-                              "physical": cphys}
-        return out
+        return {"halves": {"K_series": hK, "mean_avg": hm.mean(axis=1),
+                           "physical": None if hphys is None else {k: v for k, v in hphys.items()}},
+                "convergence": {"frames": n_conv, "K_series": cK, "mean_avg": cm.mean(axis=1), "physical": cphys}}
