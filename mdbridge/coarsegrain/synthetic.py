@@ -45,14 +45,19 @@ def write_trajectory(directory, sequence: str, q: np.ndarray, temperature_K: flo
 
     d = Path(directory)
     d.mkdir(parents=True, exist_ok=True)
+    # build_duplex places every nucleotide's template rigidly in its base-pair frame (3DNA's
+    # rebuild): build once, then move each base pair's atoms with its frame
+    R0, o0 = frames_from_steps(q[0])
+    s0 = build_duplex(sequence, o0, R0)
+    n = len(sequence)
+    pair = np.where(s0.resids <= n, s0.resids - 1, 2 * n - s0.resids)
+    local = np.einsum("aji,aj->ai", R0[pair], s0.coords - o0[pair])      # R^T (x - o)
     pos = []
     for qt in q:
         R, o = frames_from_steps(qt)
-        s = build_duplex(sequence, o, R)
-        pos.append(s.coords)
-    R, o = frames_from_steps(q[0])
+        pos.append(o[pair] + np.einsum("aij,aj->ai", R[pair], local))
     pdb = d / "duplex.pdb"
-    write_pdb(pdb, build_duplex(sequence, o, R))
+    write_pdb(pdb, s0)
     u = mda.Universe(str(pdb))
     pos_arr = np.array(pos, dtype=np.float32)
     vel = None

@@ -339,3 +339,77 @@ def dynamic_compliance_q0(coords: Coordinates, dt_ps: float, omegas_per_ps, max_
     return {"omega_per_ps": np.atleast_1d(np.asarray(omegas_per_ps, float)), "J": J,
             "J_storage_err": np.array(re_err), "J_loss_err": np.array(im_err),
             "K": np.linalg.inv(J), "block_frames": b, "max_lag_frames": max_lag}
+
+
+# -- params.json ---------------------------------------------------------------------------
+def _l(a):
+    return np.asarray(a, dtype=float).tolist()
+
+
+def params_section(q_steps, keep, closed: bool, times_ps, window_ps=None, min_effective: float = 50.0,
+                   n_boot: int = 200, seed: int = 0, source: str = "trajectory") -> dict:
+    """params.json's "unrelaxed" and "compliance_by_window" (docs/coarse-graining.md, "Compliance
+    by timescale"), per step, kT units, in the order and units of "average"."stiffness".
+    window_ps: the W given (--window-ps; the first is the unrelaxed one); None: the default
+    DEFAULT_WINDOW_PS, and a record too short for it gives "unrelaxed": null with the reason
+    instead of an error. A W whose windows are worth fewer than min_effective samples is
+    refused (InputError) when given, reported null with the reason by default."""
+    given = window_ps is not None and len(window_ps) > 0
+    W_unrel = float(window_ps[0]) if given else DEFAULT_WINDOW_PS
+    try:
+        dt = frame_time_ps(times_ps, source)
+        T = np.asarray(q_steps).shape[0]
+        grid = [w for w in WINDOW_GRID_PS if w >= 2 * dt and T // int(round(w / dt)) >= MIN_WINDOWS]
+        W = sorted(set(grid) | ({float(w) for w in window_ps} if given else set()))
+        if not given and (T // max(2, int(round(W_unrel / dt))) < MIN_WINDOWS or W_unrel < 2 * dt):
+            raise InputError(f"{source}: the record ({T} frames of {dt:g} ps) is too short for the default "
+                             f"window {W_unrel:g} ps ({MIN_WINDOWS} windows needed)")
+        W = sorted(set(W) | {W_unrel})
+        r = compliance_by_window(q_steps, keep, closed, dt, W, n_boot, seed, source)
+    except InputError as e:
+        if given:
+            raise
+        return {"unrelaxed": None, "unrelaxed_reason": str(e), "compliance_by_window": None}
+    entries = dict(zip(r["window_ps"], r["entries"]))
+    e = entries[W_unrel]
+    unrelaxed: dict | None = None
+    reason = None
+    if e["effective_samples"] < min_effective:
+        n = e["frames"]
+        need = math.ceil(min_effective * 2.0 * e["tau2_frames"] / n) * n
+        reason = (f"{source}: windows of {W_unrel:g} ps ({n} frames): the {e['windows']} windows are worth "
+                  f"{e['effective_samples']:.1f} independent samples of the within-window covariance, fewer than "
+                  f"{min_effective:g}; about {need} frames ({need * dt:g} ps) are needed")
+        if given:
+            raise InputError(reason)
+    else:
+        unrelaxed = {"window_ps": W_unrel, "window_frames": e["frames"], "windows": e["windows"],
+                     "stiffness": _l(e["stiffness_q0"]), "stiffness_err": _l(e["stiffness_q0_err"]),
+                     "compliance": _l(e["compliance_q0"]), "compliance_err": _l(e["compliance_q0_err"]),
+                     "creep_stiffness": _l(_inv(e["creep_q0"])),
+                     "effective_samples": e["effective_samples"],
+                     "definition": "K(W): the inverse of the q -> 0 coordinates' covariance within disjoint "
+                                   "windows of W (each about its own mean), per step, kT units; creep_stiffness "
+                                   "is J(W)^-1, the mean-square displacement at lag W over 2 kT, inverted"}
+    entries_all = [entries[w] for w in r["window_ps"]] + [r["record"]]
+    rec_ps = r["record_ps"]
+    out = {"unrelaxed": unrelaxed,
+           "compliance_by_window": {
+               "window_ps": list(r["window_ps"]) + [rec_ps], "frame_spacing_ps": dt,
+               "compliance": [_l(x["compliance_q0"]) for x in entries_all],
+               "compliance_err": [_l(x["compliance_q0_err"]) for x in entries_all],
+               "stiffness": [_l(x["stiffness_q0"]) for x in entries_all],
+               "stiffness_err": [_l(x["stiffness_q0_err"]) for x in entries_all],
+               "creep_compliance": [_l(x["creep_q0"]) for x in r["entries"]] + [None],
+               "compliance_step_average": [_l(x["compliance_step_average"]) for x in entries_all],
+               "windows": [int(x["windows"]) for x in entries_all],
+               "effective_samples": [float(x["effective_samples"]) for x in entries_all],
+               "fit_modes": [int(k) for k in r["fit_modes"]],
+               "definition": "per W: the q -> 0 coordinates' covariance within disjoint windows of W, about "
+                             "each window's mean, averaged over the windows (compliance per step, kT units); "
+                             "= (2 / W^2) int_0^W (W - u) J(u) du of the creep compliance J; the last entry is "
+                             "the whole record (relaxed). Errors: moving-block bootstrap over windows (the "
+                             "record: over frames). docs/coarse-graining.md, \"Compliance by timescale\""}}
+    if reason is not None:
+        out["unrelaxed_reason"] = reason
+    return out

@@ -88,6 +88,10 @@ def add_arguments(p):
     p.add_argument("--start", type=int, default=None, help="first trajectory frame (0-based)")
     p.add_argument("--stop", type=int, default=None, help="stop before this frame")
     p.add_argument("--step", type=int, default=None, help="take every STEP-th frame")
+    p.add_argument("--window-ps", type=float, nargs="+", metavar="W",
+                   help="compliance by timescale: windows (ps) for K(W); the first is params.json's "
+                        "\"unrelaxed\" (default 50 ps; docs/coarse-graining.md, \"Compliance by timescale\"); "
+                        "the whole-record estimate is then written with a caveat when short of --min-effective")
 
 
 def constants_table(params: dict) -> str:
@@ -188,9 +192,13 @@ def _coarse_grain(args, u, source, pairs, numbering, closed, stages):
         caveats.append("the rod file carries no uniform rho and I (a material file): no mass and inertia")
     elif not extras["mass_inertia"]["hydrogens"]:
         caveats.append("the topology has no hydrogens: masses and inertia are those of the heavy atoms only")
+    windows = getattr(args, "window_ps", None)
     cg = CoarseGrain(ens, T_K, m_values=m_values, m_rod=m_rod, n_boot=args.bootstrap, seed=args.seed,
-                     discard=args.discard, min_effective=min_eff, progress=stages).run()
+                     discard=args.discard, min_effective=0.0 if windows else min_eff, progress=stages).run()
     stages.close()
+    if windows and cg.results["effective_samples"] < min_eff:
+        caveats.append(f"the whole-record (relaxed) estimate: {cg.results['effective_samples']:.1f} independent "
+                       f"samples, fewer than {min_eff:g}; written because --window-ps was given, not to be trusted")
     n_modes = cg.results["effective_samples_fit_modes"]
     if n_modes < min_eff:
         caveats.append(f"the slowest mode of the q -> 0 fit (autocorrelation time "
@@ -198,6 +206,7 @@ def _coarse_grain(args, u, source, pairs, numbering, closed, stages):
                        f"fewer than {min_eff:g}: the bootstrap's blocks are capped at T / 8, so the rod's K's error "
                        "may be understated; a longer run settles it")
     params = build_params(cg, T_src, extras, args.tension, args.torque, min_eff, caveats)
+    params.update(_timescale(cg, ens, windows, min_eff, args, source))
     out.mkdir(parents=True, exist_ok=True)
     write_params(out / "params.json", params)
     params["convergence"]["figure"] = "convergence.png"
@@ -220,3 +229,12 @@ def _coarse_grain(args, u, source, pairs, numbering, closed, stages):
     print(f"wrote {out / 'params.json'}, {out / 'q_stiffness.png'}, {out / 'convergence.png'}, {out / 'by_length.png'}"
           + "".join(f", {out / f}" for f in extra))
     return 0
+
+
+def _timescale(cg, ens, windows, min_eff, args, source) -> dict:
+    """params.json's "unrelaxed" and "compliance_by_window" from the frames the estimator used."""
+    from mdbridge.coarsegrain.timescale import params_section
+    t0 = cg.results["discarded_frames"]
+    fr = cg.frames[t0:]
+    return params_section(ens.q[fr], ~ens.excluded, ens.closed, ens.times_ps[fr], windows, min_eff,
+                          args.bootstrap, args.seed, source)
