@@ -87,9 +87,11 @@ class Coordinates:
     """The real series whose within-window covariances give the compliances: the step
     parameters (T, n_steps, 6) of the kept steps, and the 12 real parts of the Fourier
     amplitudes of the q -> 0 fit modes (T, K, 12), with the intercept weights that turn
-    their Re S(q_k) into S(0) (qstiffness.py)."""
+    their Re S(q_k) into S(0) (qstiffness.py). leave_out: a body-frame wavenumber k taken
+    out of the fit and the intercept refitted (the rule's guard against a mode's own
+    resonance in its stiffness, docs/coarse-graining.md, "Compliance by timescale")."""
 
-    def __init__(self, q_steps: np.ndarray, keep: np.ndarray, closed: bool):
+    def __init__(self, q_steps: np.ndarray, keep: np.ndarray, closed: bool, leave_out: int | None = None):
         q = np.asarray(q_steps, dtype=float)
         self.T, n, _ = q.shape
         self.keep = np.asarray(keep, dtype=bool)
@@ -99,8 +101,11 @@ class Coordinates:
         k_all = half_modes(n)
         fit = fit_modes(n, closed, turns)
         idx = np.flatnonzero(fit)
+        if leave_out is not None:
+            idx = idx[k_all[idx] != int(leave_out)]
         if len(idx) == 0:
-            idx = np.flatnonzero(usable_modes(n, closed, turns))[:1]
+            idx = np.flatnonzero(usable_modes(n, closed, turns) & (k_all != (leave_out if leave_out is not None
+                                                                              else -1)))[:1]
         w = intercept_weights(2 * np.pi * k_all[idx] / n, 1)
         self.weights = np.ones(1) if w is None else w
         self.modes = k_all[idx]
@@ -366,10 +371,10 @@ def params_section(q_steps, keep, closed: bool, times_ps, window_ps=None, min_ef
                              f"window {W_unrel:g} ps ({MIN_WINDOWS} windows needed)")
         W = sorted(set(W) | {W_unrel})
         r = compliance_by_window(q_steps, keep, closed, dt, W, n_boot, seed, source)
-    except InputError as e:
+    except InputError as err:
         if given:
             raise
-        return {"unrelaxed": None, "unrelaxed_reason": str(e), "compliance_by_window": None}
+        return {"unrelaxed": None, "unrelaxed_reason": str(err), "compliance_by_window": None}
     entries = dict(zip(r["window_ps"], r["entries"]))
     e = entries[W_unrel]
     unrelaxed: dict | None = None
@@ -393,7 +398,7 @@ def params_section(q_steps, keep, closed: bool, times_ps, window_ps=None, min_ef
                                    "is J(W)^-1, the mean-square displacement at lag W over 2 kT, inverted"}
     entries_all = [entries[w] for w in r["window_ps"]] + [r["record"]]
     rec_ps = r["record_ps"]
-    out = {"unrelaxed": unrelaxed,
+    out: dict = {"unrelaxed": unrelaxed,
            "compliance_by_window": {
                "window_ps": list(r["window_ps"]) + [rec_ps], "frame_spacing_ps": dt,
                "compliance": [_l(x["compliance_q0"]) for x in entries_all],

@@ -223,6 +223,14 @@ def _coarse_grain(args, u, source, pairs, numbering, closed, stages):
           f"{cg.results['frames_used']} frames used after discarding {cg.results['discarded_frames']}, "
           f"N_eff = {cg.results['effective_samples']:.0f}, T = {T_K:.1f} K ({T_src.split(' ')[0]})")
     print(constants_table(params))
+    if params.get("unrelaxed"):
+        import numpy as np
+        un, rel = params["unrelaxed"], params["compliance_by_window"]["stiffness"][-1]
+        ratio = np.diagonal(np.asarray(un["stiffness"])) / np.diagonal(np.asarray(rel))
+        print(f"  unrelaxed K(W = {un['window_ps']:g} ps) / whole-record K, diagonal (shift ... twist): "
+              + " ".join(f"{r:.3g}" for r in ratio))
+    elif params.get("unrelaxed_reason"):
+        print(f"  no unrelaxed stiffness: {params['unrelaxed_reason']}")
     for c in caveats:
         print(f"  caveat: {c}")
     extra = [f for f in (params["files"].get("steps_file"), params["files"].get("material_file"), "replicas.h5") if f]
