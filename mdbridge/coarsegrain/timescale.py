@@ -111,6 +111,13 @@ class Coordinates:
         self.modes = k_all[idx]
         self.y = features(q, self.keep)[:, idx]                     # (T, K, 12)
 
+    def q0_products(self, u: np.ndarray, v: np.ndarray) -> np.ndarray:
+        """Per frame, the q -> 0 compliance's products (T, 6, 6): sum_k w_k (u_a v_a^T + u_b v_b^T)
+        / n_kept of two series of the fit modes' real parts (T, K, 12) (u may be complex); their
+        mean over frames is q0_compliance of the covariance, without the K 12 x 12 blocks."""
+        p = np.einsum("tki,tkj->tkij", u[..., :P], v[..., :P]) + np.einsum("tki,tkj->tkij", u[..., P:], v[..., P:])
+        return np.einsum("k,tkij->tij", self.weights, p) / float(self.n_kept)
+
     def q0_compliance(self, cov12: np.ndarray) -> np.ndarray:
         """S(0) (..., 6, 6) from covariances (..., K, 12, 12) of the fit modes' real parts:
         the fit's intercept of Re S(q_k) = (cov_aa + cov_bb) / n_kept."""
@@ -187,10 +194,13 @@ def creep_q0(coords: Coordinates, lag: int, n_boot: int, rng: np.random.Generato
     """J(lag dt) of the q -> 0 coordinates, (6, 6) kT units, and its moving-block bootstrap
     error over the frame pairs (blocks of 6 tau of the slowest fit-mode amplitude)."""
     d = coords.y[lag:] - coords.y[:-lag]
-    prod = 0.5 * np.einsum("tki,tkj->tkij", d, d)
+    prod = 0.5 * coords.q0_products(d, d)
     b = block_length(float(np.max(integrated_time(coords.y))), len(d))
-    return (coords.q0_compliance(prod.mean(axis=0)),
-            spread(coords.q0_compliance(_boot_mean(prod, n_boot, rng, b))))
+    return _sym(prod.mean(axis=0)), spread(_sym(_boot_mean(prod, n_boot, rng, b)))
+
+
+def _sym(S):
+    return 0.5 * (S + np.swapaxes(S, -1, -2))
 
 
 def record_compliance(coords: Coordinates, n_boot: int, rng: np.random.Generator) -> dict:
@@ -198,11 +208,11 @@ def record_compliance(coords: Coordinates, n_boot: int, rng: np.random.Generator
     moving-block bootstrap over frames (blocks of 6 tau of the slowest fit-mode amplitude)."""
     T = coords.T
     d = coords.y - coords.y.mean(axis=0)
-    prod = np.einsum("tki,tkj->tkij", d, d)
+    prod = coords.q0_products(d, d)
     tau = float(np.max(integrated_time(coords.y)))
     b = block_length(tau, T)
-    Sq = coords.q0_compliance(prod.mean(axis=0))
-    bq = coords.q0_compliance(_boot_mean(prod, n_boot, rng, b))
+    Sq = _sym(prod.mean(axis=0))
+    bq = _sym(_boot_mean(prod, n_boot, rng, b))
     ds = coords.x_steps - coords.x_steps.mean(axis=0)
     cs = np.einsum("tsi,tsj->sij", ds, ds) / float(T)
     return {"frames": T, "windows": 1, "block_frames": b, "compliance_q0": Sq, "compliance_q0_err": spread(bq),
@@ -332,8 +342,7 @@ def dynamic_compliance_q0(coords: Coordinates, dt_ps: float, omegas_per_ps, max_
     d = y - y.mean(axis=0)
     for om in np.atleast_1d(omegas_per_ps):
         g = _filtered(d, lag_kernel(dt_ps, float(om), max_lag), float(om)).reshape(-1, K, 12)
-        prod = np.einsum("tki,tkj->tkij", g, d[:len(g)].reshape(-1, K, 12))
-        J = coords.q0_compliance(prod)                                   # (T', 6, 6) complex
+        J = _sym(coords.q0_products(g, d[:len(g)].reshape(-1, K, 12)))   # (T', 6, 6) complex
         st = block_starts(len(J), b, n_boot, rng)
         flat = np.concatenate([J.real.reshape(len(J), -1), J.imag.reshape(len(J), -1)], axis=1)
         bs = block_sums(flat, st, b) / float(len(J))
