@@ -380,7 +380,8 @@ def params_section(q_steps, keep, closed: bool, times_ps, window_ps=None, min_ef
                              f"window {W_unrel:g} ps ({MIN_WINDOWS} windows needed)")
         W = sorted(set(W) | {W_unrel})
         r = compliance_by_window(q_steps, keep, closed, dt, W, n_boot, seed, source)
-    except InputError as err:
+    except (InputError, np.linalg.LinAlgError) as err:
+        # by default the section must never cost the static coarse-graining its result
         if given:
             raise
         return {"unrelaxed": None, "unrelaxed_reason": str(err), "compliance_by_window": None}
