@@ -382,8 +382,11 @@ def params_section(q_steps, keep, closed: bool, times_ps, window_ps=None, min_ef
         r = compliance_by_window(q_steps, keep, closed, dt, W, n_boot, seed, source)
     except (InputError, np.linalg.LinAlgError) as err:
         # by default the section must never cost the static coarse-graining its result
-        if given:
+        if given and isinstance(err, InputError):
             raise
+        if given:
+            raise InputError(f"{source}: a window compliance is singular ({err}): allowed windows hold "
+                             "fluctuations in all six step parameters (a longer --window-ps)") from err
         return {"unrelaxed": None, "unrelaxed_reason": str(err), "compliance_by_window": None}
     entries = dict(zip(r["window_ps"], r["entries"]))
     e = entries[W_unrel]
