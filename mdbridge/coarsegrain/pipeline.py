@@ -43,6 +43,7 @@ class CoarseGrainRequest:
     start: int | None = None
     stop: int | None = None
     step: int | None = None
+    window_ps: list[float] | None = None  # compliance by timescale (timescale.py); None: the default W
 
 
 @dataclass
@@ -187,9 +188,14 @@ def coarse_grain(req: CoarseGrainRequest, progress=None) -> CoarseGrainResult:
     m_values, m_rod = _m_values(req, ens)
     min_eff = MIN_EFFECTIVE if req.min_effective is None else req.min_effective
     caveats += input_caveats(req, ens, extras, min_eff)
+    windows = req.window_ps
+    # with --window-ps the whole-record (relaxed) estimate is written with its caveat, not refused
     cg = CoarseGrain(ens, T_K, m_values=m_values, m_rod=m_rod, n_boot=req.bootstrap, seed=req.seed,
-                     discard=req.discard, min_effective=min_eff, progress=progress).run()
+                     discard=req.discard, min_effective=0.0 if windows else min_eff, progress=progress).run()
     _close(progress)
+    if windows and cg.results["effective_samples"] < min_eff:
+        caveats.append(f"the whole-record (relaxed) estimate: {cg.results['effective_samples']:.1f} independent "
+                       f"samples, fewer than {min_eff:g}; written because --window-ps was given, not to be trusted")
     n_modes = cg.results["effective_samples_fit_modes"]
     if n_modes < min_eff:
         caveats.append(f"the slowest mode of the q -> 0 fit (autocorrelation time "
@@ -197,6 +203,16 @@ def coarse_grain(req: CoarseGrainRequest, progress=None) -> CoarseGrainResult:
                        f"fewer than {min_eff:g}: the bootstrap's blocks are capped at T / 8, so the rod's K's error "
                        "may be understated; a longer run settles it")
     params = build_params(cg, T_src, extras, req.tension, req.torque, min_eff, caveats)
+    params.update(_timescale(cg, ens, windows, min_eff, req, source))
     out = Path(req.output)
     write_outputs(out, cg, params, extras, source)
     return CoarseGrainResult(out, params, ens.n_steps, T_K, T_src, caveats, cg.results)
+
+
+def _timescale(cg, ens, windows, min_eff, req: CoarseGrainRequest, source) -> dict:
+    """params.json's "unrelaxed" and "compliance_by_window" from the frames the estimator used."""
+    from mdbridge.coarsegrain.timescale import params_section
+    t0 = cg.results["discarded_frames"]
+    fr = cg.frames[t0:]
+    return params_section(ens.q[fr], ~ens.excluded, ens.closed, ens.times_ps[fr], windows, min_eff,
+                          req.bootstrap, req.seed, source)

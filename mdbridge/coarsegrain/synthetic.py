@@ -45,14 +45,19 @@ def write_trajectory(directory, sequence: str, q: np.ndarray, temperature_K: flo
 
     d = Path(directory)
     d.mkdir(parents=True, exist_ok=True)
+    # build_duplex places every nucleotide's template rigidly in its base-pair frame (3DNA's
+    # rebuild): build once, then move each base pair's atoms with its frame
+    R0, o0 = frames_from_steps(q[0])
+    s0 = build_duplex(sequence, o0, R0)
+    n = len(sequence)
+    pair = np.where(s0.resids <= n, s0.resids - 1, 2 * n - s0.resids)
+    local = np.einsum("aji,aj->ai", R0[pair], s0.coords - o0[pair])      # R^T (x - o)
     pos = []
     for qt in q:
         R, o = frames_from_steps(qt)
-        s = build_duplex(sequence, o, R)
-        pos.append(s.coords)
-    R, o = frames_from_steps(q[0])
+        pos.append(o[pair] + np.einsum("aij,aj->ai", R[pair], local))
     pdb = d / "duplex.pdb"
-    write_pdb(pdb, build_duplex(sequence, o, R))
+    write_pdb(pdb, s0)
     u = mda.Universe(str(pdb))
     pos_arr = np.array(pos, dtype=np.float32)
     vel = None
@@ -68,3 +73,39 @@ def write_trajectory(directory, sequence: str, q: np.ndarray, temperature_K: flo
             for _ in u.trajectory:
                 w.write(u.atoms)
     return pdb, trr
+
+
+def fast_slow_steps(mean, J_fast, J_slow, n_frames: int, dt_ps: float, tau_fast_ps: float,
+                    sigma_slow_ps: float, rng: np.random.Generator) -> np.ndarray:
+    """(T, n_steps, 6) step parameters: mean + fast elastic fluctuations (AR(1) of correlation
+    time tau_fast_ps, covariance J_fast) + slow smooth episodes (white noise smoothed by a
+    Gaussian of width sigma_slow_ps, covariance J_slow), independent per step; J_fast,
+    J_slow (6, 6) or (n_steps, 6, 6) compliances in kT units. Their creep compliance is
+    J(u) = J_fast (1 - e^{-u / tau_fast}) + J_slow (1 - e^{-u^2 / (4 sigma_slow^2)})
+    (exactly at the frame times for the fast part; the slow one's kernel is cut at 5 widths)."""
+    mean = np.asarray(mean, dtype=float)
+    n = mean.shape[0]
+    Lf = np.linalg.cholesky(np.broadcast_to(np.asarray(J_fast, float), (n, 6, 6)))
+    Ls = np.linalg.cholesky(np.broadcast_to(np.asarray(J_slow, float), (n, 6, 6)))
+    phi = np.exp(-dt_ps / tau_fast_ps)
+    a = np.sqrt(1.0 - phi * phi)
+    e = rng.standard_normal((n_frames, n, 6))
+    f = np.empty_like(e)
+    f[0] = e[0]
+    for t in range(1, n_frames):
+        f[t] = phi * f[t - 1] + a * e[t]
+    half = int(np.ceil(5.0 * sigma_slow_ps / dt_ps))
+    u = np.arange(-half, half + 1) * dt_ps
+    g = np.exp(-0.5 * (u / sigma_slow_ps) ** 2)
+    g /= np.sqrt(np.sum(g * g))
+    from scipy.signal import fftconvolve
+    w = rng.standard_normal((n_frames + 2 * half, n * 6))
+    s = fftconvolve(w, g[:, None], mode="valid", axes=0).reshape(n_frames, n, 6)
+    return (mean + np.einsum("nij,tnj->tni", Lf, f) + np.einsum("nij,tnj->tni", Ls, s))
+
+
+def fast_slow_creep(u_ps, J_fast, J_slow, tau_fast_ps: float, sigma_slow_ps: float):
+    """The creep compliance of fast_slow_steps at lags u_ps (..., 6, 6)."""
+    u = np.asarray(u_ps, dtype=float)[..., None, None]
+    return (np.asarray(J_fast) * (1.0 - np.exp(-u / tau_fast_ps))
+            + np.asarray(J_slow) * (1.0 - np.exp(-u * u / (4.0 * sigma_slow_ps ** 2))))

@@ -84,6 +84,10 @@ def add_arguments(p):
     p.add_argument("--start", type=int, default=None, help="first trajectory frame (0-based)")
     p.add_argument("--stop", type=int, default=None, help="stop before this frame")
     p.add_argument("--step", type=int, default=None, help="take every STEP-th frame")
+    p.add_argument("--window-ps", type=float, nargs="+", metavar="W",
+                   help="compliance by timescale: windows (ps) for K(W); the first is params.json's "
+                        "\"unrelaxed\" (default 50 ps; docs/coarse-graining.md, \"Compliance by timescale\"); "
+                        "the whole-record estimate is then written with a caveat when short of --min-effective")
 
 
 def constants_table(params: dict) -> str:
@@ -99,6 +103,17 @@ def constants_table(params: dict) -> str:
     return "\n".join(rows)
 
 
+def unrelaxed_line(params: dict) -> str:
+    """The unrelaxed stiffness against the whole record's, or why there is none."""
+    import numpy as np
+    if params.get("unrelaxed"):
+        un, rel = params["unrelaxed"], params["compliance_by_window"]["stiffness"][-1]
+        ratio = np.diagonal(np.asarray(un["stiffness"])) / np.diagonal(np.asarray(rel))
+        return (f"  unrelaxed K(W = {un['window_ps']:g} ps) / whole-record K, diagonal (shift ... twist): "
+                + " ".join(f"{r:.3g}" for r in ratio))
+    return f"  no unrelaxed stiffness: {params.get('unrelaxed_reason')}"
+
+
 def request(args):
     """The CoarseGrainRequest of the parsed options."""
     from mdbridge.coarsegrain.pipeline import CoarseGrainRequest
@@ -107,7 +122,8 @@ def request(args):
         temperature=args.temperature, edr=args.edr, length=args.length, m_max=args.m_max,
         pairs_file=args.pairs, closed=args.closed, tension=args.tension, torque=args.torque,
         discard=args.discard, min_effective=args.min_effective, max_open_fraction=args.max_open_fraction,
-        bootstrap=args.bootstrap, seed=args.seed, start=args.start, stop=args.stop, step=args.step)
+        bootstrap=args.bootstrap, seed=args.seed, start=args.start, stop=args.stop, step=args.step,
+        window_ps=args.window_ps)
 
 
 def run(args):
@@ -120,6 +136,7 @@ def run(args):
           f"{res['frames_used']} frames used after discarding {res['discarded_frames']}, "
           f"N_eff = {res['effective_samples']:.0f}, T = {r.T_K:.1f} K ({r.T_source.split(' ')[0]})")
     print(constants_table(r.params))
+    print(unrelaxed_line(r.params))
     for c in r.caveats:
         print(f"  caveat: {c}")
     print("wrote " + ", ".join(str(f) for f in r.written))
