@@ -135,6 +135,9 @@ def run(args):
     print(f"{r.n_steps} steps ({len(res['opened_steps'])} touch a pair the opening rule counts as opened), "
           f"{res['frames_used']} frames used after discarding {res['discarded_frames']}, "
           f"N_eff = {res['effective_samples']:.0f}, T = {r.T_K:.1f} K ({r.T_source.split(' ')[0]})")
+    of = r.params["opening_rule"].get("open_step_frames", 0.0)
+    print(f"  {100 * of:.1f} % of the (step, frame)s touch an open pair (N1-N3 > 3.5 A): left out of the "
+          "local estimates frame by frame")
     print(constants_table(r.params))
     print(unrelaxed_line(r.params))
     for c in r.caveats:

@@ -63,6 +63,11 @@ def run(args):
     with Stages("modes") as stages:
         table = mode_spectra(args.paths, out, args.discard_ps, args.until_ps, progress=stages)
     _warn(table)
+    for r in table.realisations:      # what an MD record's numbers come from: its open pairs
+        of = r.get("open_fraction")
+        if of:
+            print(f"modes: {r['source']}: {100 * of['mean']:.1f} % of base pairs open (N1-N3 > 3.5 A) over the "
+                  f"frames read")
     counts = ", ".join(f"{kind} {len(table.measured(kind))}" for kind in ("bend", "twist", "stretch"))
     print(f"modes: {len(table.measured())} of {len(table.modes)} modes measured ({counts}); "
           f"wrote {out}/modes.json, mode_series.npz, spectra.png, dispersion.png")
