@@ -1,0 +1,124 @@
+"""The intact duplex's committed results and the prose of docs/intact.md that quotes them.
+
+- The screen (results/dispersion/intact/screen.json, bench/pair_hold_screen.py): the held
+  run keeps every pair closed, the neutral phosphates do not (the 97 % criterion), and the
+  full-charge junction frays more than the interior; each figure docs/intact.md prints is
+  the file's, to its rounding, with a control on a changed file.
+- Twist unwrapped on real records: the twist modes' frame-to-frame increments of every
+  screen run (the frayed full-charge one included) are near-Gaussian (Pearson kurtosis at
+  most 6), while the committed raw full-charge record, read with 3DNA's branch cut, is not
+  (the control that must fail the same criterion).
+"""
+import copy
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+from scipy.stats import kurtosis
+
+from mdbridge.analysis.mode_spectra import load_npz
+
+ROOT = Path(__file__).resolve().parents[2]
+INTACT = ROOT / "results" / "dispersion" / "intact"
+DOC = ROOT / "docs" / "intact.md"
+
+
+def screen() -> dict:
+    return json.loads((INTACT / "screen.json").read_text())
+
+
+def pct(x: float) -> str:
+    return f"{100 * x:.1f} %"
+
+
+def quotes(s: dict) -> list[str]:
+    r = s["runs"]
+    out = []
+    for k in ("full_charge", "hold_3.3A", "neutral_phosphates", "full_charge_turned_79bp"):
+        out += [f"| {pct(r[k]['open_fraction'])} |",
+                f"| {pct(r[k]['junction_open_fraction'])} / {pct(r[k]['interior_open_fraction'])} |"]
+    for k in ("hold_3.3A", "neutral_phosphates", "full_charge_turned_79bp"):
+        v = [x["variance_ratio_median"] for x in r[k]["vs_full_charge"].values()]
+        out.append(f"{min(v):.2f}-{max(v):.2f}")
+    hb = r["hold_3.3A"]["hbond_distances"]
+    out.append(f"intact N1-N3 {hb['N1-N3']['mean_A']:.2f} +- {hb['N1-N3']['sd_A']:.2f} A")
+    p99 = [x["p99_A"] for x in hb.values()]
+    out.append(f"99th percentiles {min(p99):.2f}-{max(p99):.2f} A")
+    j = s["junction_by_site"]["full_charge_turned_79bp"]
+    out.append(f"the old junction site was open {pct(j['reference_junction_site_open_fraction'])} of the time, "
+               f"the new junction {pct(j['own_junction_open_fraction'])}, the other\n  pairs "
+               f"{pct(j['elsewhere_open_fraction'])}")
+    g = s["junction_geometry"][0]
+    out.append(f"within {np.ceil(10 * g['max_abs_z']) / 10:.1f} standard deviations")
+    return out
+
+
+def test_the_held_run_keeps_every_pair_and_the_neutral_one_does_not():
+    r = screen()["runs"]
+    assert r["hold_3.3A"]["open_fraction"] <= 0.03          # the criterion: >= 97 % closed
+    assert r["neutral_phosphates"]["open_fraction"] > 0.03
+    assert r["full_charge"]["open_fraction"] > 0.03
+    # the hold changes the closed steps' fluctuations by far less than the neutral phosphates
+    for name, v in r["hold_3.3A"]["vs_full_charge"].items():
+        assert 0.8 < v["variance_ratio_median"] < 1.1, name
+        assert r["neutral_phosphates"]["vs_full_charge"][name]["variance_ratio_median"] > 1.3, name
+
+
+def test_the_unheld_junction_frays_more_than_the_interior_in_seed_1_and_not_once_turned():
+    s = screen()
+    r = s["runs"]
+    for k in ("full_charge", "neutral_phosphates"):
+        assert r[k]["junction_open_fraction"] > 3 * r[k]["interior_open_fraction"], k
+    # the sequence turned by 79 bp: neither the old junction's sequence (now inside) nor the
+    # new junction frays, while the rest does as much as before
+    j = s["junction_by_site"]["full_charge_turned_79bp"]
+    assert j["rotation_bp"] == 79 and j["reference_junction_site_pairs"] == [77, 78, 79, 80]
+    assert j["reference_junction_site_open_fraction"] < 0.02 and j["own_junction_open_fraction"] < 0.02
+    assert j["elsewhere_open_fraction"] > 0.05
+
+
+def test_docs_quote_the_screen_and_a_changed_file_is_caught():
+    text = DOC.read_text()
+    s = screen()
+    for q in quotes(s):
+        assert q in text, q
+    bad = copy.deepcopy(s)
+    bad["runs"]["hold_3.3A"]["open_fraction"] = 0.02
+    assert any(q not in text for q in quotes(bad))
+
+
+def _increment_kurtosis(path: Path) -> np.ndarray:
+    s = load_npz(path)[0]
+    inc = np.diff(s.twist, axis=0)
+    return kurtosis(np.concatenate([inc.real, inc.imag]), axis=0, fisher=False)
+
+
+@pytest.mark.parametrize("run", ["screen_hold", "screen_neutral", "screen_plain"])
+def test_twist_mode_increments_are_near_gaussian_on_real_records(run):
+    k = _increment_kurtosis(INTACT / "screen" / run / "mode_series.npz")
+    assert k.max() <= 6.0, k
+
+
+def test_control_the_raw_full_charge_record_fails_the_same_criterion():
+    k = _increment_kurtosis(ROOT / "results" / "dispersion" / "mode_series.npz")
+    assert k.min() > 6.0, k
+    text = DOC.read_text()
+    assert f"against {k.min():.1f}-{k.max():.1f} in the committed" in text
+
+
+def test_every_full_charge_headline_states_its_open_fraction():
+    """The README's full-charge vacuum rows carry the open fraction of the records they come
+    from (modes.json of the 5-ns seed 1 and of seed 2), to the percent."""
+    h = json.loads((ROOT / "results" / "headline.json").read_text())
+    rows = {r["source"]: r["finding"] for r in h["rows"] if "at equilibrium" in r["finding"] or "seeds" in r["source"]}
+    disp = ROOT / "results" / "dispersion"
+    of1 = json.loads((disp / "modes.json").read_text())["realisations"][0]["open_fraction"]["mean"]
+    of2 = json.loads((disp / "seed2" / "modes_1000_3000.json").read_text())["realisations"][0]["open_fraction"]["mean"]
+    assert f"{100 * of1:.0f} % of its pairs open" in rows["results/dispersion/prediction.json"]
+    assert f"({100 * of1:.0f} % and {100 * of2:.0f} % of pairs open)" in rows["results/dispersion/seed2/seeds.json"]
+    # control: a different fraction is not what the row says
+    assert f"{100 * of1 + 3:.0f} % of its pairs open" not in rows["results/dispersion/prediction.json"]
+    for r in h["rows"]:
+        if "dispersion/" in r["source"] and "intact" not in r["source"] and "seed2" not in r["source"]:
+            assert "open" in r["finding"] or "frayed" in r["finding"] or "Its tension" in r["finding"], r["finding"]
