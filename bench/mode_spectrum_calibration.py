@@ -66,7 +66,7 @@ def oscillator_input(period_ps: float, Q: float, n_real: int, seed: int, record_
 
 
 # -- MD-like spectra: dispersive modes on a common background ------------------------------
-# The 158-bp MD's mode spectra (docs/analysis.md, "Mode spectra") are each mode's damped
+# The 158-bp MD's mode spectra (docs/modes.md) are each mode's damped
 # oscillator on top of motion that is the same at every n: slow red noise (an exponential
 # autocovariance, as pairs opening and closing give) and the broad band of the base-pair
 # steps' own vibration (an overdamped oscillator near 1.8 ps), plus a white floor. These
@@ -221,7 +221,7 @@ def calibration_summary(est, refused: list, lines: int) -> dict:
 # The paper's 158-bp rod (the duplex of the dispersion MD: 14 modes of each kind, so that
 # the common-background rule of `dnarod modes` sees what it sees there), unkicked, Langevin
 # at 0.03 K, where the slack tension moves bend n = 1 by < 0.5 % and higher n by that over
-# n^2 (docs/analysis.md, "The cold thermal rod") and the other modes not at linear order:
+# n^2 (docs/modes.md, "The cold rod") and the other modes not at linear order:
 # far below the statistical errors (>= 0.05 % here). The frictions (rod units, per length)
 # are chosen for damped modes of Q ~ 1.5-30 as the MD's (across: bend Q = 1.4 at n = 2 to
 # 27 at n = 14; about the axis: twist Q = 1.5 n; along: stretch Q = 2 n); bend n = 1 is

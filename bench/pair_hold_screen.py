@@ -1,4 +1,4 @@
-"""The screen of the ways to keep the 158-bp duplex intact (docs/md.md, "The intact duplex").
+"""The screen of the ways to keep the 158-bp duplex intact (docs/intact.md).
 
 Each candidate is a short run of the same build (sequence, seed, v-rescale 300 K, 2 fs) as
 the full-charge vacuum reference: `--hold-pairs` (flat-bottomed restraints, same force

@@ -262,7 +262,7 @@ def summarise(per_run: list[dict]) -> dict:
 
 
 MD_BOX_A = N_BP * U.rise_A         # the MD's box: the duplex as built
-MD_AMPLITUDE_A = 35.9              # the main job's kicked mode amplitude (docs/analysis.md, "The main job, measured")
+MD_AMPLITUDE_A = 35.9              # the main job's kicked mode amplitude (docs/results.md, "The rod against the MD")
 MD_KICKED_TENSION_PN = (31.0, 8.0)  # and its mean tension while kicked (the same table)
 
 

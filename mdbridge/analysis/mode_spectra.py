@@ -1,6 +1,6 @@
 """The mode table of `dnarod modes`: static variance, frequency and damping of every mode,
 pooled over quadratures, transverse directions and realisations, with refusals
-(docs/analysis.md, "Mode spectra").
+(docs/modes.md).
 
 `ModeSeries` is one realisation's reduced result: the complex mode amplitudes against time
 (mdbridge/analysis/modes.py) and, for MD, the open base-pair fraction. It is what

@@ -1,5 +1,5 @@
 """Fourier-mode amplitudes of a closed periodic duplex, frame by frame: `ModeAnalysis`
-(docs/analysis.md, "Mode spectra"). The same code for rod and MD: the input is a
+(docs/modes.md, "The modes"). The same code for rod and MD: the input is a
 `BasePairTrajectory`.
 
 For each frame, with L = |P| the period's length, h = L / n the fiducial step and

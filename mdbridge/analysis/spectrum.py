@@ -1,5 +1,5 @@
 """Frequency and damping of a mode from its equilibrium time series: the damped oscillator's
-exact discrete-time spectrum fitted by Whittle likelihood (docs/analysis.md, "Mode spectra").
+exact discrete-time spectrum fitted by Whittle likelihood (docs/modes.md, "Frequency and damping").
 
 Model. Each real series x(t) (one quadrature of one mode) is a damped harmonic oscillator
 driven by white noise, x'' + 2 gamma x' + omega0^2 x = noise, sampled every dt, plus white

@@ -1,5 +1,5 @@
 """The bend frequencies against the tension, across MD runs of one duplex
-(docs/dispersion.md, "Frequencies against tension").
+(docs/results.md, "Frequencies against tension").
 
 A string-beam of mass mu per length under tension T has mu omega_n^2 = T k_n^2 + B k_n^4, so
 across runs that differ in tension only (other seeds, other box lengths) omega_n^2 is a

@@ -211,7 +211,7 @@ def read_rod_ensemble(path, start=None, stop=None, step=None):
               "temperature_K": run.attrs.get("temperature_K"), "n_bp": n_bp}
     h_m = float(run.L) / n_bp * u.ell_A * ANGSTROM
     if material is not None:
-        # the grid material per base pair: base pair i sits on grid point i m (docs/scenes.md,
+        # the grid material per base pair: base pair i sits on grid point i m (docs/dna-rod.md,
         # "On the grid"), its mass and inertia the density and inertia there over one rise
         at_bp = slice(None, None, len(material["rho"]) // n_bp)
         mass = material["rho"][at_bp] * u.rho * h_m / AMU

@@ -53,7 +53,7 @@ RodRHS::RodRHS(const Rod& rod, const Material& material, const DerivativeOperato
   if (!rod.Omega0_s.empty()) op.apply(Omega0_.data(), dOmega0_ds_.data(), 3);
   // Row stride of the derivative scratch: N, padded by 8 doubles when N is a
   // multiple of 512, where rows N apart map to the same L1 cache sets and
-  // evict each other (docs/performance.md, "power-of-two N").
+  // evict each other (docs/performance.md, "FD4 throughput at N = 1024").
   stride_ = (N_ % 512 == 0) ? N_ + 8 : N_;
   dy_ds_.assign(12 * stride_, 0.0);
   dy6_.assign(6 * N_, 0.0);

@@ -1,4 +1,4 @@
-// Checkpoints (docs/reliability.md, "never lose a run"): a run stopped at any step
+// Checkpoints (docs/reliability.md, "Checkpoints and resume"): a run stopped at any step
 // boundary and continued from its checkpoint FILE gives the same bits as a
 // run that never stopped -- for every time integrator, fixed-step and
 // adaptive (step size and PI-controller memory are restored), with the

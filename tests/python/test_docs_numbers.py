@@ -141,7 +141,7 @@ def test_readme_headline_is_rendered_from_its_sources():
 def test_readme_stays_short_and_finds_every_moved_page():
     readme = (ROOT / "README.md").read_text()
     assert len(readme.splitlines()) <= 150
-    for page in ("results", "performance", "dependencies", "architecture", "units", "testing"):
+    for page in ("results", "performance", "dependencies", "architecture", "contracts", "testing"):  # units: contracts
         assert f"(docs/{page}.md" in readme, page
         assert (ROOT / "docs" / f"{page}.md").is_file()
 

@@ -42,7 +42,7 @@ CAL = load_bench("mode_spectrum_calibration.py")
 TABLE = ROOT / "bench" / "results" / "mode_spectrum_calibration_thermal_rod.json"
 REALISATIONS = ROOT / "bench" / "results" / "mode_spectrum_calibration_thermal_rod_realisations.json"
 # kind n whose stated / RMS lies outside 0.7-1.4 in the committed table (docs/modes.md,
-# "Thermal-rod series"): twist 9, whose errors are ~45 % too large (1.45)
+# "The thermal rod against linear theory"): twist 9, whose errors are ~45 % too large (1.45)
 OUTSIDE = {"twist 9"}
 # the overdamped bend n = 1 is refused in this many of the 30 realisations (reported as an
 # oscillation of Q ~ 1 in the others: docs/modes.md)

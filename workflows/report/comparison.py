@@ -1,7 +1,7 @@
 """results.json["comparison"]: the matched rod-vs-MD comparison built from the
 per-run analysis files (their `standing_mode`, `matched` and `plane` blocks, written by
 workflows/steps/analyse.py through workflows/steps/matched.py). Every key is described in
-docs/analysis.md, "Matched comparison: results.json keys"."""
+docs/analysis.md, "Matched comparison"."""
 from __future__ import annotations
 
 import html

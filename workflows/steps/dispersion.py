@@ -36,7 +36,7 @@ stiffness in it (k^2 / mu for a string; mdbridge/analysis/tension_series.py).
 
 `invariance` sets the modes of runs that differ from a reference run in one setting only (a
 thermostat switched off, a shorter time step) against the reference's, mode by mode, and pools
-the bend modes n >= 3 (docs/md.md, "The thermostat against the modes"); each run's energy
+the bend modes n >= 3 (docs/md.md, "Does the drift move what is measured?"); each run's energy
 record (run-md's checks.json) goes beside it.
 """
 from __future__ import annotations
@@ -344,7 +344,7 @@ def differences_by_kind(rows: list[dict], name: str, reference: str) -> dict:
     """Per kind, over the modes both records resolve: chi2 = sum z^2 of z = (omega_name -
     omega_reference) / sqrt(err_name^2 + err_reference^2), its dof (the number of modes) and
     those n. Two independent realisations of one system give chi2 ~ dof when the stated
-    errors are the scatter between realisations (docs/dispersion.md, "A second seed")."""
+    errors are the scatter between realisations (docs/results.md, "A second seed")."""
     out: dict = {}
     for x in rows:
         a, b = x.get(f"{name}_omega_per_ps"), x.get(f"{reference}_omega_per_ps")

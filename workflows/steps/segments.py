@@ -3,8 +3,8 @@
 A run longer than a session continues from its checkpoint on the next machine as a new
 segment (`dnarod run-md`: md.part.cpt without the outputs it appended to;
 mdbridge/md/gromacs/run.py). The trajectory of each segment never leaves its machine: before
-it goes, `reduce` turns it into what the analyses read (docs/dispersion.md, "The intact
-duplex"):
+it goes, `reduce` turns it into what the analyses read (docs/intact.md, "The
+intact runs, across sessions"):
 
     python3 -m dnarod.steps.segments reduce MDDIR OUT/segNN
 

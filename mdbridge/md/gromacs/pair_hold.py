@@ -1,7 +1,7 @@
 """Holding the Watson-Crick pairs closed with the same force field: flat-bottomed restraints.
 
 In the full-charge vacuum setting (the paper's) the duplex frays: pairs open and the broken
-steps enter every analysis as non-rod motion (docs/md.md, "Intact duplex"). `build-md
+steps enter every analysis as non-rod motion (docs/intact.md). `build-md
 --hold-pairs` adds, for every Watson-Crick hydrogen bond of every pair (donor-acceptor
 heavy atoms, dna_models.nucleotides.WATSON_CRICK_HBONDS), GROMACS's flat-bottomed
 "restraint potential" (bonds type 10):
@@ -41,7 +41,7 @@ class PairHold:
     up1_A, on N1-N3, lies below the open rule (INTACT_CUTOFF_A), so a held pair never counts
     as open; other_up1_A, on the other H-bonds, lies beyond their thermal range, so they
     only keep an opening pair from turning about N1-N3. Both flat bottoms were set from the
-    distances of a held 158-bp full-charge run (docs/md.md, "The intact duplex"): intact
+    distances of a held 158-bp full-charge run (docs/intact.md, "Holding the pairs"): intact
     N1-N3 2.97 +- 0.12 A, the others 2.91-3.01 +- 0.16-0.19 A (99th percentiles 3.32-3.48 A);
     a flat bottom at 3.3 A on every bond was touched by 1-9 % of the frames of intact pairs.
     Past up + width_A the pull is constant."""

@@ -2,4 +2,4 @@
 that make one from a sequence (`parameter_sets`), the exact map from step
 parameters to the rod (`steps_to_rod`), the grid material file rodsim reads
 (`gridfile`) and the closed, pre-stressed rest state (`closed_rest`).
-See docs/scenes.md, "Sequence-dependent DNA"."""
+See docs/dna-rod.md."""

@@ -27,7 +27,7 @@ Near a closed equilibrium the semi-discrete statics have a two-parameter
 family of near-solutions (the continuum's periodic equilibria: every wrench
 invariant under the monodromy screw, parametrised by its angle and pitch),
 which the discretisation breaks only weakly, so exact statics and exact
-closure cannot both hold at a finite N (docs/scenes.md, "The closed,
+closure cannot both hold at a finite N (docs/dna-rod.md, "The closed,
 pre-stressed rest state"). Two modes:
 
 * rest = "closed" (the `dnarod dna-rod` default, the MD build's): Gauss-Newton
@@ -48,13 +48,13 @@ under the tension T the closure causes, the linearised statics are hyperbolic
 (a bent rod under tension: perturbations grow like exp(s sqrt(T / B)), B the
 bend stiffness): at 158 bp (tension 0.03 C, B ~ 1.4 C l^2, L = 107 l) the
 estimate is exp(L sqrt(T / B)) ~ 1e7 for the whole period, and Levenberg-
-Marquardt on the six numbers did not converge (docs/scenes.md). Segments of at
+Marquardt on the six numbers did not converge (docs/dna-rod.md). Segments of at
 most SEGMENT_LENGTH = 16 l (8 nm, 24 bp; growth ~10 at that tension) keep
 each shot well conditioned, all segments are shot together (a batch), and
 the 6 K unknowns are few enough for a dense Jacobian. Rods up to 16 l (21 bp)
 are one segment, i.e. the single shooting. The alternatives were not taken:
 the constrained Gauss-Newton started from the intrinsic shape converges at
-158 bp but not at 40 bp (docs/scenes.md), and a homotopy in the intrinsic
+158 bp but not at 40 bp (docs/dna-rod.md), and a homotopy in the intrinsic
 shape's deviation from uniform would still need the long single shot at
 every step.
 

@@ -30,7 +30,7 @@ central differences of the exact map (error ~1e-12 relative).
 Mass. A base pair of mass m [amu] and inertia I_bp [amu A^2] spread over its
 length h gives rho* = (m / h) / rho_paper and I* = (I_bp / h) / I_paper.
 
-Grid (docs/scenes.md, "Sequence-dependent DNA"): steps sit at the midpoints
+Grid (docs/dna-rod.md, "On the grid"): steps sit at the midpoints
 (i + 1/2) h, base pairs at i h, the rod has L = n_bp h and N = m n_bp points.
 """
 from __future__ import annotations

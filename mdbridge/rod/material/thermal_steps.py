@@ -1,5 +1,5 @@
 """The step parameters of a thermal rod: the known answer the coarse-graining loop is checked
-against (docs/coarse-graining.md, "The loop on a sequence rod").
+against (docs/coarse-graining.md, "A sequence rod").
 
 A Langevin rod without the closure projection samples exp(-E / kT) of its material alone
 (docs/thermal.md, "Liouville"): independent grid strains x_i ~ N(x0_i, kT K_i^-1 / h). Its
