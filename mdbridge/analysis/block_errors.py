@@ -17,31 +17,32 @@ The rule for a mode's blocks:
     long: the mode's amplitude forgets its phase in 1 / gamma, its periodogram (quadratic in
     it) in 1 / (2 gamma), so neighbouring blocks' periodograms are nearly independent;
   * B is the largest of BLOCK_COUNTS that the record allows under both (omega, gamma from the
-    whole record's fit).
-A frequency that wanders more slowly than that makes neighbouring blocks agree, and then
-their scatter understates the error. Blocking (Flyvbjerg & Petersen 1989, as
-mdbridge.stats.block_sem does for a mean) catches it: the block frequencies are averaged in
-neighbouring pairs (a block twice as long) while the pooled error of the next level exceeds
-this level's by more than that level's own statistical error, down to MIN_LEVEL_BLOCKS blocks
-per realisation.
+    whole record's fit): MIN_BLOCKS = 8 where the mode allows it, and no more, so that the
+    blocks are as long as 8 of them can be. Fewer (down to 3) where the mode needs longer
+    blocks, with Student-t (below).
+A frequency that wanders more slowly than the blocks are long makes neighbouring blocks agree,
+and then their scatter understates the error: the block error covers a wander whose
+correlation time is up to a block, not beyond (the test's control: episodes two blocks long).
+With one record nothing can tell a wander slower than its blocks from a fixed offset of that
+realisation; only more realisations can (pooled here, and mdbridge/analysis/realisation_floor.py).
 
-Error. Each realisation r has m_r block frequencies at the level chosen; their relative
-scatter (each over its own mean) is pooled over realisations,
+Error. Each realisation r has m_r block frequencies; their relative scatter (each over its own
+mean) is pooled over realisations,
     s^2 = sum_r (m_r - 1) s_r^2 / nu,   nu = sum_r (m_r - 1),
 and realisation r's frequency (the whole record's fit) has the error omega_r s / sqrt(m_r)
 (the error of the mean of m_r blocks). With nu degrees of freedom, (omega - truth) / error is
 Student-t: its variance is nu / (nu - 2), so a chi^2 built from these errors has
 E[chi^2 / dof] = nu / (nu - 2) instead of 1 (1.4 at nu = 7, 3 at nu = 3). `err_chi2` is the
-error times sqrt(nu / (nu - 2)), whose z has variance 1; nu <= MIN_NU - 1 gives no variance
-and no error. At least MIN_BLOCKS blocks per realisation are the aim; fewer enter through
-Student-t. Both omega (the damped frequency, what the fit reports) and omega0 =
+error times sqrt(nu / (nu - 2)), whose z has variance 1; nu < MIN_NU gives no variance and no
+error. Both omega (the damped frequency, what the fit reports) and omega0 =
 sqrt(omega^2 + gamma^2) (the undamped one, what a rod without friction has) are given.
 
 Checked (tests/python/test_block_errors.py) on synthetic damped oscillators of known
 frequency: over 100 independent realisations the z of the whole record's frequency with the
 block error has variance ~1, with a stationary oscillator and with one whose frequency jumps
-between four episodes of the record; in the second the fit (curvature) error fails (its z
-variance is several), and so does a block error halved (the control).
+between eight episodes of the record (one per block); in the second the fit (curvature) error
+fails (its z variance is several), and so does a block error halved (the control); with four
+episodes (two blocks each) the block error fails too, as the rule says it must.
 """
 from __future__ import annotations
 
@@ -53,9 +54,8 @@ from mdbridge.analysis.mode_spectra import MIN_PERIODS, ModeSeries, fit_kind, po
 
 BLOCK_PERIODS = MIN_PERIODS
 BLOCK_CORRELATION_TIMES = 2.0
-BLOCK_COUNTS = (16, 12, 8, 6, 4, 3)   # tried largest first; each costs one fit of every mode of a kind per block
-MIN_BLOCKS = 8                        # aimed at per realisation; fewer enter through Student-t
-MIN_LEVEL_BLOCKS = 3                  # blocking stops before a realisation would hold fewer
+MIN_BLOCKS = 8                        # per realisation where the mode allows; fewer enter through Student-t
+BLOCK_COUNTS = (MIN_BLOCKS, 6, 4, 3)  # tried largest first; each costs one fit of every mode of a kind per block
 MIN_NU = 3                            # Student-t has a variance only for nu > 2
 MAX_REFUSED_FRACTION = 0.5            # more block fits refused than this: no block error for the realisation
 
@@ -93,7 +93,7 @@ def block_frequencies(s: ModeSeries, kind: str, n_blocks: int, wanted=None) -> n
     return out
 
 
-def _pooled_level(blocks: list[np.ndarray]) -> tuple[float, int, list[int]]:
+def _pooled_scatter(blocks: list[np.ndarray]) -> tuple[float, int, list[int]]:
     """(s^2, nu, m_r) of the relative scatter of each realisation's block values about their
     own mean, pooled (module doc)."""
     ss, nu, ms = 0.0, 0, []
@@ -107,57 +107,27 @@ def _pooled_level(blocks: list[np.ndarray]) -> tuple[float, int, list[int]]:
     return (ss / nu if nu else math.nan), nu, ms
 
 
-def _merge_pairs(v: np.ndarray) -> np.ndarray:
-    """Neighbouring blocks averaged in pairs (a block twice as long); a pair with a refused
-    block is refused."""
-    n = 2 * (len(v) // 2)
-    return 0.5 * (v[:n:2] + v[1:n:2])
-
-
 def pooled_block_error(full: list[float], blocks: list[np.ndarray]) -> dict:
     """The block error of each realisation's whole-record frequency `full[r]` from its block
-    frequencies `blocks[r]` (NaN: refused), pooled over realisations, with blocking (module
-    doc). Returns {"err": [per realisation], "err_chi2": [...], "nu", "blocks_per_realisation",
-    "level" (pair merges taken), "levels": the blocking curve, "relative_scatter"} or, with
-    too few blocks, the same keys None and a `reason`."""
-    levels = []
+    frequencies `blocks[r]` (NaN: refused), pooled over realisations (module doc). Returns
+    {"err": [per realisation], "err_chi2": [...], "nu", "blocks_per_realisation",
+    "relative_scatter", "student_t_variance"} or, with too few blocks, err None and a `reason`."""
     cur = [np.asarray(v, float) for v in blocks]
     for r, v in enumerate(cur):
         if len(v) and np.mean(~np.isfinite(v)) > MAX_REFUSED_FRACTION:
             cur[r] = np.full(0, np.nan)
-    while True:
-        s2, nu, ms = _pooled_level(cur)
-        if nu < MIN_NU or min(ms) < 2:
-            break
-        sem_rel = math.sqrt(s2 / np.mean(ms))
-        levels.append({"blocks_per_realisation": ms, "nu": nu, "relative_scatter": math.sqrt(s2),
-                       "relative_err_typical": sem_rel, "relative_err_err": sem_rel / math.sqrt(2 * nu)})
-        nxt = [_merge_pairs(v) for v in cur]
-        if min(int(np.isfinite(v).sum()) for v in nxt) < MIN_LEVEL_BLOCKS:
-            break
-        cur = nxt
-    none = {"err": None, "err_chi2": None, "nu": None, "blocks_per_realisation": None, "level": None,
-            "levels": levels, "relative_scatter": None}
-    if not levels:
+    s2, nu, ms = _pooled_scatter(cur)
+    if nu < MIN_NU:
         n_ok = [int(np.isfinite(np.asarray(v, float)).sum()) for v in blocks]
-        return dict(none, reason=f"too few blocks fitted ({n_ok} per realisation; at least {MIN_NU} degrees of "
-                                 "freedom pooled are needed, and no realisation with more than "
-                                 f"{100 * MAX_REFUSED_FRACTION:g} % of its block fits refused)")
-    pick = 0
-    for i in range(len(levels) - 1):
-        # block_sem's plateau rule: go to longer blocks while the error rises beyond its own noise
-        nxt, this = levels[i + 1], levels[i]
-        if nxt["relative_err_typical"] - this["relative_err_typical"] > nxt["relative_err_err"]:
-            pick = i + 1
-        else:
-            break
-    lv = levels[pick]
-    s, nu = lv["relative_scatter"], lv["nu"]
+        return {"err": None, "err_chi2": None, "nu": nu, "blocks_per_realisation": ms, "relative_scatter": None,
+                "reason": f"too few blocks fitted ({n_ok} per realisation; at least {MIN_NU} degrees of freedom "
+                          f"pooled are needed, and no realisation with more than {100 * MAX_REFUSED_FRACTION:g} % "
+                          "of its block fits refused)"}
+    s = math.sqrt(s2)
     inflate = math.sqrt(nu / (nu - 2))
-    err = [f * s / math.sqrt(m) if m >= 2 else None for f, m in zip(full, lv["blocks_per_realisation"])]
+    err = [f * s / math.sqrt(m) if m >= 2 else None for f, m in zip(full, ms)]
     return {"err": err, "err_chi2": [None if e is None else e * inflate for e in err], "nu": nu,
-            "blocks_per_realisation": lv["blocks_per_realisation"], "level": pick, "levels": levels,
-            "relative_scatter": s, "student_t_variance": nu / (nu - 2)}
+            "blocks_per_realisation": ms, "relative_scatter": s, "student_t_variance": nu / (nu - 2)}
 
 
 def mode_block_errors(series: list[ModeSeries], tables: list[dict], kinds=("bend", "twist", "stretch"),

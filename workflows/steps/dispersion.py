@@ -363,7 +363,7 @@ def block_errors_step(runs: dict[str, tuple[Path, Path]], out, discard_ps: float
            "definition": "per mode: each realisation's record cut into the most blocks (of block_counts) that hold "
                          "block_periods periods and block_correlation_times times 1/gamma each; every mode of the kind "
                          "fitted per block as in `dnarod modes`; the blocks' relative scatter pooled over the "
-                         "realisations (blocking by pairs while the error rises); err = omega s / sqrt(blocks), "
+                         "realisations; err = omega s / sqrt(blocks), "
                          "err_chi2 = err sqrt(nu / (nu - 2)) (Student-t); mdbridge/analysis/block_errors.py"}
     write_json(out, rec)
     return rec
