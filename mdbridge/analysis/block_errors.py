@@ -141,7 +141,7 @@ def mode_block_errors(series: list[ModeSeries], tables: list[dict], kinds=("bend
     are none."""
     if len(series) != len(tables):
         raise ValueError(f"{len(series)} realisations, {len(tables)} mode tables")
-    rows = {(e["kind"], int(e["n"])): [] for e in tables[0]["modes"]}
+    rows: dict[tuple, list] = {(e["kind"], int(e["n"])): [] for e in tables[0]["modes"]}
     for t in tables:
         for e in t["modes"]:
             rows.setdefault((e["kind"], int(e["n"])), []).append(e)
@@ -159,12 +159,13 @@ def mode_block_errors(series: list[ModeSeries], tables: list[dict], kinds=("bend
         else:
             bs = [block_count(len(s.times_ps) * s.dt_ps, e["omega_per_ps"], e["damping_per_ps"] or 0.0, counts)
                   for s, e in zip(series, es)]
-            if None in bs:
+            ok = [b for b in bs if b is not None]
+            if len(ok) < len(bs):
                 entry["reason"] = (f"the record holds no {min(counts)} blocks of {BLOCK_PERIODS:g} periods and "
                                    f"{BLOCK_CORRELATION_TIMES:g} correlation times 1 / gamma")
             else:
-                entry["n_blocks"] = min(bs)
-                plan.setdefault((kind, min(bs)), []).append(n)
+                entry["n_blocks"] = min(ok)
+                plan.setdefault((kind, min(ok)), []).append(n)
         out.append(entry)
     fitted: dict = {}
     for (kind, B), ns in plan.items():

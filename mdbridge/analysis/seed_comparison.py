@@ -87,8 +87,9 @@ def compare_realisations(md: list[dict], tensions: list[tuple[float, float]], ma
     tension: one material per realisation, since box_rod.paper_rod_box depends on the tension),
     or the raw one when mats is None. md: per realisation {(kind, n): (omega, err)}; tensions:
     per realisation (T, dT) [pN]."""
-    rods = [None if mats is None else rod_frequency_and_slope(mat, duplex, T, n_max)
-            for mat, (T, _) in zip(mats or [None] * len(md), tensions)]
+    rods: list[dict | None] = [None] * len(md)
+    if mats is not None:
+        rods = [rod_frequency_and_slope(mat, duplex, T, n_max) for mat, (T, _) in zip(mats, tensions)]
     res = [residuals(m, T, dT, rod) for m, (T, dT), rod in zip(md, tensions, rods)]
     return {"residuals": [{f"{k}_{n}": list(v) for (k, n), v in r.items()} for r in res],
             "differences_by_kind": [differences_by_kind(res[0], r) for r in res[1:]]}

@@ -369,7 +369,7 @@ def block_errors_step(runs: dict[str, tuple[Path, Path]], out, discard_ps: float
     return rec
 
 
-def seed_differences_step(runs: dict[str, tuple[Path, Path]], out, block_files: list[Path] = (),
+def seed_differences_step(runs: dict[str, tuple[Path, Path]], out, block_files: tuple | list = (),
                           md_inertia=None, n_max: int = 14) -> dict:
     """OUT.json: realisations (name -> (modes.json, tension.json of the same window)) against the
     first, mode by mode, each minus the linear rod at its own virial tension
