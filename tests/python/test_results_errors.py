@@ -72,3 +72,16 @@ def test_paper_rod_box_and_the_kicked_wave():
     ref = between_realisation_floor([1.12, 1.32], [0.03, 0.06])
     assert f["tau"] == pytest.approx(ref["tau"]) and f["floor"] == pytest.approx(ref["tau_interval_68"][1])
     assert math.isclose(f["tau"], 0.133, abs_tol=1e-3)
+
+
+def test_predict_step_writes_both_rows(tmp_path):
+    """The predict step with --md-inertia reproduces errors/prediction.json's two rows."""
+    from dnarod.steps.dispersion import predict_and_compare
+    r = ROOT / "results/dispersion"
+    got = predict_and_compare(r / "modes.json", tmp_path / "p.json", [r / "tension.json"], n_fit_max=4,
+                              md_inertia=r / "cg_provisional/params.json")
+    want = json.loads((D / "prediction.json").read_text())
+    assert set(got["predictions"]) == {"paper_rod", "paper_rod_box"}
+    for a, b in zip(got["rows"], want["rows"]):
+        for k in ("paper_rod_omega_per_ps", "paper_rod_box_omega_per_ps"):
+            assert a[k] == pytest.approx(b[k], rel=1e-9)
