@@ -9,6 +9,10 @@
     python -m dnarod.steps.dispersion table DISPERSION.json [-o TABLE.md]
     python -m dnarod.steps.dispersion invariance REF=MODES.json NAME=MODES.json... -o OUT.json \
         [--checks NAME=CHECKS.json...]
+    python -m dnarod.steps.dispersion block-errors NAME=SERIES.npz:MODES.json... -o OUT.json \
+        [--discard-ps T] [--until-ps T] [--kinds bend twist stretch]
+    python -m dnarod.steps.dispersion seed-differences NAME=MODES.json:TENSION.json... -o OUT.json \
+        [--block-errors BLOCKS.json...] [--md-inertia BUILD_OR_PARAMS.json]
 
 `stretch` copies a build-md folder with its box and coordinates scaled by F along the helix
 axis (mdbridge/md/gromacs/tension.py stretch_box), for a run at another box length.
@@ -31,6 +35,10 @@ leaves the paper rod's prediction and says why.
 their virial tensions: per mode, the slope of omega0^2 against T, which the rod predicts with no
 stiffness in it (k^2 / mu for a string; mdbridge/analysis/tension_series.py).
 
+With `--md-inertia` (the MD's build.json or a coarse-graining's params.json) `predict` adds
+`paper_rod_box`: the paper's rod at the MD's box length (Gamma3 = 1 under the MD's tension) with
+the MD's own rho and I (mdbridge/analysis/box_rod.py), beside `paper_rod`.
+
 `table` prints (or writes) a dispersion.json's prediction-vs-MD table as Markdown
 (dnarod.report.dispersion.markdown_table).
 
@@ -38,6 +46,16 @@ stiffness in it (k^2 / mu for a string; mdbridge/analysis/tension_series.py).
 thermostat switched off, a shorter time step) against the reference's, mode by mode, and pools
 the bend modes n >= 3 (docs/md.md, "Does the drift move what is measured?"); each run's energy
 record (run-md's checks.json) goes beside it.
+
+`block-errors` gives every mode's frequency an error from the scatter of independent blocks of
+each realisation's record, pooled over the realisations (mdbridge/analysis/block_errors.py):
+SERIES.npz is the realisation's mode_series.npz (its first realisation, cut to the window),
+MODES.json its `dnarod modes` table of the same window.
+
+`seed-differences` compares realisations that differ in tension mode by mode: each one's
+frequency minus the linear rod's at its own virial tension, the tension's error carried
+through d omega / dT, and the chi^2 of the differences per kind and pooled, with the fit
+errors and with the block errors (mdbridge/analysis/seed_comparison.py).
 """
 from __future__ import annotations
 
@@ -140,13 +158,22 @@ def _fit(kind_rows, observable, template, duplex, T0):
         return {"observable": observable, "n": ns, "reason": str(e)}
 
 
-def _predictions(paper, mats, cg_reasons, duplex, T, T_err, n_max) -> tuple[dict, dict]:
+def _predictions(paper, mats, cg_reasons, duplex, T, T_err, n_max, md_inertia=None) -> tuple[dict, dict, str | None]:
     """(predictions, refused) by model: the paper's rod; the coarse-grained one as it is, and
     with its intrinsic twist at the box's (torque-free when ligated); a rod that buckles at
-    the MD's tension is refused with the reason."""
+    the MD's tension is refused with the reason. With md_inertia (a build.json or params.json),
+    also the paper's rod at the box's length with the MD's own rho and I; the third item
+    names where that mass and inertia came from (None without)."""
     from mdbridge.analysis.dispersion_prediction import box_twist, predict
     predictions, refused = {}, {}
     models: list[tuple[str, list]] = [("paper_rod", [(paper, [])])]     # per seed: (material, replicas)
+    box_source = None
+    if md_inertia is not None:
+        # the paper's rod at the box's length with the MD's own mass and inertia (mdbridge/analysis/box_rod.py)
+        from mdbridge.analysis.box_rod import md_mass_inertia, paper_rod_box
+        mi = md_mass_inertia(md_inertia)
+        box_source = mi["source"]
+        models.append(("paper_rod_box", [(paper_rod_box(paper, T, mi["rho_star"], mi["I_star"]), [])]))
     if mats:
         models.append(("cg_rod", [(c, reps) for _, c, reps in mats]))
         models.append(("cg_rod_box_twist", [(box_twist(c, duplex), [box_twist(r, duplex) for r in reps])
@@ -158,7 +185,7 @@ def _predictions(paper, mats, cg_reasons, duplex, T, T_err, n_max) -> tuple[dict
             refused[name] = f"no prediction at the MD's tension {T:.3g} +- {T_err:.2g} pN: {e}"
     if not mats:
         refused["cg_rod"] = refused["cg_rod_box_twist"] = "; ".join(cg_reasons) or "no coarse-graining"
-    return predictions, refused
+    return predictions, refused, box_source
 
 
 def _rows(table: dict, predictions: dict) -> list:
@@ -207,7 +234,7 @@ def _checks(dyn: dict, stat: dict, T: float, T_err: float) -> dict:
 
 
 def predict_and_compare(modes_json, out, tension_jsons, cg_dirs=(), m: int | None = None, n_replicas: int = 20,
-                        n_fit_max: int = 4, temperature_K: float | None = None) -> dict:
+                        n_fit_max: int = 4, temperature_K: float | None = None, md_inertia=None) -> dict:
     from mdbridge.analysis.dispersion_prediction import (Duplex, bend_stiffness_pN_nm2, box_twist, paper_material,
                                                          persistence_nm)
     table = json.loads(Path(modes_json).read_text())
@@ -220,7 +247,7 @@ def predict_and_compare(modes_json, out, tension_jsons, cg_dirs=(), m: int | Non
     n_max = int(table["helical_repeat"]) - 1
     paper = paper_material(duplex)
     mats, cg_reasons = _materials(cg_dirs, m, n_replicas)
-    predictions, refused = _predictions(paper, mats, cg_reasons, duplex, T, T_err, n_max)
+    predictions, refused, box_source = _predictions(paper, mats, cg_reasons, duplex, T, T_err, n_max, md_inertia)
     rows = _rows(table, predictions)
     # the MD's own T and B: the lowest bend modes that are measured
     # the template: the coarse-grained material (mass, inertia, shear, stretch, couplings of the
@@ -248,6 +275,10 @@ def predict_and_compare(modes_json, out, tension_jsons, cg_dirs=(), m: int | Non
            "record_ps": table.get("record_ps"), "temperature_K": temp,
            "tension": {"tension_pN": T, "tension_err_pN": T_err, "per_seed": tensions},
            "rows": rows, "predictions": predictions,
+           **({"paper_rod_box": {"mass_inertia": box_source,
+                                 "definition": "the paper's stiffness at Gamma3 = 1 at the box's length under the "
+                                               "MD's tension (Gamma0_3 = 1 - T / C3), with the MD's own rho and I "
+                                               "(mdbridge/analysis/box_rod.py)"}} if box_source else {}),
            "refused": refused, "cg_rod_reason": refused.get("cg_rod"),
            "cg_notes": cg_reasons if mats else [],
            "fit": {"template": template_name, "n_fit_max": n_fit_max, "dynamics": dyn, "statics": stat,
@@ -318,6 +349,114 @@ def _named(pairs: list[str], what: str) -> dict[str, Path]:
             raise InputError(f"{what} {pair!r}: expected NAME=FILE with an existing FILE")
         named[name] = Path(path)
     return named
+
+
+def _named_pairs(pairs: list[str], what: str) -> dict[str, tuple[Path, Path]]:
+    """NAME=A:B arguments, each file existing."""
+    named = {}
+    for pair in pairs:
+        name, sep, files = pair.partition("=")
+        a, sep2, b = files.partition(":")
+        if not sep or not sep2 or not name or not Path(a).is_file() or not Path(b).is_file():
+            raise InputError(f"{what} {pair!r}: expected NAME=FILE:FILE with both files existing")
+        named[name] = (Path(a), Path(b))
+    return named
+
+
+def block_errors_step(runs: dict[str, tuple[Path, Path]], out, discard_ps: float = 0.0,
+                      until_ps: float | None = None, kinds=KINDS) -> dict:
+    """OUT.json: every mode's block error (mdbridge/analysis/block_errors.py), pooled over the
+    realisations `runs` (name -> (mode_series.npz, modes.json of the same window))."""
+    from mdbridge.analysis.block_errors import (BLOCK_CORRELATION_TIMES, BLOCK_COUNTS, BLOCK_PERIODS,
+                                                mode_block_errors)
+    from mdbridge.analysis.mode_spectra import load_npz
+    series, tables = [], []
+    for name, (npz, modes) in runs.items():
+        s = load_npz(npz)[0].after(discard_ps, until_ps)
+        t = json.loads(modes.read_text())
+        if abs(t["n_frames"] - len(s.times_ps)) > 1:
+            raise InputError(f"{modes}: {t['n_frames']} frames, but {npz} cut to {discard_ps:g}-{until_ps} ps holds "
+                             f"{len(s.times_ps)}: the table must be of the same window")
+        series.append(s)
+        tables.append(t)
+    rows = mode_block_errors(series, tables, kinds)
+    rec = {"runs": {k: [str(a), str(b)] for k, (a, b) in runs.items()}, "discard_ps": discard_ps,
+           "until_ps": until_ps, "kinds": list(kinds),
+           "open_fraction": {name: (None if s.open_fraction is None else float(np.mean(s.open_fraction)))
+                             for name, s in zip(runs, series)},
+           "rule": {"block_periods": BLOCK_PERIODS, "block_correlation_times": BLOCK_CORRELATION_TIMES,
+                    "block_counts": list(BLOCK_COUNTS)},
+           "modes": rows,
+           "definition": "per mode: each realisation's record cut into the most blocks (of block_counts) that hold "
+                         "block_periods periods and block_correlation_times times 1/gamma each; every mode of the kind "
+                         "fitted per block as in `dnarod modes`; the blocks' relative scatter pooled over the "
+                         "realisations; err = omega s / sqrt(blocks), "
+                         "err_chi2 = err sqrt(nu / (nu - 2)) (Student-t); mdbridge/analysis/block_errors.py"}
+    write_json(out, rec)
+    return rec
+
+
+def seed_differences_step(runs: dict[str, tuple[Path, Path]], out, block_files: tuple | list = (),
+                          md_inertia=None, n_max: int = 14) -> dict:
+    """OUT.json: realisations (name -> (modes.json, tension.json of the same window)) against the
+    first, mode by mode, each minus the linear rod at its own virial tension
+    (mdbridge/analysis/seed_comparison.py): chi^2 per kind and pooled, with the fit errors and,
+    given block-errors outputs of these realisations, with the block errors; beside them the
+    same without the tension correction (the control), and the open fraction of each record."""
+    from mdbridge.analysis.dispersion_prediction import Duplex, md_natural_frequency, paper_material
+    from mdbridge.analysis.seed_comparison import compare_realisations
+    names = list(runs)
+    tables = {k: json.loads(m.read_text()) for k, (m, _) in runs.items()}
+    tensions = {k: json.loads(t.read_text()) for k, (_, t) in runs.items()}
+    t0 = tables[names[0]]
+    duplex = Duplex(int(t0["n_bp"]), int(t0["helical_repeat"]), float(tensions[names[0]].get("temperature_K") or 300))
+    TdT = [(float(tensions[k]["tension_pN"]), float(tensions[k]["tension_err_pN"])) for k in names]
+    paper = paper_material(duplex)
+    mats, rod_name, rod_source = [paper] * len(names), "paper_rod", "the paper's rod (Sec 2.1-2.2)"
+    if md_inertia is not None:
+        from mdbridge.analysis.box_rod import md_mass_inertia, paper_rod_box
+        mi = md_mass_inertia(md_inertia)
+        mats = [paper_rod_box(paper, T, mi["rho_star"], mi["I_star"]) for T, _ in TdT]
+        rod_name, rod_source = "paper_rod_box", mi["source"]
+    fit = [{(e["kind"], int(e["n"])): md_natural_frequency(e) for e in tables[k]["modes"]} for k in names]
+    damped = [{(e["kind"], int(e["n"])): (e.get("omega_per_ps"), e.get("omega_err_per_ps"))
+               for e in tables[k]["modes"]} for k in names]
+    variants: dict = {}
+
+    def both(label, md):
+        variants[label] = {"tension_corrected": compare_realisations(md, TdT, mats, duplex, n_max),
+                           "raw": compare_realisations(md, TdT, None, duplex, n_max)}
+
+    both("fit_errors", fit)
+    variants["fit_errors_damped_raw"] = {"raw": compare_realisations(damped, TdT, None, duplex, n_max)}
+    blocks = {}
+    for f in block_files:
+        rec = json.loads(Path(f).read_text())
+        order = list(rec["runs"])
+        if sorted(order) != sorted(names):
+            raise InputError(f"{f}: block errors of {order}; the runs are {names}")
+        for e in rec["modes"]:
+            b = e.get("omega0_block") or {}
+            if b.get("err_chi2"):
+                blocks[(e["kind"], int(e["n"]))] = {name: (e["omega0_per_ps"][order.index(name)],
+                                                           b["err_chi2"][order.index(name)]) for name in order}
+    if blocks:
+        md_block = [{key: v[k] for key, v in blocks.items()} for k in names]
+        both("block_errors", md_block)
+    rec = {"runs": {k: [str(a), str(b)] for k, (a, b) in runs.items()}, "reference": names[0],
+           "tension_pN": {k: {"tension_pN": T, "tension_err_pN": dT} for k, (T, dT) in zip(names, TdT)},
+           "open_fraction": {k: [r.get("open_fraction", {}).get("mean") for r in tables[k].get("realisations", [])]
+                             for k in names},
+           "rod": {"name": rod_name, "mass_inertia": rod_source}, "block_error_files": [str(f) for f in block_files],
+           "variants": variants,
+           "definition": "per mode: each realisation's MD omega0 minus the linear rod's at that realisation's own "
+                         "virial tension, err^2 = err_md^2 + (d omega_rod/dT dT)^2; per kind chi2 = sum z^2 of the "
+                         "differences against the reference, dof the number of modes; raw: the MD's omega0 without "
+                         "the rod (no tension correction: the control); fit_errors_damped_raw: the damped omega with "
+                         "the fit errors, as the invariance step's differences_by_kind (mdbridge/analysis/"
+                         "seed_comparison.py)"}
+    write_json(out, rec)
+    return rec
 
 
 def pooled_relative_difference(rows: list[dict], name: str, reference: str, n_min: int = 3) -> dict | None:
@@ -400,6 +539,9 @@ def main(argv=None) -> int:
     p.add_argument("--replicas", type=int, default=20)
     p.add_argument("--n-fit-max", type=int, default=4)
     p.add_argument("--temperature", type=float, default=None)
+    p.add_argument("--md-inertia", default=None,
+                   help="the MD's build.json or a coarse-graining's params.json: adds the paper_rod_box prediction "
+                        "(the paper's rod at the box's length with the MD's rho and I)")
     p = sub.add_parser("series")
     p.add_argument("runs", nargs="+", help="NAME=PREDICTION.json (each run's predict output)")
     p.add_argument("-o", "--output", required=True)
@@ -408,6 +550,20 @@ def main(argv=None) -> int:
     p = sub.add_parser("table")
     p.add_argument("dispersion")
     p.add_argument("-o", "--output", default=None)
+    p = sub.add_parser("block-errors")
+    p.add_argument("runs", nargs="+", help="NAME=SERIES.npz:MODES.json (one per realisation)")
+    p.add_argument("-o", "--output", required=True)
+    p.add_argument("--discard-ps", type=float, default=0.0)
+    p.add_argument("--until-ps", type=float, default=None)
+    p.add_argument("--kinds", nargs="+", default=list(KINDS), choices=KINDS)
+    p = sub.add_parser("seed-differences")
+    p.add_argument("runs", nargs="+", help="NAME=MODES.json:TENSION.json (one per realisation; the first is the "
+                                           "reference)")
+    p.add_argument("-o", "--output", required=True)
+    p.add_argument("--block-errors", nargs="*", default=[], help="block-errors outputs of the same realisations")
+    p.add_argument("--md-inertia", default=None,
+                   help="the MD's build.json (its atoms' mass and inertia) or a coarse-graining's params.json: the "
+                        "rod of the tension correction gets them")
     p = sub.add_parser("invariance")
     p.add_argument("runs", nargs="+", help="NAME=MODES.json; the first is the reference")
     p.add_argument("-o", "--output", required=True)
@@ -420,6 +576,12 @@ def main(argv=None) -> int:
             print(stretch_box(Path(a.md_dir), Path(a.out_dir), a.factor))
         elif a.step == "tension":
             measure_tension(a.md_dir, a.out, a.discard_ps)
+        elif a.step == "block-errors":
+            block_errors_step(_named_pairs(a.runs, "block-errors: run"), a.output, a.discard_ps, a.until_ps,
+                              tuple(a.kinds))
+        elif a.step == "seed-differences":
+            seed_differences_step(_named_pairs(a.runs, "seed-differences: run"), a.output,
+                                  [Path(p) for p in a.block_errors], a.md_inertia)
         elif a.step == "invariance":
             runs = _named(a.runs, "invariance: run")
             compare_runs(runs, next(iter(runs)), a.output, _named(a.checks, "invariance: --checks"))
@@ -436,7 +598,8 @@ def main(argv=None) -> int:
             else:
                 print(text, end="")
         else:
-            predict_and_compare(a.modes, a.output, a.tension, a.cg, a.m, a.replicas, a.n_fit_max, a.temperature)
+            predict_and_compare(a.modes, a.output, a.tension, a.cg, a.m, a.replicas, a.n_fit_max, a.temperature,
+                                a.md_inertia)
     return run_step(f"dispersion {a.step}", step)
 
 
