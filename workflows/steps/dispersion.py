@@ -518,9 +518,28 @@ def compare_runs(modes: dict[str, Path], reference: str, out, checks: dict[str, 
     return rec
 
 
+def _add_error_steps(sub) -> None:
+    """The subcommands of the errors that cover realisations (docs/dispersion.md)."""
+    p = sub.add_parser("block-errors")
+    p.add_argument("runs", nargs="+", help="NAME=SERIES.npz:MODES.json (one per realisation)")
+    p.add_argument("-o", "--output", required=True)
+    p.add_argument("--discard-ps", type=float, default=0.0)
+    p.add_argument("--until-ps", type=float, default=None)
+    p.add_argument("--kinds", nargs="+", default=list(KINDS), choices=KINDS)
+    p = sub.add_parser("seed-differences")
+    p.add_argument("runs", nargs="+", help="NAME=MODES.json:TENSION.json (one per realisation; the first is the "
+                                           "reference)")
+    p.add_argument("-o", "--output", required=True)
+    p.add_argument("--block-errors", nargs="*", default=[], help="block-errors outputs of the same realisations")
+    p.add_argument("--md-inertia", default=None,
+                   help="the MD's build.json (its atoms' mass and inertia) or a coarse-graining's params.json: the "
+                        "rod of the tension correction gets them")
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(prog="python -m dnarod.steps.dispersion", description=__doc__.splitlines()[0])
     sub = ap.add_subparsers(dest="step", required=True)
+    _add_error_steps(sub)
     p = sub.add_parser("stretch")
     p.add_argument("md_dir")
     p.add_argument("out_dir")
@@ -550,20 +569,6 @@ def main(argv=None) -> int:
     p = sub.add_parser("table")
     p.add_argument("dispersion")
     p.add_argument("-o", "--output", default=None)
-    p = sub.add_parser("block-errors")
-    p.add_argument("runs", nargs="+", help="NAME=SERIES.npz:MODES.json (one per realisation)")
-    p.add_argument("-o", "--output", required=True)
-    p.add_argument("--discard-ps", type=float, default=0.0)
-    p.add_argument("--until-ps", type=float, default=None)
-    p.add_argument("--kinds", nargs="+", default=list(KINDS), choices=KINDS)
-    p = sub.add_parser("seed-differences")
-    p.add_argument("runs", nargs="+", help="NAME=MODES.json:TENSION.json (one per realisation; the first is the "
-                                           "reference)")
-    p.add_argument("-o", "--output", required=True)
-    p.add_argument("--block-errors", nargs="*", default=[], help="block-errors outputs of the same realisations")
-    p.add_argument("--md-inertia", default=None,
-                   help="the MD's build.json (its atoms' mass and inertia) or a coarse-graining's params.json: the "
-                        "rod of the tension correction gets them")
     p = sub.add_parser("invariance")
     p.add_argument("runs", nargs="+", help="NAME=MODES.json; the first is the reference")
     p.add_argument("-o", "--output", required=True)
