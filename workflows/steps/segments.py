@@ -13,8 +13,9 @@ intact runs, across sessions"):
       OUT/segNN/energies.npz      the virial tension, the box and, with --hold-pairs, the
                                   restraint energy per energy frame
 
-and `join` puts the segments of one run together in time, checking that they follow one
-another without a gap or an overlap:
+and `join` puts the segments of one run together in time: a segment's frames past the next
+segment's start (written after its last checkpoint, then continued differently) are left
+out, and the segments must follow one another without a gap:
 
     python3 -m dnarod.steps.segments join OUT/seg01 OUT/seg02 ... -o OUT --discard-ps T
 
@@ -93,12 +94,21 @@ def reduce_segment(md_dir, out) -> dict:
     return rec
 
 
-def _check_sequence(times: list[np.ndarray], what: str, names: list[str]) -> None:
-    for (a, na), (b, nb) in zip(zip(times, names), zip(times[1:], names[1:])):
+def _kept(times: list[np.ndarray], what: str, names: list[str]) -> list[np.ndarray]:
+    """Per segment, the frames to keep: a segment's frames from the next segment's start on
+    are left out (a run stopped between checkpoints wrote frames past its last checkpoint;
+    the next segment continues from that checkpoint, and its frames are the run's). Then the
+    segments must follow one another, one frame apart."""
+    keep = [np.ones(len(t), dtype=bool) for t in times]
+    for i in range(len(times) - 1):
+        keep[i] = times[i] < times[i + 1][0] - 1e-6
+    for (a, ka, na), (b, nb) in zip(zip(times, keep, names), zip(times[1:], names[1:])):
         dt = float(np.median(np.diff(a)))
-        if not (0 < b[0] - a[-1] <= 1.5 * dt):
-            raise InputError(f"{nb}: its {what} start at {b[0]:g} ps, {na}'s end at {a[-1]:g} ps: "
+        end = a[ka][-1] if ka.any() else -np.inf
+        if not (0 < b[0] - end <= 1.5 * dt):
+            raise InputError(f"{nb}: its {what} start at {b[0]:g} ps, {na}'s end at {end:g} ps: "
                              f"segments must follow one another (one frame, {dt:g} ps, apart)")
+    return keep
 
 
 def join_segments(segments, out, discard_ps: float = 0.0) -> dict:
@@ -113,10 +123,12 @@ def join_segments(segments, out, discard_ps: float = 0.0) -> dict:
             raise InputError(f"{s / 'mode_series.npz'}: {len(r)} realisations; a segment has one")
         series.append(r[0])
     names = [str(s) for s in segs]
-    _check_sequence([s.times_ps for s in series], "mode frames", names)
+    keep = _kept([s.times_ps for s in series], "mode frames", names)
     first = series[0]
-    cat = {k: np.concatenate([getattr(s, k) for s in series]) for k in ("times_ps", "bend", "twist", "stretch")}
-    of = None if any(s.open_fraction is None for s in series) else np.concatenate([s.open_fraction for s in series])
+    cat = {k: np.concatenate([getattr(s, k)[kk] for s, kk in zip(series, keep)])
+           for k in ("times_ps", "bend", "twist", "stretch")}
+    of = (None if any(s.open_fraction is None for s in series)
+          else np.concatenate([s.open_fraction[kk] for s, kk in zip(series, keep)]))
     joined = ModeSeries(cat["times_ps"], first.n, cat["bend"], cat["twist"], cat["stretch"],
                         float(np.mean([s.length_A for s in series])), first.n_bp, first.helical_repeat,
                         f"{len(segs)} segments of {first.meta.get('md_dir', first.source)}", first.kind, of,
@@ -125,9 +137,9 @@ def join_segments(segments, out, discard_ps: float = 0.0) -> dict:
     out.mkdir(parents=True, exist_ok=True)
     save_npz(out / "mode_series.npz", [joined], extra={"segments": names})
     integ = [np.load(s / "integrity.npz") for s in segs]
-    _check_sequence([z["times_ps"] for z in integ], "pair frames", names)
-    t = np.concatenate([z["times_ps"] for z in integ])
-    dist = np.concatenate([z["n1_n3_A"].astype(float) for z in integ])
+    keep = _kept([z["times_ps"] for z in integ], "pair frames", names)
+    t = np.concatenate([z["times_ps"][kk] for z, kk in zip(integ, keep)])
+    dist = np.concatenate([z["n1_n3_A"][kk].astype(float) for z, kk in zip(integ, keep)])
     summary = integrity_summary(dist, t, discard_ps=discard_ps)
     summary.pop("times_ps")
     step = max(1, len(t) // 500)          # the curve, at most ~500 points
@@ -135,8 +147,9 @@ def join_segments(segments, out, discard_ps: float = 0.0) -> dict:
     summary["open_fraction_times_ps"] = t[::step].tolist()
     write_json(out / "integrity.json", {**summary, "segments": names})
     en = [np.load(s / "energies.npz") for s in segs]
-    _check_sequence([z["times_ps"] for z in en], "energy frames", names)
-    np.savez_compressed(out / "energies.npz", **{k: np.concatenate([z[k] for z in en]) for k in en[0].files})
+    keep = _kept([z["times_ps"] for z in en], "energy frames", names)
+    np.savez_compressed(out / "energies.npz",
+                        **{k: np.concatenate([z[k][kk] for z, kk in zip(en, keep)]) for k in en[0].files})
     return summary
 
 
