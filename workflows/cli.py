@@ -9,7 +9,7 @@ import sys
 from pathlib import Path
 
 from dna_models.errors import DnarodError
-from dnarod import commands
+from dnarod import commands, validate
 
 
 def _subcommand_modules():
@@ -81,10 +81,12 @@ def main(argv=None) -> int:
         return int(args._run(args) or 0)
     except DnarodError as e:
         _remove_if_empty(made)
+        validate.remove_made_folders()
         print(f"dnarod {args.command}: error: {e}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
         _remove_if_empty(made)
+        validate.remove_made_folders()
         print(f"dnarod {args.command}: interrupted", file=sys.stderr)
         return 130
     except BrokenPipeError:

@@ -7,6 +7,7 @@ import math
 from pathlib import Path
 
 from dna_models.errors import InputError
+from dnarod import validate
 from dnarod.commands._options import add_output
 
 NAME = "coarse-grain"
@@ -63,31 +64,32 @@ def add_arguments(p):
     add_output(p, metavar="DIR", help="output directory")
     p.add_argument("--temperature", metavar="K", help="temperature in K (default: kinetic, from velocities)")
     p.add_argument("--edr", metavar="FILE", help="GROMACS energy file: take T from it (gmx energy)")
-    p.add_argument("-m", "--length", type=int, metavar="M",
+    p.add_argument("-m", "--length", type=validate.integer(min=1), metavar="M",
                    help="coarse-graining length (steps) for the rod's K and the headline constants "
                         "(default: the largest m)")
-    p.add_argument("--m-max", type=int, metavar="M",
+    p.add_argument("--m-max", type=validate.integer(min=1), metavar="M",
                    help="largest m (default min(20, n_steps); n_bp / 4 for a closed duplex)")
     p.add_argument("--pairs", metavar="FILE", help="base pairs: 3DNA bpfile or lines 'resid_I resid_II'")
     p.add_argument("--closed", choices=("auto", "yes", "no"), default="auto",
                    help="periodic ligated duplex (closing step included); auto: strand I's ends bonded "
                         "across the box")
-    p.add_argument("--tension", type=float, metavar="PN",
+    p.add_argument("--tension", type=validate.finite(), metavar="PN",
                    help="measured mean tension (pN) of the box-held duplex: rest shape corrected")
-    p.add_argument("--torque", type=float, metavar="PN_NM",
+    p.add_argument("--torque", type=validate.finite(), metavar="PN_NM",
                    help="measured mean torque (pN nm, positive overwinds): rest shape corrected")
-    p.add_argument("--discard", type=int, metavar="N",
+    p.add_argument("--discard", type=validate.integer(min=0), metavar="N",
                    help="frames to discard as equilibration (default: Chodera's rule)")
-    p.add_argument("--min-effective", type=float, default=None, metavar="N",
+    p.add_argument("--min-effective", type=validate.finite(above=0), default=None, metavar="N",
                    help="independent frames required (default 50)")
-    p.add_argument("--max-open-fraction", type=float, default=0.05, metavar="F",
+    p.add_argument("--max-open-fraction", type=validate.finite(min=0, below=1), default=0.05, metavar="F",
                    help="opening rule of the sensitivity: a base pair counts as opened if N1-N3 > 3.5 A "
                         "in more than this fraction of frames (default 0.05; 0: in any frame)")
-    p.add_argument("--bootstrap", type=int, default=200, metavar="N", help="bootstrap replicates (200)")
+    p.add_argument("--bootstrap", type=validate.integer(min=1), default=200, metavar="N",
+                   help="bootstrap replicates (200)")
     p.add_argument("--seed", type=int, default=0, help="bootstrap random seed")
     p.add_argument("--start", type=int, default=None, help="first trajectory frame (0-based)")
     p.add_argument("--stop", type=int, default=None, help="stop before this frame")
-    p.add_argument("--step", type=int, default=None, help="take every STEP-th frame")
+    p.add_argument("--step", type=validate.integer(min=1), default=None, help="take every STEP-th frame")
 
 
 def constants_table(params: dict) -> str:
@@ -105,10 +107,20 @@ def constants_table(params: dict) -> str:
 
 def run(args):
     from mdbridge.coarsegrain.reader import is_hdf5
+    from mdbridge.coarsegrain.temperature import parse_temperature
     from mdbridge.geometry.structure import load_universe, read_pairs_file
 
-    if not (0.0 <= args.max_open_fraction < 1.0):
-        raise InputError(f"--max-open-fraction {args.max_open_fraction}: allowed 0 <= F < 1")
+    # every file and number checked before the trajectory is read
+    if args.temperature is not None:
+        parse_temperature(args.temperature)
+    if Path(args.structure).is_dir():
+        raise InputError(f"{args.structure}: a folder; give the structure and trajectory files in it "
+                         f"(e.g. {Path(args.structure) / 'md.tpr'} {Path(args.structure) / 'md.xtc'})")
+    if args.pairs:
+        validate.input_file(args.pairs, "--pairs", "text")
+    if args.edr and Path(args.edr).exists():   # a missing one: the energy reader's message
+        validate.input_file(args.edr, "--edr")
+    validate.output_folder(args.output)
     if is_hdf5(args.structure):
         if args.trajectories:
             raise InputError(f"{args.structure}: a rod output file is the whole input; give no trajectory "

@@ -48,13 +48,14 @@ examples:
 
 
 def add_arguments(p):
+    from dnarod import validate
     from dnarod.commands._options import add_output
     p.add_argument("paths", metavar="PATH", nargs="+",
                    help="rod output file, MD folder or mode_series.npz (one realisation each)")
     add_output(p, metavar="DIR", help="output directory")
-    p.add_argument("--discard-ps", type=float, default=0.0, metavar="T",
+    p.add_argument("--discard-ps", type=validate.finite(min=0), default=0.0, metavar="T",
                    help="discard the first T ps of each realisation (equilibration; default 0)")
-    p.add_argument("--until-ps", type=float, default=None, metavar="T",
+    p.add_argument("--until-ps", type=validate.finite(above=0), default=None, metavar="T",
                    help="use each realisation only up to T ps from its start (one window for seeds "
                         "of different lengths; default: to its end)")
 
@@ -139,8 +140,8 @@ def run(args):
         if args.discard_ps >= inp.record_ps:
             raise InputError(f"{inp.path}: --discard-ps {args.discard_ps:g} is not shorter than its record "
                              f"({inp.record_ps:g} ps, {inp.times_ps[0]:g} to {inp.times_ps[-1]:g} ps)")
-    out = Path(args.output)
-    out.mkdir(parents=True, exist_ok=True)
+    from dnarod import validate
+    out = validate.output_folder(args.output)
     with Stages("modes") as stages:
         series = [s for inp in inputs for s in inp.mode_series(stages)]
         stages.close()
