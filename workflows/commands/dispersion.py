@@ -58,8 +58,16 @@ def _wavenumbers(values, flag):
             raise InputError(f"{flag} {v!r}: expected a number or START:STOP:NUM "
                              "(NUM a positive integer)") from None
     if not all(np.isfinite(out)):
-        raise InputError(f"{flag}: wavenumbers must be finite")
+        bad = next(v for v in values if not all(np.isfinite(_wavenumbers_of(v))))
+        raise InputError(f"{flag} {bad}: not a finite number (wavenumbers must be finite)")
     return np.array(out, float)
+
+
+def _wavenumbers_of(v: str) -> list:
+    if ":" in v:
+        a, b, n = v.split(":")
+        return list(np.linspace(float(a), float(b), int(n)))
+    return [float(v)]
 
 
 def add_arguments(p):

@@ -37,7 +37,7 @@ def add_arguments(p):
     from dnarod.commands._options import add_output
     p.add_argument("paths", nargs="+", metavar="PATH", help="rod HDF5 files and MD folders")
     add_output(p, metavar="DIR", help="output folder (DIR/topology.json)")
-    p.add_argument("--writhe-points", type=validate.integer(min=1), default=None, metavar="M",
+    p.add_argument("--writhe-points", type=validate.integer(min=8), default=None, metavar="M",
                    help="the writhe of a closed rod coarsened to at most M blocks (default 1000: "
                         "0.02 CPU s and within 0.04 of the exact writhe at 10.5 kbp)")
 
