@@ -72,7 +72,10 @@ def _remove_if_empty(folder: Path | None) -> None:
 
 def main(argv=None) -> int:
     parser = build_parser()
-    args = parser.parse_args(argv)
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as e:     # argparse's refusal (exit 2, with the option) or --help (0): a status here too
+        return int(e.code or 0)
     if not getattr(args, "_run", None):
         parser.print_help()
         return 2

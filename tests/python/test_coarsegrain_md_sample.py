@@ -87,7 +87,8 @@ def test_too_few_frames_names_the_need(tmp_path, capsys):
     (["--temperature", "-3"], "--temperature '-3': must be a positive temperature in K"),
     (["--temperature", "300", "--min-effective", "5", "-m", "40"], "--length 40: allowed 1.."),
     ([], "no velocities in the trajectory"),
-    (["--temperature", "300", "--max-open-fraction", "1.5"], "--max-open-fraction 1.5: allowed"),
+    (["--temperature", "300", "--max-open-fraction", "1.5"],
+     "--max-open-fraction: 1.5: out of range (allowed: >= 0 and < 1)"),
     (["--edr", "nope.edr"], "nope.edr: energy file not found"),
 ])
 def test_bad_input_is_a_clear_error(tmp_path, capsys, args, msg):
