@@ -65,7 +65,8 @@ def add_arguments(p):
                    help="intrinsic shape on the grid: interpolated per-step strains, or exact (the rod "
                         "read at its base pairs has the step parameters; even n_bp needs --points-per-bp >= 2)")
     p.add_argument("--box-A", type=validate.finite(above=0), default=None, metavar="B",
-                   help="end-to-end length along the helix axis, A (default n_bp x 3.38 A, the MD box)")
+                   help="end-to-end length along the helix axis, A (default n_bp x 3.38 A, the MD box; "
+                        "with a per-step file n_bp x its mean rise)")
     p.add_argument("--kick", type=validate.finite(), default=0.0, metavar="A_V",
                    help="transverse velocity amplitude, A/ps: lab velocity A_v sin(2 pi s / L) e_perp "
                         "(the paper's kick, Sec 6.1), e_perp = d1(0) made normal to the helix axis (0: at rest)")
@@ -115,7 +116,15 @@ def run(args):
     N = args.points_per_bp * rm.n_bp
     g = grid_material(rm, N, args.interpolation, shape=args.shape)
     L = rm.length
-    box = L if args.box_A is None else u.length_to_rod(args.box_A)
+    if args.box_A is not None:
+        box = u.length_to_rod(args.box_A)
+    elif args.params in ("paper", "olson1998"):
+        box = L
+    else:
+        # a per-step file (e.g. `dnarod coarse-grain`'s) carries its own rise: the box is n_bp
+        # of its mean rise, so that its rod closes without a hand-set --box-A (3.44 A against
+        # the default 3.38 compresses a coarse-grained 21-bp rod until the shooting fails)
+        box = u.length_to_rod(rm.n_bp * float(np.mean(sm.step_params[:, 2])))
     print(f"dna-rod: {rm.n_bp} bp, {args.params}, N = {N}; closed rest state ...", file=sys.stderr)
     rest = closed_rest_state(g, L, box_length=box, space=args.space, mode=args.rest)
     write_steps(out / "steps.h5", sm)
