@@ -97,12 +97,23 @@ def constants_table(params: dict) -> str:
     m-step segments' physical constants, side by side, each with its error."""
     rod, ca, ph = params["rod"]["constants"], params["rod"]["constants_compliance_average"], params["physical"]
     m = params["physical_m"]
-    rows = [f"  {'':30s} {'rod, K(q->0)':>20s} {'compliance average':>20s} {f'{m}-step segments':>20s}"]
+    rows = [f"  {'':30s} {'the rod: K(q->0)':>20s} {'compliance average':>20s} {f'{m}-step segments':>20s}"]
     for k in ("bend_persistence_length", "torsional_modulus", "stretch_modulus", "twist_stretch_coupling"):
         cells = [f"{d[k]['value']:.4g} +- {d[k]['err']:.2g}" for d in (rod, ca, ph)]
         name = f"{k.replace('_', ' ')} [{rod[k]['unit']}]"
         rows.append(f"  {name:30s} " + " ".join(f"{c:>20s}" for c in cells))
     return "\n".join(rows)
+
+
+def headline(params: dict) -> str:
+    """The rod's constants, the ones docs/coarse-graining.md defines as the rod's (the
+    long-wavelength stiffness K(q -> 0)): the headline; the table below labels the others."""
+    rod = params["rod"]["constants"]
+    cells = [f"{k.replace('_', ' ')} {rod[k]['value']:.4g} +- {rod[k]['err']:.2g} {rod[k]['unit']}"
+             for k in ("bend_persistence_length", "torsional_modulus", "stretch_modulus")]
+    return ("the rod (K(q -> 0), docs/coarse-graining.md): " + ", ".join(cells)
+            + "\n  beside it, not the rod's: the per-step compliance average (the control) and m-step segments' "
+              "constants (their own definitions, which grow with m)")
 
 
 def run(args):
@@ -225,6 +236,7 @@ def _coarse_grain(args, u, source, pairs, numbering, closed, stages):
     print(f"{ens.n_steps} steps ({len(cg.results['opened_steps'])} touch a pair the opening rule counts as opened), "
           f"{cg.results['frames_used']} frames used after discarding {cg.results['discarded_frames']}, "
           f"N_eff = {cg.results['effective_samples']:.0f}, T = {T_K:.1f} K ({T_src.split(' ')[0]})")
+    print(headline(params))
     print(constants_table(params))
     for c in caveats:
         print(f"  caveat: {c}")
