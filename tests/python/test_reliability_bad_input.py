@@ -7,6 +7,7 @@ every command a binary file, an empty file, a folder, NaN and an unwritable outp
 The listed cases run through the installed command, as a user runs it; the sweep calls the
 command's main() in this process, where any exception that escapes fails the test."""
 import gzip
+import json
 import subprocess
 import time
 from pathlib import Path
@@ -306,3 +307,13 @@ def test_fuzz_every_command_every_bad_input(dnarod, files, rod21, sample_pdb, tm
     assert {c for c, kind in seen if kind == "out"} == commands - {"dispersion", "run-md"}
     assert {c for c, kind in seen if kind == "file"} == commands - {"dispersion", "paper-figures", "minicircle"}
     assert {c for c, kind in seen if kind == "nan"} == commands - {"paper-figures"}
+
+
+def test_topology_prints_one_frame_s_numbers_together(rod21, tmp_path, capsys):
+    # the summary printed frame 0's Tw and Wr next to "Lk a -> b"; now each frame's three together
+    from dnarod.cli import main
+    assert main(["topology", str(rod21), "-o", str(tmp_path / "topo")]) == 0
+    line = next(ln for ln in capsys.readouterr().out.splitlines() if ln.startswith(str(rod21)))
+    r = json.loads((tmp_path / "topo" / "topology.json").read_text())["paths"][str(rod21)]
+    for which, f in (("first", 0), ("last", -1)):
+        assert f"{which} frame Lk {r['Lk'][f]:.0f}, Tw {r['Tw'][f]:.4f}, Wr {r['Wr'][f]:.4f}" in line, line
