@@ -1,14 +1,19 @@
 #!/usr/bin/python3
-"""Write the measured figures of a whole run to its one results file, with date and machine.
+"""Write the measured figures of a whole run, with date and machine, under out/records/;
+copy them into the committed results/ only when asked (`commit`), so that running the
+README's two commands leaves every tracked file as it was.
 
-The README and docs quote these files (tests/python/test_docs_numbers.py holds them to it):
+The README and docs quote the files in results/ (tests/python/test_docs_numbers.py holds them to it):
 
     record_run.py test-times --step pytest=617 --step "sanitizers + fuzz"=392 --total-s 1026
-        -> results/test_times.json (scripts/test.sh calls it after a complete run)
+        -> out/records/test_times.json (scripts/test.sh calls it after a complete run)
     record_run.py main-job --wall-s 1644 --out out/compare
-        -> results/main_job.json (scripts/run.sh calls it after a complete default run):
+        -> out/records/main_job.json (scripts/run.sh calls it after a complete default run):
            the MD's ns/day from md/*/md.done, the headline MD's drift and phase speed from
            results.json.
+    record_run.py commit main_job test_times
+        -> results/main_job.json, results/test_times.json: the records the docs quote, replaced
+           by this machine's newest (then update the docs' figures: test_docs_numbers.py)
 """
 import argparse
 import datetime
@@ -79,6 +84,21 @@ def main_job(args) -> dict:
     return rec
 
 
+RECORDS = ROOT / "out" / "records"
+
+
+def commit(names) -> int:
+    import shutil
+    for name in names:
+        src = RECORDS / f"{name}.json"
+        if not src.is_file():
+            print(f"record_run: {src}: no such record (run the command that writes it first)", file=sys.stderr)
+            return 2
+        shutil.copyfile(src, ROOT / "results" / f"{name}.json")
+        print(f"record_run: {src} -> results/{name}.json")
+    return 0
+
+
 def main(argv=None) -> int:
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = p.add_subparsers(dest="what", required=True)
@@ -88,11 +108,16 @@ def main(argv=None) -> int:
     m = sub.add_parser("main-job")
     m.add_argument("--wall-s", type=float, required=True)
     m.add_argument("--out", required=True, help="the main job's output folder (results.json, md/)")
+    c = sub.add_parser("commit", help="copy records from out/records/ into the committed results/")
+    c.add_argument("names", nargs="+", choices=("main_job", "test_times"))
     args = p.parse_args(argv)
+    if args.what == "commit":
+        return commit(args.names)
     if args.what == "test-times":
-        path, rec = ROOT / "results" / "test_times.json", test_times(args)
+        path, rec = RECORDS / "test_times.json", test_times(args)
     else:
-        path, rec = ROOT / "results" / "main_job.json", main_job(args)
+        path, rec = RECORDS / "main_job.json", main_job(args)
+    path.parent.mkdir(parents=True, exist_ok=True)
     write_json(path, rec)
     print(f"record_run: wrote {path}")
     return 0

@@ -2,7 +2,8 @@
 # The one test command (README, CI): install, build and install this checkout,
 # then every C++ and Python test and the code checks. Exits non-zero if
 # anything fails. Each suite prints its wall time; a complete run writes them to
-# results/test_times.json (scripts/record_run.py), the one source docs/testing.md quotes.
+# out/records/test_times.json (scripts/record_run.py; its `commit test_times` makes that
+# results/test_times.json, the record docs/testing.md quotes: tracked files stay as they were).
 set -euo pipefail
 source "$(dirname "$0")/env.sh"
 start=$SECONDS

@@ -9,7 +9,7 @@ import sys
 from pathlib import Path
 
 from dna_models.errors import DnarodError
-from dnarod import commands
+from dnarod import commands, validate
 
 
 def _subcommand_modules():
@@ -72,7 +72,10 @@ def _remove_if_empty(folder: Path | None) -> None:
 
 def main(argv=None) -> int:
     parser = build_parser()
-    args = parser.parse_args(argv)
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as e:     # argparse's refusal (exit 2, with the option) or --help (0): a status here too
+        return int(e.code or 0)
     if not getattr(args, "_run", None):
         parser.print_help()
         return 2
@@ -81,10 +84,12 @@ def main(argv=None) -> int:
         return int(args._run(args) or 0)
     except DnarodError as e:
         _remove_if_empty(made)
+        validate.remove_made_folders()
         print(f"dnarod {args.command}: error: {e}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
         _remove_if_empty(made)
+        validate.remove_made_folders()
         print(f"dnarod {args.command}: interrupted", file=sys.stderr)
         return 130
     except BrokenPipeError:

@@ -105,6 +105,8 @@ def load(path) -> dict:
         raise InputError(f"--config {path}: no such file (shipped configs: workflows/config/*.yaml)")
     try:
         data = yaml.safe_load(path.read_text())
+    except UnicodeDecodeError:
+        raise InputError(f"{path}: not a YAML file (its bytes are binary)") from None
     except yaml.YAMLError as e:
         raise InputError(f"{path}: not valid YAML ({e})") from None
     return validate(data, str(path))

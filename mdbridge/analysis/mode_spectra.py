@@ -637,6 +637,19 @@ def off_branch(fits, reasons) -> list:
         if len(above) >= OFF_BRANCH_MIN:
             out[i] = (f"off the branch: its frequency lies below those of modes n = "
                       f"{', '.join(str(m + 1) for m in above)} of its kind (a dispersive mode's rises with n)")
+    # the branch rises from its first mode on: a mode at or above a higher one is refused (on
+    # the acoustic branch omega_(n+1) / omega_n >= (n+1) / n, far beyond the errors). The lower
+    # n is the one refused: its few periods in the record make it the one that locks onto a
+    # wrong peak (the main job's stretch n = 1 at 0.33 rad/ps above its n = 2 at 0.29; 0.10
+    # in a 5-ns record)
+    for i, (fit, _) in enumerate(fits):
+        if out[i] is not None:
+            continue
+        below = [m for m in range(i + 1, len(fits)) if out[m] is None
+                 and fit.omega_per_ps >= fits[m][0].omega_per_ps]
+        if below:
+            out[i] = (f"off the branch: its frequency lies above that of mode n = {below[0] + 1} of its kind "
+                      "(a branch rises with n from its first mode on)")
     return out
 
 

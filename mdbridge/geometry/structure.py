@@ -105,6 +105,9 @@ def load_universe(structure, *trajectories):
     import MDAnalysis
     files = [str(structure)] + [str(t) for t in trajectories]
     for f in files:
+        if Path(f).is_dir():
+            raise InputError(f"{f}: a folder; give the structure and trajectory files in it "
+                             f"(e.g. {Path(f) / 'md.tpr'} {Path(f) / 'md.xtc'})")
         if not Path(f).is_file():
             raise InputError(f"{f}: file not found")
         if _is_empty(Path(f)):
@@ -132,6 +135,9 @@ def read_pairs_file(path):
         lines = p.read_text().splitlines()
     except OSError as e:
         raise InputError(f"{path}: cannot read pairs file ({e.strerror})") from None
+    except UnicodeDecodeError:
+        raise InputError(f"{path}: not a pairs file (its bytes are binary; a 3DNA bpfile or lines "
+                         "'resid_I resid_II' expected)") from None
     is_bpfile = any("# number of base-pairs" in ln for ln in lines[:6])
     pairs = []
     body = lines[5:] if is_bpfile else lines

@@ -45,6 +45,8 @@ def load_scene(path) -> dict:
         raise InputError(f"{path}: cannot read the scene ({e.strerror})") from None
     except tomllib.TOMLDecodeError as e:
         raise InputError(f"{path}: not valid TOML ({e})") from None
+    except UnicodeDecodeError:
+        raise InputError(f"{path}: not a TOML file (its bytes are binary)") from None
 
 
 def _kind_default(kind: str, key: str) -> float:

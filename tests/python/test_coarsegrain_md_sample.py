@@ -79,6 +79,12 @@ def test_21_models_reported_with_caveat(tmp_path, capsys):
     assert 0.5 < p["mass_inertia"]["rho"]["ratio"] < 1.2 and p["mass_inertia"]["hydrogens_in_topology"]
     out = capsys.readouterr().out
     assert "caveat" in out and "params.json" in out
+    # the headline persistence length is the rod's (K(q -> 0), docs/coarse-graining.md), not the
+    # m-step segments' (which grow with m); the others are labelled as not the rod's
+    lb = p["rod"]["constants"]["bend_persistence_length"]
+    first = next(ln for ln in out.splitlines() if ln.startswith("the rod (K(q -> 0)"))
+    assert f"bend persistence length {lb['value']:.4g} +- {lb['err']:.2g} nm" in first
+    assert "not the rod's" in out
 
 
 def test_too_few_frames_names_the_need(tmp_path, capsys):
@@ -91,7 +97,8 @@ def test_too_few_frames_names_the_need(tmp_path, capsys):
     (["--temperature", "-3"], "--temperature '-3': must be a positive temperature in K"),
     (["--temperature", "300", "--min-effective", "5", "-m", "40"], "--length 40: allowed 1.."),
     ([], "no velocities in the trajectory"),
-    (["--temperature", "300", "--max-open-fraction", "1.5"], "--max-open-fraction 1.5: allowed"),
+    (["--temperature", "300", "--max-open-fraction", "1.5"],
+     "--max-open-fraction: 1.5: out of range (allowed: >= 0 and < 1)"),
     (["--edr", "nope.edr"], "nope.edr: energy file not found"),
 ])
 def test_bad_input_is_a_clear_error(tmp_path, capsys, args, msg):

@@ -349,7 +349,8 @@ def test_bad_input_exits_2_before_work(tmp_path, dnarod):
                        ([str(tmp_path / "empty")], "no md.tpr + md.xtc and no conf.gro"),
                        ([str(tmp_path / "nodirectors.h5")], "dataset 'directors' missing"),
                        ([str(tmp_path / "open")], "strand I is not joined from its last base pair"),
-                       ([str(tmp_path / "empty"), "--writhe-points", "3"], "allowed: at least 8")]:
+                       ([str(tmp_path / "empty"), "--writhe-points", "3"],
+                        "--writhe-points: 3: out of range (allowed: >= 8)")]:
         out = subprocess.run([str(dnarod), "topology", *args, "-o", str(tmp_path / "topo")],
                              capture_output=True, text=True, cwd=tmp_path)
         assert out.returncode == 2 and says in out.stderr, (args, out.stderr)

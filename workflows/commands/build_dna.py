@@ -8,6 +8,7 @@ import numpy as np
 
 from dna_models import bdna
 from dna_models.errors import InputError
+from dnarod import validate
 from dnarod.commands._options import add_output
 
 NAME = "build-dna"
@@ -48,11 +49,11 @@ def add_arguments(p):
                    help="strand I, 5'->3' (A/C/G/T); optional with a .par file (taken from it)")
     p.add_argument("--seed", type=int, default=None,
                    help="with --scene and no --sequence: random sequence with this seed")
-    p.add_argument("--rise", type=float, default=bdna.RISE_A, help="--ideal rise, A (3.38)")
-    p.add_argument("--twist", type=float, default=bdna.TWIST_DEG, help="--ideal twist, deg (36)")
-    p.add_argument("--frame", type=int, default=None, help="frame to use from a multi-frame CSV")
+    p.add_argument("--rise", type=validate.finite(above=0), default=bdna.RISE_A, help="--ideal rise, A (3.38)")
+    p.add_argument("--twist", type=validate.finite(), default=bdna.TWIST_DEG, help="--ideal twist, deg (36)")
+    p.add_argument("--frame", type=validate.integer(min=0), default=None, help="frame to use from a multi-frame CSV")
     per = p.add_mutually_exclusive_group()
-    per.add_argument("--box", type=float, metavar="L",
+    per.add_argument("--box", type=validate.finite(above=0), metavar="L",
                      help="periodic: box length along z in A; the strands close through it")
     per.add_argument("--periodic", action="store_true",
                      help="periodic with the natural box: n_bp x rise (--ideal), the rod "
@@ -128,6 +129,11 @@ def _from_scene(args):
 
 def run(args):
     from mdbridge.md.builder import build_duplex, check_chemistry, write_pdb
+    if args.params:
+        validate.input_file(args.params, "--params", "3DNA .par" if args.params.lower().endswith(".par") else "CSV")
+    if args.scene:
+        validate.input_file(args.scene, "--scene", "TOML")
+    validate.output_file(args.output)
     if args.params:
         seq, o, R, box, bp_params = _from_params(args)
     elif args.ideal:

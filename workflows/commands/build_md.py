@@ -2,6 +2,7 @@
 starts in the rod scene's shape with the rod's velocities (paper Sec 6.2)."""
 from __future__ import annotations
 
+from dnarod import validate
 from dnarod.commands._options import add_output
 
 NAME = "build-md"
@@ -48,27 +49,27 @@ def add_arguments(p):
     p.add_argument("scene", metavar="SCENE.toml", help="rod scene: [initial] kind = \"dna_planar\" (uniform "
                    "paper DNA), or a sequence-dependent scene of `dnarod dna-rod` (its DNA is built)")
     add_output(p, metavar="DIR", help="directory to write")
-    p.add_argument("--temperature", type=float, default=d.TEMPERATURE_K, metavar="K",
+    p.add_argument("--temperature", type=validate.finite(min=0), default=d.TEMPERATURE_K, metavar="K",
                    help=f"thermal part of the initial velocities, K ({d.TEMPERATURE_K:g}; 0 = rod motion only)")
     p.add_argument("--seed", type=int, default=None,
                    help="seed of the random sequence and the thermal velocities (default: drawn "
                         "and recorded in build.json)")
     p.add_argument("--sequence", metavar="SEQ", help="strand I 5'->3' (default: random, --seed)")
-    p.add_argument("--bp", type=int, default=None, help="override the scene's number of base pairs")
-    p.add_argument("--turns", type=int, default=None,
+    p.add_argument("--bp", type=validate.integer(min=1), default=None, help="override the scene's number of base pairs")
+    p.add_argument("--turns", type=validate.integer(min=1), default=None,
                    help="override the scene's helical turns (twist = 360 turns / bp)")
     p.add_argument("--rod", metavar="ROD.h5", default=None,
                    help="use this rod output of the same scene (rodsim run SCENE.toml -o ROD.h5, "
                         "with internal, centerline and directors, at least --ps long) instead of "
                         "running the rod again")
-    p.add_argument("--ps", type=float, default=None,
+    p.add_argument("--ps", type=validate.finite(min=0), default=None,
                    help="MD length the box is sized for and run-md runs by default, ps (default: "
                         f"the whole --rod run, in whole time steps; {d.MD_PS:g} when build-md runs the rod)")
     p.add_argument("--forcefield", choices=FORCEFIELDS, default=d.FORCEFIELD)
     p.add_argument("--electrostatics", choices=ELECTROSTATICS, default=d.ELECTROSTATICS,
                    help="paper: full charges (default); neutral-phosphates: +0.5 e on O1P/O2P, "
                         "every nucleotide neutral (docs/md.md: measured effect and its cost)")
-    p.add_argument("--dt", type=float, default=None,
+    p.add_argument("--dt", type=validate.finite(above=0), default=None,
                    help=f"time step, ps ({d.DT_PS:g} without constraints; {d.DT_CONSTRAINED_PS:g} with "
                         "--constraints h-bonds)")
     p.add_argument("--constraints", choices=("none", "h-bonds"), default=d.CONSTRAINTS)
@@ -76,19 +77,19 @@ def add_arguments(p):
                    help="smooth (default): reaction-field eps_rf = 0 and vdW force-switch 0.8-1.0 nm, "
                         "potential and force zero at the 1.0-nm cut-off (energy-conserving); paper: "
                         "plain cut-offs, force jumps at 1.0 nm (docs/md.md, energy conservation)")
-    p.add_argument("--lincs-order", type=int, default=d.LINCS_ORDER,
+    p.add_argument("--lincs-order", type=validate.integer(min=1), default=d.LINCS_ORDER,
                    help=f"LINCS expansion order ({d.LINCS_ORDER})")
-    p.add_argument("--lincs-iter", type=int, default=d.LINCS_ITER, help=f"LINCS iterations ({d.LINCS_ITER})")
+    p.add_argument("--lincs-iter", type=validate.integer(min=1), default=d.LINCS_ITER, help=f"LINCS iterations ({d.LINCS_ITER})")
     p.add_argument("--thermostat", action="store_true",
                    help="v-rescale at --temperature instead of NVE (the paper is NVE)")
-    p.add_argument("--tau-t-ps", type=float, default=d.TAU_T_PS, metavar="PS",
+    p.add_argument("--tau-t-ps", type=validate.finite(above=0), default=d.TAU_T_PS, metavar="PS",
                    help=f"coupling time of --thermostat, ps ({d.TAU_T_PS:.1f}; a global stochastic thermostat "
                         "with tau-t of ~1-2 ps leaves the duplex's mode dynamics unchanged)")
     p.add_argument("--protocol", choices=("equilibrated", "paper"), default=None,
                    help="equilibrated (default when --temperature > 0): a v-rescale stage at "
                         "--temperature of --equilibrate-ps before the rod's velocities are added; "
                         "paper: no equilibration, as in the paper (default at 0 K)")
-    p.add_argument("--equilibrate-ps", type=float, default=d.EQUILIBRATE_PS, metavar="PS",
+    p.add_argument("--equilibrate-ps", type=validate.finite(min=0), default=d.EQUILIBRATE_PS, metavar="PS",
                    help=f"length of the equilibration stage, ps ({d.EQUILIBRATE_PS:g}; build.json records "
                         "whether temperature and potential energy were stationary)")
     p.add_argument("--axial-pressure", action="store_true",
@@ -100,22 +101,29 @@ def add_arguments(p):
                         "duplex); the full-charge run without it is the paper's setting")
     p.add_argument("--minimize", action="store_true",
                    help="restrained steepest descent (base heavy atoms held) before velocities")
-    p.add_argument("--margin", type=float, default=d.MARGIN_A,
+    p.add_argument("--margin", type=validate.finite(min=0), default=d.MARGIN_A,
                    help=f"extra box margin across the axis, A ({d.MARGIN_A:g})")
     p.add_argument("--gmx", metavar="PATH",
                    help="gmx: a path, or a name (gmx_d) looked up in the project's build, then PATH "
                         "(default: $DNAROD_GMX, else the project's build, else PATH)")
-    p.add_argument("--threads", type=int, default=d.BUILD_THREADS,
+    p.add_argument("--threads", type=validate.integer(min=1), default=d.BUILD_THREADS,
                    help=f"threads for the minimisation ({d.BUILD_THREADS})")
 
 
 def run(args):
+    import os
     import sys
 
     from dnarod.progress import Stages, md_rate
+    from dnarod.staging import written_on_success
     from mdbridge.md.gromacs.build_summary import summary_lines
     from mdbridge.md.build import BuildRequest, build_md
 
+    if os.path.exists(args.scene):     # a missing one: the scene reader's message
+        validate.input_file(args.scene, None, "TOML")
+    if args.rod and os.path.exists(args.rod):
+        validate.input_file(args.rod, "--rod")
+    validate.output_folder(args.output)
     request = BuildRequest(
         scene=args.scene, output=args.output, temperature_K=args.temperature, seed=args.seed,
         sequence=args.sequence, bp=args.bp, turns=args.turns, rod=args.rod, ps=args.ps,
@@ -124,8 +132,11 @@ def run(args):
         lincs_iter=args.lincs_iter, thermostat=args.thermostat, tau_t_ps=args.tau_t_ps,
         protocol=args.protocol, equilibrate_ps=args.equilibrate_ps, axial_pressure=args.axial_pressure,
         hold_pairs=args.hold_pairs, minimize=args.minimize, margin_A=args.margin, gmx=args.gmx, threads=args.threads)
-    with Stages("build-md") as stages:
-        info, built_links = build_md(request, stages, md_rate)
+    # built beside DIR and moved in on success: a failed rebuild leaves DIR's build intact
+    with written_on_success(args.output, last="build.json", stale=("build.json", "md.done", "checks.json")) as tmp:
+        request.output = str(tmp)
+        with Stages("build-md") as stages:
+            info, built_links = build_md(request, stages, md_rate)
     for line in summary_lines(info, built_links, args.temperature):
         print(f"build-md: {line}", file=sys.stderr)
     print(f"build-md: wrote {args.output}/ (conf.gro, topol.top, md.mdp, em.mdp, build.json)")

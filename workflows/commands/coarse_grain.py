@@ -3,6 +3,10 @@
 mass and inertia), each number with its error (mdbridge.coarsegrain)."""
 from __future__ import annotations
 
+from pathlib import Path
+
+from dna_models.errors import InputError
+from dnarod import validate
 from dnarod.commands._options import add_output
 
 NAME = "coarse-grain"
@@ -59,31 +63,32 @@ def add_arguments(p):
     add_output(p, metavar="DIR", help="output directory")
     p.add_argument("--temperature", metavar="K", help="temperature in K (default: kinetic, from velocities)")
     p.add_argument("--edr", metavar="FILE", help="GROMACS energy file: take T from it (gmx energy)")
-    p.add_argument("-m", "--length", type=int, metavar="M",
+    p.add_argument("-m", "--length", type=validate.integer(min=1), metavar="M",
                    help="coarse-graining length (steps) for the rod's K and the headline constants "
                         "(default: the largest m)")
-    p.add_argument("--m-max", type=int, metavar="M",
+    p.add_argument("--m-max", type=validate.integer(min=1), metavar="M",
                    help="largest m (default min(20, n_steps); n_bp / 4 for a closed duplex)")
     p.add_argument("--pairs", metavar="FILE", help="base pairs: 3DNA bpfile or lines 'resid_I resid_II'")
     p.add_argument("--closed", choices=("auto", "yes", "no"), default="auto",
                    help="periodic ligated duplex (closing step included); auto: strand I's ends bonded "
                         "across the box")
-    p.add_argument("--tension", type=float, metavar="PN",
+    p.add_argument("--tension", type=validate.finite(), metavar="PN",
                    help="measured mean tension (pN) of the box-held duplex: rest shape corrected")
-    p.add_argument("--torque", type=float, metavar="PN_NM",
+    p.add_argument("--torque", type=validate.finite(), metavar="PN_NM",
                    help="measured mean torque (pN nm, positive overwinds): rest shape corrected")
-    p.add_argument("--discard", type=int, metavar="N",
+    p.add_argument("--discard", type=validate.integer(min=0), metavar="N",
                    help="frames to discard as equilibration (default: Chodera's rule)")
-    p.add_argument("--min-effective", type=float, default=None, metavar="N",
+    p.add_argument("--min-effective", type=validate.finite(above=0), default=None, metavar="N",
                    help="independent frames required (default 50)")
-    p.add_argument("--max-open-fraction", type=float, default=0.05, metavar="F",
+    p.add_argument("--max-open-fraction", type=validate.finite(min=0, below=1), default=0.05, metavar="F",
                    help="opening rule of the sensitivity: a base pair counts as opened if N1-N3 > 3.5 A "
                         "in more than this fraction of frames (default 0.05; 0: in any frame)")
-    p.add_argument("--bootstrap", type=int, default=200, metavar="N", help="bootstrap replicates (200)")
+    p.add_argument("--bootstrap", type=validate.integer(min=1), default=200, metavar="N",
+                   help="bootstrap replicates (200)")
     p.add_argument("--seed", type=int, default=0, help="bootstrap random seed")
     p.add_argument("--start", type=int, default=None, help="first trajectory frame (0-based)")
     p.add_argument("--stop", type=int, default=None, help="stop before this frame")
-    p.add_argument("--step", type=int, default=None, help="take every STEP-th frame")
+    p.add_argument("--step", type=validate.integer(min=1), default=None, help="take every STEP-th frame")
     p.add_argument("--window-ps", type=float, nargs="+", metavar="W",
                    help="compliance by timescale: windows (ps) for K(W); the first is params.json's "
                         "\"unrelaxed\" (default 50 ps; docs/coarse-graining.md, \"Compliance by timescale\"); "
@@ -95,7 +100,7 @@ def constants_table(params: dict) -> str:
     m-step segments' physical constants, side by side, each with its error."""
     rod, ca, ph = params["rod"]["constants"], params["rod"]["constants_compliance_average"], params["physical"]
     m = params["physical_m"]
-    rows = [f"  {'':30s} {'rod, K(q->0)':>20s} {'compliance average':>20s} {f'{m}-step segments':>20s}"]
+    rows = [f"  {'':30s} {'the rod: K(q->0)':>20s} {'compliance average':>20s} {f'{m}-step segments':>20s}"]
     for k in ("bend_persistence_length", "torsional_modulus", "stretch_modulus", "twist_stretch_coupling"):
         cells = [f"{d[k]['value']:.4g} +- {d[k]['err']:.2g}" for d in (rod, ca, ph)]
         name = f"{k.replace('_', ' ')} [{rod[k]['unit']}]"
@@ -126,9 +131,36 @@ def request(args):
         window_ps=args.window_ps)
 
 
+def headline(params: dict) -> str:
+    """The rod's constants, the ones docs/coarse-graining.md defines as the rod's (the
+    long-wavelength stiffness K(q -> 0)): the headline; the table below labels the others."""
+    rod = params["rod"]["constants"]
+    cells = [f"{k.replace('_', ' ')} {rod[k]['value']:.4g} +- {rod[k]['err']:.2g} {rod[k]['unit']}"
+             for k in ("bend_persistence_length", "torsional_modulus", "stretch_modulus")]
+    return ("the rod (K(q -> 0), docs/coarse-graining.md): " + ", ".join(cells)
+            + "\n  beside it, not the rod's: the per-step compliance average (the control) and m-step segments' "
+              "constants (their own definitions, which grow with m)")
+
+
+def _check_inputs(args) -> None:
+    """Every file and number checked before the trajectory is read."""
+    from mdbridge.coarsegrain.temperature import parse_temperature
+    if args.temperature is not None:
+        parse_temperature(args.temperature)
+    if Path(args.structure).is_dir():
+        raise InputError(f"{args.structure}: a folder; give the structure and trajectory files in it "
+                         f"(e.g. {Path(args.structure) / 'md.tpr'} {Path(args.structure) / 'md.xtc'})")
+    if args.pairs:
+        validate.input_file(args.pairs, "--pairs", "text")
+    if args.edr and Path(args.edr).exists():   # a missing one: the energy reader's message
+        validate.input_file(args.edr, "--edr")
+    validate.output_folder(args.output)
+
+
 def run(args):
     from mdbridge.coarsegrain.pipeline import coarse_grain
     from dnarod.progress import Stages
+    _check_inputs(args)
     with Stages("coarse-grain") as stages:
         r = coarse_grain(request(args), progress=stages)
     res = r.results
@@ -138,6 +170,7 @@ def run(args):
     of = r.params["opening_rule"].get("open_step_frames", 0.0)
     print(f"  {100 * of:.1f} % of the (step, frame)s touch an open pair (N1-N3 > 3.5 A): left out of the "
           "local estimates frame by frame")
+    print(headline(r.params))
     print(constants_table(r.params))
     print(unrelaxed_line(r.params))
     for c in r.caveats:

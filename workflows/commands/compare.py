@@ -9,6 +9,7 @@ import threading
 from pathlib import Path
 
 from dna_models.errors import ExternalToolError, InputError
+from dnarod import validate
 from dnarod.commands._options import add_output
 
 NAME = "compare"
@@ -51,7 +52,8 @@ def add_arguments(p):
                    help="workflow configuration (YAML); default: workflows/config/default.yaml")
     add_output(p, metavar="DIR", required=False, default="out/compare",
                help="output directory (default: out/compare, the README's)")
-    p.add_argument("--cores", type=int, default=2, help="cores Snakemake may use at once (default 2)")
+    p.add_argument("--cores", type=validate.integer(min=1), default=2,
+                   help="cores Snakemake may use at once (default 2)")
     p.add_argument("snakemake_args", nargs="*", help="extra Snakemake options, after `--`")
 
 
@@ -219,12 +221,11 @@ def _run_showing_progress(cmd, env, out: Path, poll_s: float = 5.0) -> int:
 
 def run(args) -> int:
     from dnarod.configuration import load
-    cfg = Path(args.config)
+    cfg = validate.input_file(args.config, "--config", "YAML")
     load(cfg)  # every key checked before anything runs (workflows/config/schema.yaml)
     if args.cores < 1:
         raise InputError(f"--cores {args.cores}: must be at least 1")
-    out = Path(args.output).resolve()
-    out.mkdir(parents=True, exist_ok=True)
+    out = validate.output_folder(args.output).resolve()
     bin_dir = os.environ.get("DNAROD_BIN_DIR") or str(ROOT / "build" / "bin")
     cmd = [sys.executable, "-m", "snakemake", "-s", str(ROOT / "workflows" / "Snakefile"),
            "--configfile", str(cfg.resolve()), "--config", f"bin_dir={bin_dir}", f"python={sys.executable}",

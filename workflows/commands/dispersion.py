@@ -8,6 +8,7 @@ import sys
 import numpy as np
 
 from dna_models.errors import InputError
+from dnarod import validate
 
 NAME = "dispersion"
 HELP = "bend-shear wave frequencies omega_+/- of a straight rod (paper Eqs 26, 39) as CSV"
@@ -57,8 +58,16 @@ def _wavenumbers(values, flag):
             raise InputError(f"{flag} {v!r}: expected a number or START:STOP:NUM "
                              "(NUM a positive integer)") from None
     if not all(np.isfinite(out)):
-        raise InputError(f"{flag}: wavenumbers must be finite")
+        bad = next(v for v in values if not all(np.isfinite(_wavenumbers_of(v))))
+        raise InputError(f"{flag} {bad}: not a finite number (wavenumbers must be finite)")
     return np.array(out, float)
+
+
+def _wavenumbers_of(v: str) -> list:
+    if ":" in v:
+        a, b, n = v.split(":")
+        return list(np.linspace(float(a), float(b), int(n)))
+    return [float(v)]
 
 
 def add_arguments(p):
@@ -76,7 +85,7 @@ def add_arguments(p):
                    help="intrinsic twist Omega03 (with --k; default 0)")
     p.add_argument("--ratios", action="store_true",
                    help="also print the Eq (27) energy ratios and the Fig 5 ratios |Gamma1|/|Omega2|")
-    p.add_argument("--precision", type=int, default=10, help="significant digits (default 10)")
+    p.add_argument("--precision", type=validate.integer(min=1), default=10, help="significant digits (default 10)")
 
 
 def table(args):
@@ -118,10 +127,27 @@ def table(args):
                 for b in ("minus", "plus"):
                     cols[f"shear_bend_{b}_{pm}"] = theory.shear_bend_amplitude_ratio(
                         cols[f"omega_{b}_{pm}"], kap, D1, G)
+    _check_finite(cols, "--kappa" if args.kappa is not None else "--k")
     header = list(cols)
     rows = np.column_stack([np.broadcast_to(np.asarray(cols[h], float), (len(next(iter(cols.values()))),))
                             for h in header])
     return header, rows
+
+
+def _check_finite(cols: dict, flag: str) -> None:
+    """Every printed number finite, except the ratios at a zero wavenumber (0/0, documented):
+    a wavenumber too large for double precision gives inf or nan, refused here."""
+    wavenumber = cols.get("kappa", cols.get("k"))
+    for name, values in cols.items():
+        values = np.asarray(values, float)
+        bad = ~np.isfinite(values)
+        if name.startswith(("energy_ratio", "shear_bend")):
+            q = cols["kappa"] if "kappa" in cols else cols["kappa_" + name.rsplit("_", 1)[1]]
+            bad &= np.asarray(q, float) != 0
+        if bad.any():
+            i = int(np.argmax(bad))
+            raise InputError(f"{flag} {wavenumber[i]:g}: {name} = {values[i]} is not a finite number (the "
+                             "wavenumber is beyond double precision's range); give smaller wavenumbers")
 
 
 def run(args):

@@ -4,6 +4,8 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
+from dna_models.errors import InputError
+from dnarod import validate
 from dnarod.commands._options import add_output
 
 NAME = "dna-rod"
@@ -36,14 +38,16 @@ def add_arguments(p):
     src.add_argument("--sequence", metavar="SEQ", help="strand I, 5'->3' (A/C/G/T)")
     src.add_argument("--sequence-from-md", metavar="MDDIR", help="the sequence of a `dnarod build-md` folder "
                      "(its build.json)")
-    src.add_argument("--random", type=int, metavar="N_BP", help="a random sequence of N_BP bases (--seed)")
+    src.add_argument("--random", type=validate.integer(min=1), metavar="N_BP",
+                     help="a random sequence of N_BP bases (--seed)")
     p.add_argument("--seed", type=int, default=None, help="seed of --random (the build-md convention)")
     p.add_argument("--params", default="olson1998", metavar="SET",
                    help="paper | olson1998 | a per-step file STEPS.h5 (default olson1998)")
     p.add_argument("--mass", default="paper", choices=("paper", "atoms"),
                    help="mass and inertia per base pair: the paper's rho, I (Sec 2.1) or the all-atom "
                         "B-DNA templates (sequence-dependent, no counterions); not for a step file")
-    p.add_argument("--points-per-bp", type=int, default=1, metavar="M", help="grid points per base pair (1)")
+    p.add_argument("--points-per-bp", type=validate.integer(min=1), default=1, metavar="M",
+                   help="grid points per base pair (1)")
     p.add_argument("--interpolation", default="trig", choices=("trig", "smooth", "step"),
                    help="per-step values -> grid (docs/scenes.md; default trig)")
     p.add_argument("--space", default="spectral", choices=("spectral", "fd4"),
@@ -56,12 +60,14 @@ def add_arguments(p):
     p.add_argument("--shape", default="interpolated", choices=("interpolated", "exact"),
                    help="intrinsic shape on the grid: interpolated per-step strains, or exact (the rod "
                         "read at its base pairs has the step parameters; even n_bp needs --points-per-bp >= 2)")
-    p.add_argument("--box-A", type=float, default=None, metavar="B",
-                   help="end-to-end length along the helix axis, A (default n_bp x 3.38 A, the MD box)")
-    p.add_argument("--kick", type=float, default=0.0, metavar="A_V",
+    p.add_argument("--box-A", type=validate.finite(above=0), default=None, metavar="B",
+                   help="end-to-end length along the helix axis, A (default n_bp x 3.38 A, the MD box; "
+                        "with a per-step file n_bp x its mean rise)")
+    p.add_argument("--kick", type=validate.finite(), default=0.0, metavar="A_V",
                    help="transverse velocity amplitude, A/ps: lab velocity A_v sin(2 pi s / L) e_perp "
                         "(the paper's kick, Sec 6.1), e_perp = d1(0) made normal to the helix axis (0: at rest)")
-    p.add_argument("--t-end-ps", type=float, default=600.0, help="scene length, ps (600, the paper's MD)")
+    p.add_argument("--t-end-ps", type=validate.finite(above=0), default=600.0,
+                   help="scene length, ps (600, the paper's MD)")
     add_output(p, metavar="DIR", help="directory to write (steps.h5, material.h5, rest.h5, scene.toml, rest.json)")
 
 
@@ -70,15 +76,25 @@ def _sequence(args):
     from mdbridge.md.folder import md_sequence
     if args.sequence:
         return validate(args.sequence, "--sequence")
-    if args.random:
+    if args.random is not None:
         return random_sequence(args.random, seed=args.seed)
     return md_sequence(args.sequence_from_md, "--sequence-from-md")
 
 
 def run(args):
+    if args.sequence_from_md:
+        validate.input_folder(args.sequence_from_md, "--sequence-from-md", "a `dnarod build-md` folder")
+    seq = _sequence(args)
+    # the solver's fewest grid points (rodcore/src/scene/scene_reader.cpp: fd4 5, spectral 4)
+    n_min = 5 if args.space == "fd4" else 4
+    if args.points_per_bp * len(seq) < n_min:
+        raise InputError(f"{len(seq)} bp x --points-per-bp {args.points_per_bp} = "
+                         f"{args.points_per_bp * len(seq)} grid points; the {args.space} solver needs at least "
+                         f"{n_min}: give more base pairs or --points-per-bp")
+    validate.output_folder(args.output)
     from mdbridge.rod.material.dna_rod import DnaRodRequest, dna_rod
     req = DnaRodRequest(
-        sequence=_sequence(args), output=args.output, params=args.params, mass=args.mass,
+        sequence=seq, output=args.output, params=args.params, mass=args.mass,
         points_per_bp=args.points_per_bp, interpolation=args.interpolation, space=args.space,
         rest=args.rest, shape=args.shape, box_A=args.box_A, kick=args.kick, t_end_ps=args.t_end_ps)
     info = dna_rod(req, log=lambda text: print(text, file=sys.stderr))

@@ -37,6 +37,7 @@ examples:
 
 
 def add_arguments(p):
+    from dnarod import validate
     p.add_argument("structure", metavar="STRUCTURE",
                    help="PDB, GRO, TPR, ... (topology and/or coordinates), or a build-md folder")
     p.add_argument("trajectory", metavar="TRAJECTORY", nargs="?", help="optional XTC/TRR/DCD/... trajectory")
@@ -48,12 +49,12 @@ def add_arguments(p):
                    help="ligated periodic duplex: add the closing step from the last pair to the first")
     p.add_argument("--no-pbc", action="store_true",
                    help="ignore the periodic box (by default pair and step vectors are minimum images)")
-    p.add_argument("--box", type=float, nargs=3, metavar=("LX", "LY", "LZ"),
+    p.add_argument("--box", type=validate.finite(above=0), nargs=3, metavar=("LX", "LY", "LZ"),
                    help="the orthorhombic periodic box in A, for a file that does not carry it "
                         "(a PDB without CRYST1); replaces the file's box in every frame")
     p.add_argument("--start", type=int, default=None, help="first trajectory frame (0-based)")
     p.add_argument("--stop", type=int, default=None, help="stop before this frame")
-    p.add_argument("--step", type=int, default=None, help="take every STEP-th frame")
+    p.add_argument("--step", type=validate.integer(min=1), default=None, help="take every STEP-th frame")
 
 
 def run(args):
@@ -61,6 +62,11 @@ def run(args):
     from mdbridge.geometry.structure import BasePairFrames, read_pairs_file
 
     from mdbridge.geometry.structure import load_universe
+    from dnarod import validate
+    if args.pairs:
+        validate.input_file(args.pairs, "--pairs", "text")
+    if args.csv:
+        validate.output_file(args.csv, "--csv")
     structure, build_pairs = _build_md_folder(args.structure)
     u = load_universe(structure, *([args.trajectory] if args.trajectory else []))
     if args.box is not None:

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import secrets
 import sys
-from pathlib import Path
 
 from mdbridge.md.gromacs.defaults import TEMPERATURE_K
 
@@ -40,8 +39,10 @@ examples:
 
 
 def add_arguments(p):
+    from dnarod import validate
     from dnarod.commands._options import add_output
-    p.add_argument("--bp", type=int, metavar="N", help="base pairs (with --random-seed; implied by --sequence)")
+    p.add_argument("--bp", type=validate.integer(min=1), metavar="N",
+                   help="base pairs (with --random-seed; implied by --sequence)")
     p.add_argument("--delta-lk", type=int, required=True, metavar="D",
                    help="linking-number difference: Lk = round(Lk0) + D (integer)")
     src = p.add_mutually_exclusive_group()
@@ -50,27 +51,28 @@ def add_arguments(p):
                      help="a random sequence of --bp bases from seed S (default: a drawn seed, recorded)")
     p.add_argument("--params", default="olson1998", metavar="SET",
                    help="paper | olson1998 | a per-step file STEPS.h5 (default olson1998; as dna-rod)")
-    p.add_argument("--points-per-bp", type=int, default=None, metavar="M",
+    p.add_argument("--points-per-bp", type=validate.integer(min=1), default=None, metavar="M",
                    help="grid points per base pair (default 1 for paper, 2 otherwise: a sequence-dependent "
                         "ring on 1 point per bp opens in the run, docs/topology.md)")
-    p.add_argument("--temperature-K", type=float, default=0.0, metavar="T",
+    p.add_argument("--temperature-K", type=validate.finite(min=0), default=0.0, metavar="T",
                    help="temperature of the Langevin relaxation (default 0: friction only)")
     p.add_argument("--friction", default="critical", metavar="F",
                    help="critical (default: every velocity damped at twice the ring's slowest bending "
                         "frequency), water (DNA's drag: microseconds for 336 bp), or a rate [1/ps]")
-    p.add_argument("--relax-ps", type=float, default=None, metavar="PS",
+    p.add_argument("--relax-ps", type=validate.finite(min=0), default=None, metavar="PS",
                    help="length of the relaxation (default 5000 ps; 0: no run, the atoms on the planar ring)")
-    p.add_argument("--frames", type=int, default=None, metavar="K", help="output frames of the run (101)")
-    p.add_argument("--seed-kick", type=float, default=None, metavar="A_PER_PS",
+    p.add_argument("--frames", type=validate.integer(min=1), default=None, metavar="K",
+                   help="output frames of the run (101)")
+    p.add_argument("--seed-kick", type=validate.finite(), default=None, metavar="A_PER_PS",
                    help="out-of-plane seed velocity amplitude (0.01 A/ps; 0: none)")
-    p.add_argument("--contact-diameter-nm", type=float, default=None, metavar="D",
+    p.add_argument("--contact-diameter-nm", type=validate.finite(above=0), default=None, metavar="D",
                    help="self-contact: [contact] diameter_nm = D in the scene (needs a rodsim with [contact])")
     p.add_argument("--no-atoms", action="store_true", help="the rod only, no all-atom ring")
-    p.add_argument("--md-temperature-K", type=float, default=TEMPERATURE_K, metavar="T",
+    p.add_argument("--md-temperature-K", type=validate.finite(min=0), default=TEMPERATURE_K, metavar="T",
                    help=f"thermal velocities of the all-atom ring ({TEMPERATURE_K:g})")
     p.add_argument("--minimize", action="store_true", help="restrained minimisation of the all-atom ring")
     p.add_argument("--gmx", default=None, metavar="PATH", help="the gmx executable (as build-md)")
-    p.add_argument("--threads", type=int, default=1, metavar="N",
+    p.add_argument("--threads", type=validate.integer(min=1), default=1, metavar="N",
                    help="mdrun threads of the minimisation (1: a ring of a few thousand atoms)")
     add_output(p, metavar="DIR", help="output folder")
 
@@ -146,8 +148,8 @@ def run(args):
     seq, seq_source, choice, ppb, gmx = _checked(args)
     sm = step_material(seq, args.params, closed=True)
 
-    out = Path(args.output)
-    out.mkdir(parents=True, exist_ok=True)
+    from dnarod import validate
+    out = validate.output_folder(args.output)
     rm = rod_material(sm, units=u)
     g = grid_material(rm, ppb * rm.n_bp, "trig")
     print(f"minicircle: {rm.n_bp} bp ({seq_source}), {args.params}, {ppb} point(s) per bp; closing the ring ...",

@@ -4,7 +4,6 @@ Fourier mode of bend, twist and stretch, the static variance, the frequency and 
 from __future__ import annotations
 
 import sys
-from pathlib import Path
 
 NAME = "modes"
 HELP = "equilibrium mode spectra of a closed duplex: variance, frequency and damping of each Fourier mode"
@@ -44,13 +43,14 @@ examples:
 
 
 def add_arguments(p):
+    from dnarod import validate
     from dnarod.commands._options import add_output
     p.add_argument("paths", metavar="PATH", nargs="+",
                    help="rod output file, MD folder or mode_series.npz (one realisation each)")
     add_output(p, metavar="DIR", help="output directory")
-    p.add_argument("--discard-ps", type=float, default=0.0, metavar="T",
+    p.add_argument("--discard-ps", type=validate.finite(min=0), default=0.0, metavar="T",
                    help="discard the first T ps of each realisation (equilibration; default 0)")
-    p.add_argument("--until-ps", type=float, default=None, metavar="T",
+    p.add_argument("--until-ps", type=validate.finite(above=0), default=None, metavar="T",
                    help="use each realisation only up to T ps from its start (one window for seeds "
                         "of different lengths; default: to its end)")
 
@@ -59,7 +59,8 @@ def run(args):
     from mdbridge.analysis.mode_run import mode_spectra
     from dnarod.progress import Stages
 
-    out = Path(args.output)
+    from dnarod import validate
+    out = validate.output_folder(args.output)
     with Stages("modes") as stages:
         table = mode_spectra(args.paths, out, args.discard_ps, args.until_ps, progress=stages)
     _warn(table)

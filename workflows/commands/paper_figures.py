@@ -4,9 +4,7 @@ from __future__ import annotations
 
 import sys
 import time
-from pathlib import Path
 
-from dna_models.errors import InputError
 from dnarod.commands._options import add_output
 
 NAME = "paper-figures"
@@ -52,11 +50,8 @@ def run(args):
     import matplotlib
     matplotlib.use("Agg")
     from dnarod.paper.registry import FIGURES, TARGETS
-    out = Path(args.output)
-    try:
-        out.mkdir(parents=True, exist_ok=True)
-    except OSError as e:
-        raise InputError(f"-o {out}: cannot create the output folder ({e.strerror})") from None
+    from dnarod import validate
+    out = validate.output_folder(args.output)
     names = args.only or (FIGURES if args.figures else list(TARGETS))
     for name in names:
         t0 = time.time()

@@ -7,6 +7,7 @@ from pathlib import Path
 import numpy as np
 
 from dna_models.errors import InputError
+from dnarod import validate
 from dnarod.commands._options import add_output
 from mdbridge.jsonio import write_json
 
@@ -42,11 +43,12 @@ def add_arguments(p):
                                                   "coordinates to use (with --coarse: only its coordinates)")
     p.add_argument("--coarse", action="store_true", help="coarse bead model instead of atoms")
     add_output(p, help="output trajectory (.xtc/.trr/.dcd with --like, .pdb with --coarse)")
-    p.add_argument("--bp", type=int, help="base pairs the rod carries (default: from MDDIR/build.json or the "
+    p.add_argument("--bp", type=validate.integer(min=2),
+                   help="base pairs the rod carries (default: from MDDIR/build.json or the "
                                           "rod file's scene)")
-    p.add_argument("--every", type=int, default=1, help="write every n-th rod frame (default 1)")
+    p.add_argument("--every", type=validate.integer(min=1), default=1, help="write every n-th rod frame (default 1)")
     p.add_argument("--no-chemistry", action="store_true", help="skip the per-frame link/contact report")
-    p.add_argument("--relax-steps", type=int, default=0,
+    p.add_argument("--relax-steps", type=validate.integer(min=0), default=0,
                    help="with --like: a restrained steepest descent of this many steps per frame (base "
                         "atoms held, the MD build's em.mdp), for viewing; 0 = off (default)")
     p.add_argument("--gmx", help="gmx executable for --relax-steps (default: as dnarod run-md finds it)")
@@ -69,8 +71,9 @@ def _n_bp(args, rod_path: Path, build: dict | None) -> int:
 def run(args) -> int:
     from mdbridge.rod.run import RodRun
     rod = Path(args.rod)
-    if not rod.is_file():
+    if not rod.exists():
         raise InputError(f"{rod}: no such rod run (rodsim HDF5)")
+    validate.input_file(rod)
     if args.every < 1:
         raise InputError(f"--every {args.every}: must be at least 1")
     out = Path(args.output)
@@ -78,12 +81,17 @@ def run(args) -> int:
         raise InputError("give --like MDDIR (all-atom, like that MD build) or --coarse (beads)")
     build = None
     if args.like:
-        md = Path(args.like)
+        md = validate.input_folder(args.like, "--like", "an MD build folder of `dnarod build-md`")
         for f in ("build.json", "conf.gro", "topol.top"):
             if not (md / f).is_file():
                 raise InputError(f"--like {md}: {f} missing (an MD build directory of `dnarod build-md`)")
         build = json.loads((md / "build.json").read_text())
+    if args.coarse and out.suffix.lower() != ".pdb":
+        raise InputError(f"-o {out}: --coarse writes a multi-model PDB; name it *.pdb")
+    if not args.coarse and out.suffix.lower() not in (".xtc", ".trr", ".dcd"):
+        raise InputError(f"-o {out}: allowed trajectory formats .xtc, .trr, .dcd")
     n_bp = _n_bp(args, rod, build)
+    validate.output_file(out)
     run = RodRun.read(rod)
     R, o = run.bp_frames(n_bp)
     if build is not None:
@@ -91,16 +99,10 @@ def run(args) -> int:
     t = np.asarray(run.time, float) * float(run.attrs.get("tau_ps", 1.0))  # ps, as the MD's
     R, o, t = R[::args.every], o[::args.every], t[::args.every]
     if args.coarse:
-        if out.suffix.lower() != ".pdb":
-            raise InputError(f"-o {out}: --coarse writes a multi-model PDB; name it *.pdb")
         from mdbridge.md.backmap import write_coarse_pdb
         write_coarse_pdb(out, R, o, box=None if build is None else build["box"]["box_A"])
         print(f"rod-to-atoms: {len(t)} frames of {n_bp} beads (+ d1 tips) -> {out}")
         return 0
-    if out.suffix.lower() not in (".xtc", ".trr", ".dcd"):
-        raise InputError(f"-o {out}: allowed trajectory formats .xtc, .trr, .dcd")
-    if args.relax_steps < 0:
-        raise InputError(f"--relax-steps {args.relax_steps}: must be >= 0")
     from dnarod.progress import Stages
     with Stages("rod-to-atoms") as stages:
         return _atoms(args, md, build, out, R, o, t, stages)

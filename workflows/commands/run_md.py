@@ -27,18 +27,19 @@ Examples:
 
 
 def add_arguments(p):
+    from dnarod import validate
     p.add_argument("directory", metavar="DIR", help="a build-md output directory")
     length = p.add_mutually_exclusive_group()
-    length.add_argument("--ps", type=float, help="MD length, ps (default: the build's --ps)")
-    length.add_argument("--steps", type=int, help="MD length in steps")
+    length.add_argument("--ps", type=validate.finite(), help="MD length, ps (default: the build's --ps)")
+    length.add_argument("--steps", type=validate.integer(min=1), help="MD length in steps")
     p.add_argument("--gmx", metavar="PATH",
                    help="gmx: a path, or a name (gmx_d) looked up in the project's build, then PATH "
                         "(default: $DNAROD_GMX, else the project's build, else PATH)")
-    p.add_argument("--threads", type=int, default=None, help="mdrun -nt (default: mdrun decides)")
-    p.add_argument("--output-ps", type=float, default=None,
+    p.add_argument("--threads", type=validate.integer(min=1), default=None, help="mdrun -nt (default: mdrun decides)")
+    p.add_argument("--output-ps", type=validate.finite(above=0), default=None,
                    help="interval of coordinates/energies, ps (default: md.mdp's, 1 ps)")
     p.add_argument("--no-checks", action="store_true", help="skip checks.json")
-    p.add_argument("--checkpoint-minutes", type=float, default=None, metavar="MIN",
+    p.add_argument("--checkpoint-minutes", type=validate.finite(above=0), default=None, metavar="MIN",
                    help="wall-clock minutes between mdrun checkpoints (2): at most this much "
                         "work is lost when the run is killed")
     p.add_argument("--fresh", action="store_true",
@@ -53,7 +54,9 @@ def run(args):
 
     from mdbridge.md.gromacs.defaults import CHECKPOINT_MIN
     from mdbridge.md.gromacs.run import run_md
+    from dnarod import validate
     from dnarod.progress import Progress, md_rate
+    validate.input_folder(args.directory, None, "a `dnarod build-md` folder")
     bar: list[Progress] = []
 
     def progress(done_ps, total_ps):

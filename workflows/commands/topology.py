@@ -33,10 +33,11 @@ examples:
 
 
 def add_arguments(p):
+    from dnarod import validate
     from dnarod.commands._options import add_output
     p.add_argument("paths", nargs="+", metavar="PATH", help="rod HDF5 files and MD folders")
     add_output(p, metavar="DIR", help="output folder (DIR/topology.json)")
-    p.add_argument("--writhe-points", type=int, default=None, metavar="M",
+    p.add_argument("--writhe-points", type=validate.integer(min=8), default=None, metavar="M",
                    help="the writhe of a closed rod coarsened to at most M blocks (default 1000: "
                         "0.02 CPU s and within 0.04 of the exact writhe at 10.5 kbp)")
 
@@ -64,7 +65,9 @@ def run(args):
     from mdbridge.rod.topology import WRITHE_POINTS, rod_topology
 
     points = WRITHE_POINTS if args.writhe_points is None else args.writhe_points
+    from dnarod import validate
     inputs = _inputs(args.paths, args.writhe_points)
+    out = validate.output_folder(args.output)
     results, bad = {}, []
     for path, kind, run_ in inputs:
         r = rod_topology(run_, points) if kind == "rod" else md_topology(path)
@@ -79,11 +82,11 @@ def run(args):
             f = int(residual.argmax())
             bad.append(f"{path}: frame {f} (t = {r['time_ps'][f]:.3f} ps) has Lk = {Lk[f]:.0f} but Tw + Wr = "
                        f"{Tw[f] + Wr[f]:.3f}")
-        print(f"{path}: {kind}, {'closed' if r['closed'] else 'box-periodic'}, {len(Lk)} frames, "
-              f"Lk {Lk[0]:.0f} -> {Lk[-1]:.0f}, Tw {Tw[0]:.4f}, Wr {Wr[0]:.4f}, "
+        # each frame's Lk, Tw and Wr together: the first and the last
+        print(f"{path}: {kind}, {'closed' if r['closed'] else 'box-periodic'}, {len(Lk)} frames; "
+              f"first frame Lk {Lk[0]:.0f}, Tw {Tw[0]:.4f}, Wr {Wr[0]:.4f}; "
+              f"last frame Lk {Lk[-1]:.0f}, Tw {Tw[-1]:.4f}, Wr {Wr[-1]:.4f}; "
               f"max |Lk - Tw - Wr| {residual.max():.2e}")
-    out = Path(args.output)
-    out.mkdir(parents=True, exist_ok=True)
     write_json(out / "topology.json", {"format": "dnarod-topology/1", "paths": results})
     print(f"wrote {out / 'topology.json'}")
     if bad:

@@ -246,7 +246,7 @@ def _minimise(outdir: Path, gmx, g: Gro, box_nm, n_bp: int, threads: int, progre
     o1, R1 = _frames_of_gro(outdir / "em_whole.gro", n_bp)
     em = {"frames_moved": frame_deviation(o0, R0, o1, R1),
           "max_atom_displacement_A": float(np.linalg.norm(x_em - x_nm, axis=1).max() * NM),
-          "log": str(outdir / "em.log")}
+          "log": "em.log"}   # in the build folder (written elsewhere, then moved)
     em.update(_em_summary(outdir / "gmx_mdrun_em.log"))
     if not em["converged"]:
         warnings.warn(f"{outdir}/em.log: the restrained minimisation did not reach Fmax < "

@@ -67,7 +67,15 @@ def dna_rod(req: DnaRodRequest, log=None) -> dict:
     N = req.points_per_bp * rm.n_bp
     g = grid_material(rm, N, req.interpolation, shape=req.shape)
     L = rm.length
-    box = L if req.box_A is None else u.length_to_rod(req.box_A)
+    if req.box_A is not None:
+        box = u.length_to_rod(req.box_A)
+    elif req.params in ("paper", "olson1998"):
+        box = L
+    else:
+        # a per-step file (e.g. `dnarod coarse-grain`'s) carries its own rise: the box is n_bp
+        # of its mean rise, so that its rod closes without a hand-set --box-A (3.44 A against
+        # the default 3.38 compresses a coarse-grained 21-bp rod until the shooting fails)
+        box = u.length_to_rod(rm.n_bp * float(np.mean(sm.step_params[:, 2])))
     if log:
         log(f"dna-rod: {rm.n_bp} bp, {req.params}, N = {N}; closed rest state ...")
     rest = closed_rest_state(g, L, box_length=box, space=req.space, mode=req.rest)
