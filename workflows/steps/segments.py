@@ -127,8 +127,9 @@ def join_segments(segments, out, discard_ps: float = 0.0) -> dict:
     first = series[0]
     cat = {k: np.concatenate([getattr(s, k)[kk] for s, kk in zip(series, keep)])
            for k in ("times_ps", "bend", "twist", "stretch")}
-    of = (None if any(s.open_fraction is None for s in series)
-          else np.concatenate([s.open_fraction[kk] for s, kk in zip(series, keep)]))
+    fractions = [s.open_fraction for s in series]
+    of = (None if any(f is None for f in fractions)
+          else np.concatenate([f[kk] for f, kk in zip(fractions, keep) if f is not None]))
     joined = ModeSeries(cat["times_ps"], first.n, cat["bend"], cat["twist"], cat["stretch"],
                         float(np.mean([s.length_A for s in series])), first.n_bp, first.helical_repeat,
                         f"{len(segs)} segments of {first.meta.get('md_dir', first.source)}", first.kind, of,

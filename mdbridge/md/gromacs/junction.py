@@ -136,7 +136,7 @@ def junction_parameters(dump) -> list[dict]:
         junction = step_signature(mol, n_res - 1)
         same = [a for a in range(n_res - 1)
                 if (mol.resname[a], mol.resname[a + 1]) == junction["resnames"]]
-        differing = {}
+        differing: dict[str, list[int]] = {}
         for a in same:
             sig = step_signature(mol, a)
             for k in ("atoms", "exclusions", "interactions"):
