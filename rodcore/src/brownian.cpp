@@ -79,8 +79,9 @@ BrownianStep::~BrownianStep() = default;
 
 BrownianStep::BrownianStep(std::size_t N, double L, const MaterialField& mf, const DerivativeOperator& op,
                            std::function<void(const double*, double*)> rhs,
-                           std::array<double, 2> friction_translational, std::array<double, 2> friction_rotational,
-                           double kT, double dt, unsigned long long seed, Noise noise)
+                           std::array<double, 2> friction_translational,
+                           std::array<double, 2> friction_rotational, double kT, double dt,
+                           unsigned long long seed, Noise noise)
     : N_(N),
       h_(L / static_cast<double>(N)),
       kT_(kT),
@@ -90,8 +91,8 @@ BrownianStep::BrownianStep(std::size_t N, double L, const MaterialField& mf, con
       rhs_(std::move(rhs)),
       per_point_(mf.kind == MaterialKind::per_point),
       solver_(std::make_unique<Solver>()) {
-  for (double z : {friction_translational[0], friction_translational[1], friction_rotational[0],
-                   friction_rotational[1]})
+  for (double z :
+       {friction_translational[0], friction_translational[1], friction_rotational[0], friction_rotational[1]})
     if (!(z > 0.0) || !std::isfinite(z))
       throw InputError("solver.time = \"brownian\": every friction (thermal.friction_translational, "
                        "thermal.friction_rotational) must be > 0 (an overdamped rod moves by its friction)");
@@ -119,7 +120,8 @@ BrownianStep::BrownianStep(std::size_t N, double L, const MaterialField& mf, con
   t.reserve(36 * N);
   for (std::size_t i = 0; i < N; ++i)
     for (int r = 0; r < 6; ++r)
-      for (int c = 0; c < 6; ++c) t.emplace_back(6 * i + r, 6 * i + c, K_[36 * (per_point_ ? i : 0) + 6 * r + c]);
+      for (int c = 0; c < 6; ++c)
+        t.emplace_back(6 * i + r, 6 * i + c, K_[36 * (per_point_ ? i : 0) + 6 * r + c]);
   s.Kb.resize(n, n);
   s.Kb.setFromTriplets(t.begin(), t.end());
   t.clear();
@@ -146,7 +148,8 @@ void BrownianStep::apply(long step, double* y, double* anchor) {
     const double* I = I_.data() + 9 * p;
     for (int c = 0; c < 3; ++c) {
       b(6 * i + c) = dt_ * rho_[p] * f_[c * N + i];
-      b(6 * i + 3 + c) = dt_ * (I[3 * c] * f_[3 * N + i] + I[3 * c + 1] * f_[4 * N + i] + I[3 * c + 2] * f_[5 * N + i]);
+      b(6 * i + 3 + c) =
+          dt_ * (I[3 * c] * f_[3 * N + i] + I[3 * c + 1] * f_[4 * N + i] + I[3 * c + 2] * f_[5 * N + i]);
     }
   }
   // ---- D(q): rows (Gamma, Omega) of point i, columns (dgamma, dtheta) of point j
@@ -224,7 +227,8 @@ void BrownianStep::apply(long step, double* y, double* anchor) {
   for (std::size_t k = 0; k < 6 * N; ++k) y[k] = 0.0;
   for (std::size_t k = 6 * N; k < 12 * N; ++k)
     if (!std::isfinite(y[k]))
-      throw NumericalError("solver.time = \"brownian\": a non-finite strain after step " + std::to_string(step));
+      throw NumericalError("solver.time = \"brownian\": a non-finite strain after step " +
+                           std::to_string(step));
 }
 
 }  // namespace rodcore

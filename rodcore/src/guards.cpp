@@ -148,7 +148,8 @@ std::pair<std::string, std::string> thermal_settings_problem(const Scene& sc) {
                 "along and across) must be > 0, e.g. \"water\"; found " +
                     num(z)};
     if (sc.solver.space == SpaceMethod::spectral)
-      return {"solver.space", "\"brownian\" solves a banded system and needs a local d/ds: \"fd4\" or \"auto\""};
+      return {"solver.space",
+              "\"brownian\" solves a banded system and needs a local d/ds: \"fd4\" or \"auto\""};
   }
   if (t.on && t.has_friction() && !langevin && !brownian)
     return {"solver.time", std::string("\"")
@@ -166,7 +167,8 @@ std::pair<std::string, std::string> thermal_settings_problem(const Scene& sc) {
     const double n = interval / sc.solver.dt;
     if (!(std::round(n) >= 1.0) || std::abs(n - std::round(n)) > 1e-9 * n)
       return {"solver.dt",
-              std::string(brownian ? "the overdamped rod" : "the Langevin rod") + " steps with a fixed solver.dt = " + num(sc.solver.dt) +
+              std::string(brownian ? "the overdamped rod" : "the Langevin rod") +
+                  " steps with a fixed solver.dt = " + num(sc.solver.dt) +
                   ", which must divide the output interval output.t_end / (output.frames - 1) = " +
                   message_number(interval, 12) +
                   " (every frame is a step's state, never an interpolation); e.g. solver.dt = " +

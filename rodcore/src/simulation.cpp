@@ -326,11 +326,12 @@ Simulation::Simulation(const Scene& scene, InitialState initial) : impl_(std::ma
       // No inertia: the velocities are not variables of the overdamped rod (its
       // output's gamma and omega are zero, its energy the potential energy).
       std::fill(d.state.begin(), d.state.begin() + 6 * static_cast<long>(d.N), 0.0);
-      d.thermal_note +=
-          "; overdamped (Brownian) rod at kT = " + num(sc.thermal.kT) + ", friction translational [along, across] = [" +
-          num(sc.thermal.friction_translational[0]) + ", " + num(sc.thermal.friction_translational[1]) +
-          "], rotational [about, across] = [" + num(sc.thermal.friction_rotational[0]) + ", " +
-          num(sc.thermal.friction_rotational[1]) + "] per length";
+      d.thermal_note += "; overdamped (Brownian) rod at kT = " + num(sc.thermal.kT) +
+                        ", friction translational [along, across] = [" +
+                        num(sc.thermal.friction_translational[0]) + ", " +
+                        num(sc.thermal.friction_translational[1]) + "], rotational [about, across] = [" +
+                        num(sc.thermal.friction_rotational[0]) + ", " +
+                        num(sc.thermal.friction_rotational[1]) + "] per length";
     }
     if (sc.solver.time == TimeMethod::langevin)
       d.thermal_note +=
@@ -512,7 +513,8 @@ void Simulation::Impl::start(const Simulation& self) {
           if (ct) ct->add_to_rhs(y, r->material_field(), f);
         },
         sc.thermal.friction_translational, sc.thermal.friction_rotational, sc.thermal.kT, sc.solver.dt,
-        sc.thermal.seed, sc.solver.exact_noise ? BrownianStep::Noise::exact : BrownianStep::Noise::implicit_euler);
+        sc.thermal.seed,
+        sc.solver.exact_noise ? BrownianStep::Noise::exact : BrownianStep::Noise::implicit_euler);
   }
 
   planar_run = planar;

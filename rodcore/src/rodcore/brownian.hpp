@@ -57,9 +57,9 @@ class BrownianStep {
   // translation invariant and local, i.e. fd4). friction_*: [along/about d3, across]
   // per length, all > 0.
   BrownianStep(std::size_t N, double L, const MaterialField& mf, const DerivativeOperator& op,
-               std::function<void(const double* y, double* f)> rhs, std::array<double, 2> friction_translational,
-               std::array<double, 2> friction_rotational, double kT, double dt, unsigned long long seed,
-               Noise noise = Noise::exact);
+               std::function<void(const double* y, double* f)> rhs,
+               std::array<double, 2> friction_translational, std::array<double, 2> friction_rotational,
+               double kT, double dt, unsigned long long seed, Noise noise = Noise::exact);
   ~BrownianStep();
   BrownianStep(const BrownianStep&) = delete;
   BrownianStep& operator=(const BrownianStep&) = delete;
@@ -82,7 +82,7 @@ class BrownianStep {
   std::vector<std::pair<int, double>> stencil_;
   std::vector<double> K_, LK_, I_, rho_;  // per point (or one): K (36), its Cholesky factor (36), I (9), rho
   bool per_point_;
-  std::array<double, 6> Z_;    // (Z_t, Z_r) diagonal, body frame
+  std::array<double, 6> Z_;  // (Z_t, Z_r) diagonal, body frame
   std::vector<double> y0_, f_, dx_;
   std::unique_ptr<Solver> solver_;
 };

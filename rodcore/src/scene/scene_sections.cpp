@@ -183,8 +183,10 @@ std::string write_solver(const Scene& sc) {
          "\ntime = " + toml_str(to_string(s.time)) + "\nrtol = " + toml_num(s.rtol) +
          "\natol = " + toml_num(s.atol) + "\ndt = " + toml_num(s.dt) + "\ndt_min = " + toml_num(s.dt_min) +
          "\nmax_steps = " + std::to_string(s.max_steps) + "\nreduce = " + toml_str(to_string(s.reduce)) +
-         "\n" + (s.time == TimeMethod::brownian ? std::string("exact_noise = ") + (s.exact_noise ? "true\n" : "false\n")
-                                                 : std::string());
+         "\n" +
+         (s.time == TimeMethod::brownian
+              ? std::string("exact_noise = ") + (s.exact_noise ? "true\n" : "false\n")
+              : std::string());
 }
 
 // ---- [output]: the output times, the fields written, checkpoints.
