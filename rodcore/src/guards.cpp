@@ -134,23 +134,41 @@ std::pair<std::string, std::string> thermal_settings_problem(const Scene& sc) {
     return {"solver.time",
             "\"langevin\" is the Langevin rod of a [thermal] section: add [thermal] with kT or "
             "temperature_K and the frictions (docs/thermal.md)"};
-  if (t.on && t.has_friction() && !langevin)
+  const bool brownian = sc.solver.time == TimeMethod::brownian;
+  if (brownian) {
+    if (!t.on)
+      return {"solver.time",
+              "\"brownian\" is the overdamped rod of a [thermal] section: add [thermal] with kT or "
+              "temperature_K and the frictions (docs/thermal.md)"};
+    for (double z : {t.friction_translational[0], t.friction_translational[1], t.friction_rotational[0],
+                     t.friction_rotational[1]})
+      if (!(z > 0.0))
+        return {"thermal.friction_translational",
+                "\"brownian\" moves the rod by its friction: every friction (translational and rotational, "
+                "along and across) must be > 0, e.g. \"water\"; found " +
+                    num(z)};
+    if (sc.solver.space == SpaceMethod::spectral)
+      return {"solver.space",
+              "\"brownian\" solves a banded system and needs a local d/ds: \"fd4\" or \"auto\""};
+  }
+  if (t.on && t.has_friction() && !langevin && !brownian)
     return {"solver.time", std::string("\"")
                                .append(to_string(sc.solver.time))
                                .append("\" cannot carry the friction and noise of [thermal] "
                                        "(thermal.friction_translational / friction_rotational > 0); use "
                                        "\"langevin\" or \"auto\" (with no friction a thermal sample runs "
                                        "with any integrator)")};
-  if (langevin && std::isfinite(sc.checks.max_energy_drift))
+  if ((langevin || brownian) && std::isfinite(sc.checks.max_energy_drift))
     return {"checks.max_energy_drift",
             "the Langevin rod exchanges energy with its bath, so its energy is not conserved; remove "
             "checks.max_energy_drift from this scene"};
-  if (langevin && sc.output.frames > 1 && sc.output.t_end > 0.0) {
+  if ((langevin || brownian) && sc.output.frames > 1 && sc.output.t_end > 0.0) {
     const double interval = sc.output.t_end / static_cast<double>(sc.output.frames - 1);
     const double n = interval / sc.solver.dt;
     if (!(std::round(n) >= 1.0) || std::abs(n - std::round(n)) > 1e-9 * n)
       return {"solver.dt",
-              "the Langevin rod steps with a fixed solver.dt = " + num(sc.solver.dt) +
+              std::string(brownian ? "the overdamped rod" : "the Langevin rod") +
+                  " steps with a fixed solver.dt = " + num(sc.solver.dt) +
                   ", which must divide the output interval output.t_end / (output.frames - 1) = " +
                   message_number(interval, 12) +
                   " (every frame is a step's state, never an interpolation); e.g. solver.dt = " +

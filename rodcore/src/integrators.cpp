@@ -570,6 +570,50 @@ void TimeIntegrator::hermite(double t, double* out) const {
   }
 }
 
+// -------------------------------------------------------- Brownian
+// One step: the system's overdamped step over dt (brownian.hpp). Like the
+// Langevin rod, the step index counts from the start of the run (restored with
+// the checkpoint), so the noise of every step is that of an uninterrupted run,
+// and frames fall on steps (the scene checks that dt divides the interval).
+class Brownian final : public TimeIntegrator {
+ public:
+  Brownian(OdeSystem s, IntegratorOptions o) : TimeIntegrator(std::move(s), o) {
+    if (!sys_.brownian) throw InputError("solver.time = \"brownian\": the system has no overdamped step");
+    h_ = opt_.dt;
+  }
+  std::string name() const override { return "brownian"; }
+  bool adaptive() const override { return false; }
+  int order() const override { return 1; }
+
+  void step(double) override {
+    check_steps();
+    y_prev_ = y_;
+    sys_.brownian(steps_, y_.data());
+    t_prev_ = t_;
+    ++steps_;
+    t_ = origin_ + static_cast<double>(steps_) * opt_.dt;
+    project_end();
+  }
+
+  void dense(double t, double* out) const override {
+    const double h = t_ - t_prev_;
+    const double a = h > 0.0 ? (t - t_prev_) / h : 1.0;
+    if (std::abs(a - 1.0) <= 1e-9 || h <= 0.0) {
+      std::copy(y_.begin(), y_.end(), out);
+      return;
+    }
+    for (std::size_t k = 0; k < y_.size(); ++k) out[k] = (1.0 - a) * y_prev_[k] + a * y_[k];
+  }
+
+ private:
+  void restarted() override {
+    origin_ = t_ - static_cast<double>(steps_) * opt_.dt;
+    y_prev_ = y_;
+  }
+  std::vector<double> y_prev_;
+  double origin_ = 0.0;
+};
+
 std::unique_ptr<TimeIntegrator> make_time_integrator(TimeMethod kind, OdeSystem system,
                                                      const IntegratorOptions& options) {
   switch (kind) {
@@ -583,12 +627,14 @@ std::unique_ptr<TimeIntegrator> make_time_integrator(TimeMethod kind, OdeSystem 
       return std::make_unique<Dop853>(std::move(system), options);
     case TimeMethod::langevin:
       return std::make_unique<Langevin>(std::move(system), options);
+    case TimeMethod::brownian:
+      return std::make_unique<Brownian>(std::move(system), options);
     case TimeMethod::automatic:
       break;
   }
   throw InputError("solver.time = \"" + to_string(kind) +
                    "\" is not a time integrator; allowed: \"rk4\", \"rk4-doubling\", \"dopri5\", \"dop853\", "
-                   "\"langevin\"");
+                   "\"langevin\", \"brownian\"");
 }
 
 }  // namespace rodcore

@@ -7,6 +7,7 @@
 #include <limits>
 #include <optional>
 
+#include "rodcore/brownian.hpp"
 #include "rodcore/closure.hpp"
 #include "rodcore/contact.hpp"
 #include "rodcore/diagnostics.hpp"
@@ -65,7 +66,11 @@ constexpr double kClosureTurn = 0.2;
 void resolve_method(Scene& sc, const std::vector<double>& y0, std::string& note) {
   std::string why_space = "solver.space = \"" + to_string(sc.solver.space) + "\" as given";
   if (sc.solver.space == SpaceMethod::automatic) {
-    if (sc.solver.dealias || sc.rod.points < 5) {
+    if (sc.solver.time == TimeMethod::brownian) {
+      // The implicit step solves a banded system: its d/ds must be local.
+      sc.solver.space = SpaceMethod::fd4;
+      why_space = "fd4 (auto: solver.time = \"brownian\" solves a banded system)";
+    } else if (sc.solver.dealias || sc.rod.points < 5) {
       sc.solver.space = SpaceMethod::spectral;
       why_space = sc.solver.dealias ? "spectral (auto: solver.dealias asks for it)"
                                     : "spectral (auto: fd4 needs at least 5 points)";
@@ -120,6 +125,7 @@ struct Simulation::Impl {
   std::vector<std::shared_ptr<Observer>> observers;  // the scene's checks first
   std::string thermal_note;                          // what the thermal sample did
   std::unique_ptr<LangevinBath> bath;                // solver.time = "langevin"
+  std::unique_ptr<BrownianStep> brownian;            // solver.time = "brownian"
   // A ring (topology.hpp is_closed on the initial centreline): its frames carry Lk, Tw,
   // Wr. With [contact], the self-contact forces, in every RHS evaluation.
   bool closed = false;
@@ -196,6 +202,13 @@ struct Simulation::Impl {
         const RigidMotion g0{{y[at_anchor], y[at_anchor + 1], y[at_anchor + 2], y[at_anchor + 3]},
                              {y[at_anchor + 4], y[at_anchor + 5], y[at_anchor + 6]}};
         return c->project(y, holonomy_for(T, g0), kClosureSteps).steps > 0;
+      };
+    }
+    if (brownian) {
+      BrownianStep* b = brownian.get();
+      const std::size_t at_anchor = 12 * N;
+      sys.brownian = [b, recon, at_anchor](long step, double* y) {
+        b->apply(step, y, recon ? y + at_anchor : nullptr);
       };
     }
     if (bath) {
@@ -308,6 +321,17 @@ Simulation::Simulation(const Scene& scene, InitialState initial) : impl_(std::ma
               .note;
     } else {
       d.thermal_note = "no thermal sample (thermal.sample_initial = false)";
+    }
+    if (sc.solver.time == TimeMethod::brownian) {
+      // No inertia: the velocities are not variables of the overdamped rod (its
+      // output's gamma and omega are zero, its energy the potential energy).
+      std::fill(d.state.begin(), d.state.begin() + 6 * static_cast<long>(d.N), 0.0);
+      d.thermal_note += "; overdamped (Brownian) rod at kT = " + num(sc.thermal.kT) +
+                        ", friction translational [along, across] = [" +
+                        num(sc.thermal.friction_translational[0]) + ", " +
+                        num(sc.thermal.friction_translational[1]) + "], rotational [about, across] = [" +
+                        num(sc.thermal.friction_rotational[0]) + ", " +
+                        num(sc.thermal.friction_rotational[1]) + "] per length";
     }
     if (sc.solver.time == TimeMethod::langevin)
       d.thermal_note +=
@@ -478,6 +502,20 @@ void Simulation::Impl::start(const Simulation& self) {
     bath = std::make_unique<LangevinBath>(rhs->material_field(), sc.rod.length / static_cast<double>(N),
                                           sc.thermal.kT, sc.thermal.friction_translational,
                                           sc.thermal.friction_rotational, sc.solver.dt, sc.thermal.seed);
+
+  if (sc.solver.time == TimeMethod::brownian) {
+    RodRHS* r = rhs.get();
+    SelfContact* ct = contact.get();
+    brownian = std::make_unique<BrownianStep>(
+        N, sc.rod.length, rhs->material_field(), *op,
+        [r, ct](const double* y, double* f) {
+          (*r)(y, f);
+          if (ct) ct->add_to_rhs(y, r->material_field(), f);
+        },
+        sc.thermal.friction_translational, sc.thermal.friction_rotational, sc.thermal.kT, sc.solver.dt,
+        sc.thermal.seed,
+        sc.solver.exact_noise ? BrownianStep::Noise::exact : BrownianStep::Noise::implicit_euler);
+  }
 
   planar_run = planar;
   if (resume)

@@ -47,15 +47,17 @@ struct ChoiceNames<SpaceMethod> {
 // solver.time: the time integrator (integrators.hpp). automatic: dop853, or
 // langevin when [thermal] sets a friction. langevin: the Langevin splitting of
 // the thermal rod (thermal.hpp, docs/thermal.md), fixed step solver.dt.
-enum class TimeMethod { automatic, rk4, rk4_doubling, dopri5, dop853, langevin };
+// brownian: the overdamped rod (brownian.hpp), linearly implicit, fixed step solver.dt.
+enum class TimeMethod { automatic, rk4, rk4_doubling, dopri5, dop853, langevin, brownian };
 template <>
 struct ChoiceNames<TimeMethod> {
-  static constexpr std::array<Spelling<TimeMethod>, 6> all{{{TimeMethod::automatic, "auto"},
+  static constexpr std::array<Spelling<TimeMethod>, 7> all{{{TimeMethod::automatic, "auto"},
                                                             {TimeMethod::rk4, "rk4"},
                                                             {TimeMethod::rk4_doubling, "rk4-doubling"},
                                                             {TimeMethod::dopri5, "dopri5"},
                                                             {TimeMethod::dop853, "dop853"},
-                                                            {TimeMethod::langevin, "langevin"}}};
+                                                            {TimeMethod::langevin, "langevin"},
+                                                            {TimeMethod::brownian, "brownian"}}};
 };
 
 // solver.reduce: automatic: the reduced planar system when the scene allows
@@ -189,6 +191,9 @@ struct SolverOptions {
   double dt_min = 1e-12;  // adaptive step below this: NumericalError
   long max_steps = 100000000;
   Reduction reduce = Reduction::automatic;  // the reduced planar system when allowed
+  // brownian only: the noise that makes the linearised rod's stationary state exact at any dt
+  // (false: the plain implicit Euler noise, too cold at lambda dt >> 1: a comparison)
+  bool exact_noise = true;
 };
 
 struct OutputOptions {

@@ -19,6 +19,9 @@
 //                  f (the conservative rod) -- the Strang splitting O(dt/2)
 //                  H(dt) O(dt/2) with consecutive half steps merged; fixed
 //                  step dt. Dense output: the cubic Hermite of the H part.
+//   "brownian"     the overdamped rod (brownian.hpp): per step the system's
+//                  `brownian` step over dt on y, in place; fixed step dt.
+//                  Dense output: linear between the step's ends.
 // Tableaux: Hairer, Norsett & Wanner, Solving ODEs I (2nd ed. 1993), II.5 and
 // II.10. Error norm (all adaptive schemes): RMS over components of
 // err_i / (atol + rtol max(|y_i(t)|, |y_i(t+h)|)).
@@ -41,6 +44,8 @@ struct OdeSystem {
   // "langevin" only: the exact friction-and-noise step over dt on y, in
   // place; `step` is the index of the step (the random numbers' counter).
   std::function<void(long step, double* y)> ou;
+  // "brownian" only: one step of the overdamped rod over dt on y, in place.
+  std::function<void(long step, double* y)> brownian;
   // Optional, every integrator: called on the state y at the end of every
   // accepted step [t_prev, t], before the slope there is formed; may move y
   // back onto a manifold the semi-discrete flow leaves (closure.hpp).
@@ -124,7 +129,8 @@ class TimeIntegrator {
   long steps_ = 0, rejected_ = 0, rhs_evals_ = 0;
 };
 
-// kind = rk4 | rk4_doubling | dopri5 | dop853 | langevin (needs system.ou); throws InputError otherwise
+// kind = rk4 | rk4_doubling | dopri5 | dop853 | langevin (needs system.ou) | brownian (needs
+// system.brownian); throws InputError otherwise
 // (automatic is resolved by Simulation before).
 std::unique_ptr<TimeIntegrator> make_time_integrator(TimeMethod kind, OdeSystem system,
                                                      const IntegratorOptions& options);

@@ -167,6 +167,9 @@ void read_solver(Section& sol, SceneDraft& d) {
   sol.number("dt_min", s.dt_min, positive());
   sol.integer("max_steps", s.max_steps, Range{1, 9e18});
   sol.choice("reduce", s.reduce);
+  sol.boolean("exact_noise", s.exact_noise);
+  if (!s.exact_noise && s.time != TimeMethod::brownian)
+    sol.fail("exact_noise", sol.get("exact_noise"), "applies only to solver.time = \"brownian\"");
   if (s.dealias && s.space == SpaceMethod::fd4)
     sol.fail("dealias", sol.get("dealias"), "applies only to solver.space = \"spectral\" (found \"fd4\")");
   if (s.dt_min > s.dt)
@@ -180,7 +183,10 @@ std::string write_solver(const Scene& sc) {
          "\ntime = " + toml_str(to_string(s.time)) + "\nrtol = " + toml_num(s.rtol) +
          "\natol = " + toml_num(s.atol) + "\ndt = " + toml_num(s.dt) + "\ndt_min = " + toml_num(s.dt_min) +
          "\nmax_steps = " + std::to_string(s.max_steps) + "\nreduce = " + toml_str(to_string(s.reduce)) +
-         "\n";
+         "\n" +
+         (s.time == TimeMethod::brownian
+              ? std::string("exact_noise = ") + (s.exact_noise ? "true\n" : "false\n")
+              : std::string());
 }
 
 // ---- [output]: the output times, the fields written, checkpoints.

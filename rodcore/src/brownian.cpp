@@ -1,0 +1,234 @@
+#include "rodcore/brownian.hpp"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Dense>
+#include <Eigen/Sparse>
+#include <Eigen/SparseCholesky>
+#include <cmath>
+#include <string>
+
+#include "rodcore/error.hpp"
+#include "rodcore/gaussian.hpp"
+#include "rodcore/operators.hpp"
+#include "rodcore/reconstruction.hpp"
+
+namespace rodcore {
+namespace {
+
+using SpMat = Eigen::SparseMatrix<double>;
+using Trip = Eigen::Triplet<double>;
+
+// The Philox streams of the Brownian noise (thermal.cpp uses 1..3 for the
+// sample and the Langevin bath): a seed's streams never share a counter.
+enum Stream : std::uint32_t { kEta1 = 4, kEta2 = 5 };
+
+// Fixed-point iterations of the midpoint compatibility update: the first is the explicit
+// (Ito) update, each further one gains a factor ~|dtheta| (~0.1 for DNA at 300 K).
+constexpr int kMidpointIterations = 4;
+
+void normals6(std::array<std::uint32_t, 2> key, Stream stream, unsigned long long step, std::size_t i,
+              double z[6]) {
+  GaussianStream g(key, static_cast<std::uint32_t>(i), stream << 8, static_cast<std::uint32_t>(step),
+                   static_cast<std::uint32_t>(step >> 32));
+  g.six(z);
+}
+
+// The stencil of a translation-invariant d/ds, read from its response to a unit
+// impulse at point 0: (offset, weight) with f'_i = sum w f_{i + offset}.
+std::vector<std::pair<int, double>> read_stencil(const DerivativeOperator& op) {
+  const std::size_t N = op.N();
+  std::vector<double> e(N, 0.0), d(N, 0.0);
+  e[0] = 1.0;
+  op.apply(e.data(), d.data(), 1);
+  // d_i = w_{offset} with i + offset = 0 (mod N)
+  double big = 0.0;
+  for (double v : d) big = std::max(big, std::abs(v));
+  std::vector<std::pair<int, double>> st;
+  for (std::size_t i = 0; i < N; ++i)
+    if (std::abs(d[i]) > 1e-12 * big) {
+      long off = -static_cast<long>(i);
+      if (off < -static_cast<long>(N) / 2) off += static_cast<long>(N);
+      st.emplace_back(static_cast<int>(off), d[i]);
+    }
+  if (st.size() > 8 || 2 * st.size() + 1 > N)
+    throw InputError("solver.time = \"brownian\" needs a banded d/ds (solver.space = \"fd4\"); " + op.name() +
+                     " couples " + std::to_string(st.size()) + " points");
+  return st;
+}
+
+void cross_into(std::vector<Trip>& t, long row, long col, const double v[3], double sign) {
+  // sign [v]x at (row.., col..): [v]x a = v x a
+  t.emplace_back(row + 0, col + 1, -sign * v[2]);
+  t.emplace_back(row + 0, col + 2, sign * v[1]);
+  t.emplace_back(row + 1, col + 0, sign * v[2]);
+  t.emplace_back(row + 1, col + 2, -sign * v[0]);
+  t.emplace_back(row + 2, col + 0, -sign * v[1]);
+  t.emplace_back(row + 2, col + 1, sign * v[0]);
+}
+
+}  // namespace
+
+struct BrownianStep::Solver {
+  SpMat D, Kb, S, Zd;
+  Eigen::SimplicialLDLT<SpMat> ldlt;
+  Eigen::Index nnz = -1;
+  std::vector<Trip> trip;
+};
+
+BrownianStep::~BrownianStep() = default;
+
+BrownianStep::BrownianStep(std::size_t N, double L, const MaterialField& mf, const DerivativeOperator& op,
+                           std::function<void(const double*, double*)> rhs,
+                           std::array<double, 2> friction_translational,
+                           std::array<double, 2> friction_rotational, double kT, double dt,
+                           unsigned long long seed, Noise noise)
+    : N_(N),
+      h_(L / static_cast<double>(N)),
+      kT_(kT),
+      dt_(dt),
+      noise_(noise),
+      key_{static_cast<std::uint32_t>(seed), static_cast<std::uint32_t>(seed >> 32)},
+      rhs_(std::move(rhs)),
+      per_point_(mf.kind == MaterialKind::per_point),
+      solver_(std::make_unique<Solver>()) {
+  for (double z :
+       {friction_translational[0], friction_translational[1], friction_rotational[0], friction_rotational[1]})
+    if (!(z > 0.0) || !std::isfinite(z))
+      throw InputError("solver.time = \"brownian\": every friction (thermal.friction_translational, "
+                       "thermal.friction_rotational) must be > 0 (an overdamped rod moves by its friction)");
+  if (!(kT >= 0.0) || !(dt > 0.0) || !std::isfinite(dt))
+    throw InputError("solver.time = \"brownian\": kT >= 0 and solver.dt > 0 needed");
+  stencil_ = read_stencil(op);
+  Z_ = {friction_translational[1], friction_translational[1], friction_translational[0],
+        friction_rotational[1],    friction_rotational[1],    friction_rotational[0]};
+  const std::size_t P = per_point_ ? N : 1;
+  K_.resize(36 * P);
+  LK_.assign(36 * P, 0.0);
+  I_.resize(9 * P);
+  rho_.resize(P);
+  for (std::size_t p = 0; p < P; ++p) {
+    mf.K_at(p, K_.data() + 36 * p);
+    mf.I_at(p, I_.data() + 9 * p);
+    rho_[p] = mf.rho_at(p);
+    const Eigen::Map<const Eigen::Matrix<double, 6, 6, Eigen::RowMajor>> K(K_.data() + 36 * p);
+    const Eigen::Matrix<double, 6, 6> Lk = K.llt().matrixL();
+    Eigen::Map<Eigen::Matrix<double, 6, 6, Eigen::RowMajor>>(LK_.data() + 36 * p) = Lk;
+  }
+  const long n = static_cast<long>(6 * N);
+  Solver& s = *solver_;
+  std::vector<Trip> t;
+  t.reserve(36 * N);
+  for (std::size_t i = 0; i < N; ++i)
+    for (int r = 0; r < 6; ++r)
+      for (int c = 0; c < 6; ++c)
+        t.emplace_back(6 * i + r, 6 * i + c, K_[36 * (per_point_ ? i : 0) + 6 * r + c]);
+  s.Kb.resize(n, n);
+  s.Kb.setFromTriplets(t.begin(), t.end());
+  t.clear();
+  for (std::size_t i = 0; i < N; ++i)
+    for (int c = 0; c < 6; ++c) t.emplace_back(6 * i + c, 6 * i + c, Z_[c]);
+  s.Zd.resize(n, n);
+  s.Zd.setFromTriplets(t.begin(), t.end());
+  s.D.resize(n, n);
+  y0_.resize(12 * N);
+  f_.resize(12 * N);
+  dx_.resize(6 * N);
+}
+
+void BrownianStep::apply(long step, double* y, double* anchor) {
+  const std::size_t N = N_;
+  const long n = static_cast<long>(6 * N);
+  Solver& s = *solver_;
+  // ---- force and torque per length at the step's start: the RHS at zero velocity
+  for (std::size_t k = 0; k < 6 * N; ++k) y[k] = 0.0;
+  rhs_(y, f_.data());
+  Eigen::VectorXd b(n);
+  for (std::size_t i = 0; i < N; ++i) {
+    const std::size_t p = per_point_ ? i : 0;
+    const double* I = I_.data() + 9 * p;
+    for (int c = 0; c < 3; ++c) {
+      b(6 * i + c) = dt_ * rho_[p] * f_[c * N + i];
+      b(6 * i + 3 + c) =
+          dt_ * (I[3 * c] * f_[3 * N + i] + I[3 * c + 1] * f_[4 * N + i] + I[3 * c + 2] * f_[5 * N + i]);
+    }
+  }
+  // ---- D(q): rows (Gamma, Omega) of point i, columns (dgamma, dtheta) of point j
+  auto& t = s.trip;
+  t.clear();
+  t.reserve(N * (6 * stencil_.size() + 18));
+  const long Nl = static_cast<long>(N);
+  for (std::size_t i = 0; i < N; ++i) {
+    const long r = 6 * static_cast<long>(i);
+    for (const auto& [off, w] : stencil_) {
+      const long j = ((static_cast<long>(i) + off) % Nl + Nl) % Nl;
+      for (int c = 0; c < 6; ++c) t.emplace_back(r + c, 6 * j + c, w);
+    }
+    const double G[3] = {y[6 * N + i], y[7 * N + i], y[8 * N + i]};
+    const double O[3] = {y[9 * N + i], y[10 * N + i], y[11 * N + i]};
+    cross_into(t, r, r, O, 1.0);          // Omega x dgamma
+    cross_into(t, r, r + 3, G, 1.0);      // -dtheta x Gamma = Gamma x dtheta
+    cross_into(t, r + 3, r + 3, O, 1.0);  // -dtheta x Omega = Omega x dtheta
+  }
+  s.D.setFromTriplets(t.begin(), t.end());
+  s.S = s.Zd + dt_ * SpMat(s.D.transpose() * (s.Kb * s.D));
+  if (s.S.nonZeros() != s.nnz) {
+    s.ldlt.analyzePattern(s.S);
+    s.nnz = s.S.nonZeros();
+  }
+  s.ldlt.factorize(s.S);
+  if (s.ldlt.info() != Eigen::Success)
+    throw NumericalError("solver.time = \"brownian\": the implicit matrix Z + dt D^T K D is not positive "
+                         "definite (non-finite strains?)");
+  // ---- noise: (2 kT dt / h)^1/2 Z^1/2 eta1 + dt (kT / h)^1/2 D^T L_K eta2
+  if (kT_ > 0.0) {
+    const double a1 = std::sqrt(2.0 * kT_ * dt_ / h_);
+    const bool second = noise_ == Noise::exact;
+    Eigen::VectorXd u(n);
+    for (std::size_t i = 0; i < N; ++i) {
+      double z[6];
+      normals6(key_, kEta1, static_cast<unsigned long long>(step), i, z);
+      for (int c = 0; c < 6; ++c) b(6 * i + c) += a1 * std::sqrt(Z_[c]) * z[c];
+      if (second) {
+        normals6(key_, kEta2, static_cast<unsigned long long>(step), i, z);
+        const double* Lk = LK_.data() + 36 * (per_point_ ? i : 0);
+        for (int r = 0; r < 6; ++r) {
+          double v = 0.0;
+          for (int c = 0; c <= r; ++c) v += Lk[6 * r + c] * z[c];
+          u(6 * i + r) = v;
+        }
+      }
+    }
+    if (second) b += dt_ * std::sqrt(kT_ / h_) * (s.D.transpose() * u);
+  }
+  const Eigen::VectorXd dx = s.ldlt.solve(b);
+  // ---- the strains move by the RHS's compatibility rows (Eqs 13-14) with velocity dx
+  for (std::size_t i = 0; i < N; ++i)
+    for (int c = 0; c < 6; ++c) y[c * N + i] = dx(6 * i + c);
+  // Midpoint in q of the compatibility, q_{n+1} = q_n + D((q_n + q_{n+1}) / 2) dx (fixed-point
+  // iterations; D is affine in q, and |dtheta| << 1 makes each gain ~|dtheta|): the
+  // Stratonovich form, whose mean second-order term is (kT / h) div(D M D^T) dt for small dt
+  // (the Ito drift that makes exp(-E / kT) dGamma dOmega stationary) and stays bounded by the
+  // step's own covariance of dx at any dt; the local cross products become Cayley rotations,
+  // which keep |Gamma| and |Omega| under a rotation of the frame.
+  std::copy(y + 6 * N, y + 12 * N, y0_.begin());
+  for (int it = 0; it < kMidpointIterations; ++it) {
+    if (it > 0)
+      for (std::size_t k = 6 * N; k < 12 * N; ++k) y[k] = 0.5 * (y0_[k - 6 * N] + y[k]);
+    rhs_(y, f_.data());
+    for (std::size_t k = 6 * N; k < 12 * N; ++k) y[k] = y0_[k - 6 * N] + f_[k];
+  }
+  if (anchor) {
+    Quat q{anchor[0], anchor[1], anchor[2], anchor[3]};
+    Vec3 r{anchor[4], anchor[5], anchor[6]};
+    se3_advance(q, r, Vec3{dx(3), dx(4), dx(5)}, Vec3{dx(0), dx(1), dx(2)});
+    for (int k = 0; k < 4; ++k) anchor[k] = q[k];
+    for (int k = 0; k < 3; ++k) anchor[4 + k] = r[k];
+  }
+  for (std::size_t k = 0; k < 6 * N; ++k) y[k] = 0.0;
+  for (std::size_t k = 6 * N; k < 12 * N; ++k)
+    if (!std::isfinite(y[k]))
+      throw NumericalError("solver.time = \"brownian\": a non-finite strain after step " +
+                           std::to_string(step));
+}
+
+}  // namespace rodcore
