@@ -136,13 +136,18 @@ BrownianStep::BrownianStep(std::size_t N, double L, const MaterialField& mf, con
 }
 
 void BrownianStep::apply(long step, double* y, double* anchor) {
+  Eigen::VectorXd b = force_rhs(y);
+  factorise(y);
+  if (kT_ > 0.0) add_noise(step, b);
+  advance(step, solver_->ldlt.solve(b), y, anchor);
+}
+
+Eigen::VectorXd BrownianStep::force_rhs(double* y) {
+  // force and torque per length at the step's start: the RHS at zero velocity
   const std::size_t N = N_;
-  const long n = static_cast<long>(6 * N);
-  Solver& s = *solver_;
-  // ---- force and torque per length at the step's start: the RHS at zero velocity
   for (std::size_t k = 0; k < 6 * N; ++k) y[k] = 0.0;
   rhs_(y, f_.data());
-  Eigen::VectorXd b(n);
+  Eigen::VectorXd b(static_cast<long>(6 * N));
   for (std::size_t i = 0; i < N; ++i) {
     const std::size_t p = per_point_ ? i : 0;
     const double* I = I_.data() + 9 * p;
@@ -152,7 +157,13 @@ void BrownianStep::apply(long step, double* y, double* anchor) {
           dt_ * (I[3 * c] * f_[3 * N + i] + I[3 * c + 1] * f_[4 * N + i] + I[3 * c + 2] * f_[5 * N + i]);
     }
   }
-  // ---- D(q): rows (Gamma, Omega) of point i, columns (dgamma, dtheta) of point j
+  return b;
+}
+
+void BrownianStep::factorise(const double* y) {
+  // D(q): rows (Gamma, Omega) of point i, columns (dgamma, dtheta) of point j
+  const std::size_t N = N_;
+  Solver& s = *solver_;
   auto& t = s.trip;
   t.clear();
   t.reserve(N * (6 * stencil_.size() + 18));
@@ -179,29 +190,34 @@ void BrownianStep::apply(long step, double* y, double* anchor) {
   if (s.ldlt.info() != Eigen::Success)
     throw NumericalError("solver.time = \"brownian\": the implicit matrix Z + dt D^T K D is not positive "
                          "definite (non-finite strains?)");
-  // ---- noise: (2 kT dt / h)^1/2 Z^1/2 eta1 + dt (kT / h)^1/2 D^T L_K eta2
-  if (kT_ > 0.0) {
-    const double a1 = std::sqrt(2.0 * kT_ * dt_ / h_);
-    const bool second = noise_ == Noise::exact;
-    Eigen::VectorXd u(n);
-    for (std::size_t i = 0; i < N; ++i) {
-      double z[6];
-      normals6(key_, kEta1, static_cast<unsigned long long>(step), i, z);
-      for (int c = 0; c < 6; ++c) b(6 * i + c) += a1 * std::sqrt(Z_[c]) * z[c];
-      if (second) {
-        normals6(key_, kEta2, static_cast<unsigned long long>(step), i, z);
-        const double* Lk = LK_.data() + 36 * (per_point_ ? i : 0);
-        for (int r = 0; r < 6; ++r) {
-          double v = 0.0;
-          for (int c = 0; c <= r; ++c) v += Lk[6 * r + c] * z[c];
-          u(6 * i + r) = v;
-        }
+}
+
+void BrownianStep::add_noise(long step, Eigen::VectorXd& b) {
+  // (2 kT dt / h)^1/2 Z^1/2 eta1 + dt (kT / h)^1/2 D^T L_K eta2
+  const std::size_t N = N_;
+  const double a1 = std::sqrt(2.0 * kT_ * dt_ / h_);
+  const bool second = noise_ == Noise::exact;
+  Eigen::VectorXd u(static_cast<long>(6 * N));
+  for (std::size_t i = 0; i < N; ++i) {
+    double z[6];
+    normals6(key_, kEta1, static_cast<unsigned long long>(step), i, z);
+    for (int c = 0; c < 6; ++c) b(6 * i + c) += a1 * std::sqrt(Z_[c]) * z[c];
+    if (second) {
+      normals6(key_, kEta2, static_cast<unsigned long long>(step), i, z);
+      const double* Lk = LK_.data() + 36 * (per_point_ ? i : 0);
+      for (int r = 0; r < 6; ++r) {
+        double v = 0.0;
+        for (int c = 0; c <= r; ++c) v += Lk[6 * r + c] * z[c];
+        u(6 * i + r) = v;
       }
     }
-    if (second) b += dt_ * std::sqrt(kT_ / h_) * (s.D.transpose() * u);
   }
-  const Eigen::VectorXd dx = s.ldlt.solve(b);
-  // ---- the strains move by the RHS's compatibility rows (Eqs 13-14) with velocity dx
+  if (second) b += dt_ * std::sqrt(kT_ / h_) * (solver_->D.transpose() * u);
+}
+
+void BrownianStep::advance(long step, const Eigen::VectorXd& dx, double* y, double* anchor) {
+  const std::size_t N = N_;
+  // the strains move by the RHS's compatibility rows (Eqs 13-14) with velocity dx
   for (std::size_t i = 0; i < N; ++i)
     for (int c = 0; c < 6; ++c) y[c * N + i] = dx(6 * i + c);
   // Midpoint in q of the compatibility, q_{n+1} = q_n + D((q_n + q_{n+1}) / 2) dx (fixed-point

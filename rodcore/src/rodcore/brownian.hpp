@@ -34,6 +34,8 @@
 // arises.
 #pragma once
 #include <array>
+
+#include <Eigen/Core>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -74,6 +76,13 @@ class BrownianStep {
 
  private:
   struct Solver;
+  // the parts of one step (apply): the right-hand side dt F at the step's start, the
+  // implicit matrix Z + dt D^T K D assembled and factorised at q, the noise added to the
+  // right-hand side, and the strains and anchor moved by the solved displacement dx
+  Eigen::VectorXd force_rhs(double* y);
+  void factorise(const double* y);
+  void add_noise(long step, Eigen::VectorXd& b);
+  void advance(long step, const Eigen::VectorXd& dx, double* y, double* anchor);
   std::size_t N_;
   double h_, kT_, dt_;
   Noise noise_;
