@@ -79,12 +79,29 @@ std::string resume_command(const std::string& scene_path, const std::string& out
   return cmd + " --resume";
 }
 
-int run(const std::string& scene_path, const std::string& out_path, const std::vector<std::string>& sets,
-        bool quiet, bool resume, double checkpoint_every) {
+// The last line of a run: what was written, the steps, the drift, the kinetic temperature.
+void print_summary(const rodcore::Scene& scene, rodcore::Simulation& sim, rodcore::H5Writer& out,
+                   const rodcore::RunSummary& sum, const std::string& out_path) {
+  char line[512];
+  std::snprintf(line, sizeof line,
+                "rodsim: wrote %s: %d frames to t = %g; %ld steps (%ld rejected), %ld RHS evaluations, "
+                "%.3g s wall, energy drift %.2e (%s%s)",
+                out_path.c_str(), out.frames_written(), scene.output.t_end, sum.steps, sum.rejected,
+                sum.rhs_evaluations, sum.wall_seconds, sum.energy_drift, sum.method.c_str(),
+                sum.reduced ? ", reduced planar system" : "");
+  std::cout << line;
+  if (scene.thermal.on)  // the bath exchanges energy: its kinetic temperature is the figure
+    std::cout << "; kinetic kT " << sim.kinetic_kT() << " at t_end (kT " << scene.thermal.kT << ")";
+  std::cout << std::endl;
+}
+
+// The output file: continued from the checkpoint (--resume, when there is one) or new, with the
+// scene as written and its overrides beside the resolved one.
+std::shared_ptr<rodcore::H5Writer> open_output(const rodcore::Scene& scene, rodcore::Simulation& sim,
+                                               const std::string& scene_path, const std::string& out_path,
+                                               const std::vector<std::string>& sets, bool quiet,
+                                               bool resume) {
   namespace fs = std::filesystem;
-  rodcore::Scene scene = rodcore::read_scene_file(scene_path, sets);
-  if (checkpoint_every >= 0.0) scene.output.checkpoint_interval_s = checkpoint_every;
-  rodcore::Simulation sim(scene);
   const std::string ckpt = rodcore::checkpoint_path(out_path);
   std::shared_ptr<rodcore::H5Writer> out;
   if (resume && fs::exists(ckpt)) {
@@ -111,6 +128,17 @@ int run(const std::string& scene_path, const std::string& out_path, const std::v
     for (const auto& s : sets) overrides += s + "\n";
     out->annotate("scene_overrides", overrides);
   }
+  return out;
+}
+
+int run(const std::string& scene_path, const std::string& out_path, const std::vector<std::string>& sets,
+        bool quiet, bool resume, double checkpoint_every) {
+  rodcore::Scene scene = rodcore::read_scene_file(scene_path, sets);
+  if (checkpoint_every >= 0.0) scene.output.checkpoint_interval_s = checkpoint_every;
+  rodcore::Simulation sim(scene);
+  const std::string ckpt = rodcore::checkpoint_path(out_path);
+  const std::shared_ptr<rodcore::H5Writer> out =
+      open_output(scene, sim, scene_path, out_path, sets, quiet, resume);
   // The run loop's observers: the file, the checkpoints, the progress bar.
   rodcore::CheckpointSchedule schedule(scene.output.checkpoint_interval_s);
   rodcore::install_stop_signal_handlers();
@@ -149,19 +177,7 @@ int run(const std::string& scene_path, const std::string& out_path, const std::v
               << " time(s) between frames (dataset topology/Lk, attribute topology_jumps): the rod passed "
                  "through itself or its ribbon was not resolved; self-contact ([contact], "
                  "docs/topology.md) keeps it\n";
-  if (!quiet) {
-    char line[512];
-    std::snprintf(line, sizeof line,
-                  "rodsim: wrote %s: %d frames to t = %g; %ld steps (%ld rejected), %ld RHS evaluations, "
-                  "%.3g s wall, energy drift %.2e (%s%s)",
-                  out_path.c_str(), out->frames_written(), scene.output.t_end, sum.steps, sum.rejected,
-                  sum.rhs_evaluations, sum.wall_seconds, sum.energy_drift, sum.method.c_str(),
-                  sum.reduced ? ", reduced planar system" : "");
-    std::cout << line;
-    if (scene.thermal.on)  // the bath exchanges energy: its kinetic temperature is the figure
-      std::cout << "; kinetic kT " << sim.kinetic_kT() << " at t_end (kT " << scene.thermal.kT << ")";
-    std::cout << std::endl;
-  }
+  if (!quiet) print_summary(scene, sim, *out, sum, out_path);
   return 0;
 }
 

@@ -86,47 +86,55 @@ MaterialKind material_kind(const Material& m) {
              : MaterialKind::uniform;
 }
 
-MaterialField resolve_material(const Material& m, std::size_t N) {
+namespace {
+
+// A per-point material (a material file): every point's K, I and rho checked and stored.
+MaterialField resolve_per_point(const Material& m, std::size_t N) {
   MaterialField f;
   f.N = N;
-  if (!m.K_s.empty() || !m.I_s.empty() || !m.rho_s.empty()) {
-    const std::string src = m.file.empty() ? std::string("material (per point)") : "file '" + m.file + "'";
-    if (m.K_s.size() != 36 * N || m.I_s.size() != 9 * N || m.rho_s.size() != N)
-      throw InputError(src +
-                       ": per-point material needs K (N x 6 x 6), I (N x 3 x 3) and rho (N) with N = "
-                       "rod.points = " +
-                       std::to_string(N) + "; got " + std::to_string(m.K_s.size() / 36) + ", " +
-                       std::to_string(m.I_s.size() / 9) + " and " + std::to_string(m.rho_s.size()) +
-                       " points");
-    f.kind = MaterialKind::per_point;
-    f.K_s.assign(21 * N, 0.0);
-    f.I_s.assign(6 * N, 0.0);
-    f.Iinv_s.assign(6 * N, 0.0);
-    f.rho_s.assign(N, 0.0);
-    f.irho_s.assign(N, 0.0);
-    for (std::size_t i = 0; i < N; ++i) {
-      const std::string at = " at point " + std::to_string(i);
-      double K[36], I[9];
-      std::copy(m.K_s.begin() + 36 * i, m.K_s.begin() + 36 * (i + 1), K);
-      std::copy(m.I_s.begin() + 9 * i, m.I_s.begin() + 9 * (i + 1), I);
-      check_stiffness(K, src + ": dataset 'K'" + at);
-      check_inertia(I, src + ": dataset 'I'" + at);
-      const double rho = m.rho_s[i];
-      if (!(rho > 0.0) || !std::isfinite(rho))
-        throw InputError(src + ": dataset 'rho'" + at + " is " + num(rho) + "; allowed: a finite number > 0");
-      const auto Iinv = inverse3(I);
-      for (int r = 0; r < 6; ++r)
-        for (int c = r; c < 6; ++c) f.K_s[sym6(r, c) * N + i] = K[r * 6 + c];
-      for (int r = 0; r < 3; ++r)
-        for (int c = r; c < 3; ++c) {
-          f.I_s[sym3(r, c) * N + i] = I[r * 3 + c];
-          f.Iinv_s[sym3(r, c) * N + i] = Iinv[r * 3 + c];
-        }
-      f.rho_s[i] = rho;
-      f.irho_s[i] = 1.0 / rho;
-    }
-    return f;
+  const std::string src = m.file.empty() ? std::string("material (per point)") : "file '" + m.file + "'";
+  if (m.K_s.size() != 36 * N || m.I_s.size() != 9 * N || m.rho_s.size() != N)
+    throw InputError(src +
+                     ": per-point material needs K (N x 6 x 6), I (N x 3 x 3) and rho (N) with N = "
+                     "rod.points = " +
+                     std::to_string(N) + "; got " + std::to_string(m.K_s.size() / 36) + ", " +
+                     std::to_string(m.I_s.size() / 9) + " and " + std::to_string(m.rho_s.size()) + " points");
+  f.kind = MaterialKind::per_point;
+  f.K_s.assign(21 * N, 0.0);
+  f.I_s.assign(6 * N, 0.0);
+  f.Iinv_s.assign(6 * N, 0.0);
+  f.rho_s.assign(N, 0.0);
+  f.irho_s.assign(N, 0.0);
+  for (std::size_t i = 0; i < N; ++i) {
+    const std::string at = " at point " + std::to_string(i);
+    double K[36], I[9];
+    std::copy(m.K_s.begin() + 36 * i, m.K_s.begin() + 36 * (i + 1), K);
+    std::copy(m.I_s.begin() + 9 * i, m.I_s.begin() + 9 * (i + 1), I);
+    check_stiffness(K, src + ": dataset 'K'" + at);
+    check_inertia(I, src + ": dataset 'I'" + at);
+    const double rho = m.rho_s[i];
+    if (!(rho > 0.0) || !std::isfinite(rho))
+      throw InputError(src + ": dataset 'rho'" + at + " is " + num(rho) + "; allowed: a finite number > 0");
+    const auto Iinv = inverse3(I);
+    for (int r = 0; r < 6; ++r)
+      for (int c = r; c < 6; ++c) f.K_s[sym6(r, c) * N + i] = K[r * 6 + c];
+    for (int r = 0; r < 3; ++r)
+      for (int c = r; c < 3; ++c) {
+        f.I_s[sym3(r, c) * N + i] = I[r * 3 + c];
+        f.Iinv_s[sym3(r, c) * N + i] = Iinv[r * 3 + c];
+      }
+    f.rho_s[i] = rho;
+    f.irho_s[i] = 1.0 / rho;
   }
+  return f;
+}
+
+}  // namespace
+
+MaterialField resolve_material(const Material& m, std::size_t N) {
+  if (!m.K_s.empty() || !m.I_s.empty() || !m.rho_s.empty()) return resolve_per_point(m, N);
+  MaterialField f;
+  f.N = N;
 
   // Uniform: the full matrices from K / I_full, or from the diagonals.
   if (!m.K.empty() && m.K.size() != 36)
