@@ -724,24 +724,6 @@ RunSummary Simulation::run() {
   return s;
 }
 
-// Deprecated shim: the handlers as observers (observer.hpp) for this call only.
-RunSummary Simulation::run(const FrameHandler& frame_handler, const ProgressHandler& progress) {
-  Impl& d = *impl_;
-  std::vector<std::shared_ptr<Observer>> handlers;
-  if (frame_handler) handlers.push_back(on_frame(frame_handler));
-  if (progress) handlers.push_back(on_progress(progress));
-  for (auto& h : handlers) d.observers.push_back(h);
-  struct Remove {
-    Impl& d;
-    const std::vector<std::shared_ptr<Observer>>& handlers;
-    ~Remove() {
-      for (const auto& h : handlers)
-        d.observers.erase(std::remove(d.observers.begin(), d.observers.end(), h), d.observers.end());
-    }
-  } remove{d, handlers};
-  return run();
-}
-
 Checkpoint Simulation::run_point() const {
   const Impl& d = *impl_;
   if (!d.integ) throw Error(d.scene.source + ": no checkpoint before the first step");

@@ -70,14 +70,6 @@ class Simulation {
   RunSummary run();
   RunSummary summary() const;  // of the steps taken so far
 
-  // Deprecated (kept for one release): run() with two handlers that live for
-  // this call only. The same is sim.add_observer(on_frame(f)) and
-  // sim.add_observer(on_progress(p)) (observer.hpp), then run().
-  using FrameHandler = std::function<void(const Frame&)>;
-  using ProgressHandler = std::function<void(double t, double t_end)>;
-  [[deprecated("add_observer(on_frame(f)) / add_observer(on_progress(p)), then run()")]] RunSummary run(
-      const FrameHandler& on_frame, const ProgressHandler& progress = {});
-
   // Checkpoints (checkpoint.hpp). checkpoint(): the run point now; valid
   // between steps once their frames are delivered (as in Observer::stepped).
   // resume_from(): the next step_to()/run() continues from `checkpoint` (no
@@ -85,14 +77,6 @@ class Simulation {
   // InputError if it does not belong to this scene.
   Checkpoint checkpoint() const;
   void resume_from(const Checkpoint& checkpoint);
-  // Deprecated (kept for one release): the same is
-  // add_observer(std::make_shared<CheckpointObserver>(due, save)) (checkpoint.hpp).
-  struct CheckpointHooks {
-    std::function<bool()> due;
-    std::function<void(const Checkpoint&)> save;
-  };
-  [[deprecated("add_observer(std::make_shared<CheckpointObserver>(due, save))")]] void set_checkpoint_hooks(
-      CheckpointHooks hooks);
 
   // The scene as run: solver.space and solver.time resolved from automatic;
   // given_scene(): as given (automatic kept; what checkpoints record).

@@ -1,7 +1,6 @@
 // The parts of Simulation that belong to the scene layer: making the initial
 // state from a scene's initial condition (a kind, possibly in DNA units,
-// initial_conditions.hpp), recording the scene in checkpoints, and the
-// deprecated set_checkpoint_hooks(). The solver
+// initial_conditions.hpp) and recording the scene in checkpoints. The solver
 // core (simulation.cpp) only ever sees the dimensionless InitialState.
 #include <set>
 
@@ -45,11 +44,6 @@ Checkpoint Simulation::checkpoint() const {
   Checkpoint c = run_point();
   c.scene = checkpoint_scene_text(given_scene());
   return c;
-}
-
-// Deprecated shim: the hooks are a CheckpointObserver's (checkpoint.hpp).
-void Simulation::set_checkpoint_hooks(CheckpointHooks hooks) {
-  add_observer(std::make_shared<CheckpointObserver>(std::move(hooks.due), std::move(hooks.save)));
 }
 
 }  // namespace rodcore
