@@ -194,6 +194,19 @@ def test_short_md_runs_and_checks_hold(warm, gmx):
     assert e["max_abs_deviation_over_kinetic_start"] < 0.05
 
 
+def test_one_thread_under_an_openmp_request_of_two(warm, gmx, tmp_path, monkeypatch):
+    """Snakemake sets OMP_NUM_THREADS to a rule's threads; run-md --threads 1 under 2 must
+    still run (mdrun refuses -nt 1 with an OpenMP request of 2 unless told -ntomp)."""
+    import shutil
+    d = tmp_path / "md"
+    shutil.copytree(warm[0], d)
+    for f in ("md.done", "checks.json", "md.xtc", "md.tpr"):
+        (d / f).unlink(missing_ok=True)
+    monkeypatch.setenv("OMP_NUM_THREADS", "2")
+    rec = run_md(d, steps=20, gmx=gmx, threads=1, output_ps=0.02, checks=False, stream=None)
+    assert rec["steps"] == 20 and (d / "md.xtc").is_file()
+
+
 def test_gromacs_failure_surfaces_and_never_looks_finished(warm, gmx, tmp_path):
     d, rod, info = warm
     broken = tmp_path / "broken"

@@ -169,7 +169,7 @@ _PR_SET_PDEATHSIG = 1        # <linux/prctl.h>
 
 def run_gmx_with_progress(gmx: str, args: list[str], cwd: Path, *, log_name: str,
                           on_step=None, append_log: bool = False, watch=None,
-                          watch_every_s: float = 2.0) -> None:
+                          watch_every_s: float = 2.0, env: dict | None = None) -> None:
     """Run gmx (mdrun -v) calling on_step(step) for each of its step reports;
     ExternalToolError on failure.
 
@@ -181,14 +181,15 @@ def run_gmx_with_progress(gmx: str, args: list[str], cwd: Path, *, log_name: str
     WATCH, if given, is called every WATCH_EVERY_S seconds while gmx runs, from a
     thread of its own (so also while gmx prints nothing); a string it returns stops gmx
     with SIGKILL (an mdrun stuck inside a step never reads TERM) and is the failure's
-    reason. The error's returncode is then None: the kill was ours, not the user's."""
+    reason. The error's returncode is then None: the kill was ours, not the user's.
+    ENV: gmx's environment (default: this process's)."""
     cwd = Path(cwd)
     cmd = [gmx, *args]
     log = cwd / log_name
     chunks: list[str] = []
     stopped: list[str] = []
     with subprocess.Popen(cmd, cwd=cwd, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
-                          stderr=subprocess.STDOUT, text=True, bufsize=1,
+                          stderr=subprocess.STDOUT, text=True, bufsize=1, env=env,
                           preexec_fn=_die_with_parent) as proc:
         finished = threading.Event()
         if watch is not None:

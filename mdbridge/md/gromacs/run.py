@@ -21,6 +21,7 @@ from __future__ import annotations
 import hashlib
 import json
 import math
+import os
 import re
 import sys
 import time
@@ -277,12 +278,16 @@ def _mdrun(d: Path, gmx_path: str, *, resume: bool, reprod: bool, threads, check
         args += ["-cpi", "md.part.cpt", "-noappend" if segment else "-append"]
     if reprod:
         args += ["-reprod"]
+    env = None
     if threads:
         args += ["-nt", str(int(threads))]
+        # OMP_NUM_THREADS (Snakemake sets it to a rule's threads) is an OpenMP request mdrun
+        # refuses beside an -nt it does not divide: the thread count asked for here decides
+        env = {k: v for k, v in os.environ.items() if k != "OMP_NUM_THREADS"}
     t0 = time.time()
     try:
         run_gmx_with_progress(gmx_path, args, d, log_name="gmx_mdrun_md.log", on_step=on_step,
-                              append_log=resume, watch=lambda: blow_up(_current_log(d)))
+                              append_log=resume, watch=lambda: blow_up(_current_log(d)), env=env)
     except ExternalToolError as e:
         output = (d / "gmx_mdrun_md.log").read_text(errors="replace")
         log = (d / "md.part.log").read_text(errors="replace") if (d / "md.part.log").exists() else ""
