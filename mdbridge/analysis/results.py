@@ -133,6 +133,7 @@ class Prediction(JsonRecord):
     tension: Any = ABSENT
     rows: Any = ABSENT
     predictions: Any = ABSENT
+    paper_rod_box: Any = ABSENT          # where the box row's mass and inertia came from (box_rod.py)
     refused: Any = ABSENT
     cg_rod_reason: Any = ABSENT
     cg_notes: Any = ABSENT

@@ -63,7 +63,7 @@ def test_build_md_stages(dnarod, gmx, tmp_path):
 def test_coarse_grain_frames(dnarod, tmp_path):
     d = DATA / "md_sample_3dna"
     args = [d / "sample_md0.pdb.gz", "--pairs", d / "bpfile.dat", "--temperature", "300",
-            "--min-effective", "5", "--discard", "0", "--max-open-fraction", "0.05", "-m", "5"]
+            "--min-effective", "5", "--discard", "0", "--max-open-fraction", "0.05", "-m", "4", "--m-max", "4"]
     with gzip.open(d / "sample_md0.pdb.gz", "rt") as f:
         models = sum(1 for ln in f if ln.startswith("MODEL"))
     rc, seen = in_terminal([dnarod, "coarse-grain", *args, "-o", tmp_path / "tty"])
