@@ -44,7 +44,12 @@ _VIEWS = ({"md.tpr": "md.tpr", "md.xtc": "md.xtc", "md.edr": "md.edr"},
 
 
 def _sources(md_dir: Path) -> dict:
-    for view in _VIEWS:
+    views = list(_VIEWS)
+    xtc = sorted(md_dir.glob("md.part.part[0-9][0-9][0-9][0-9].xtc"))
+    if xtc:    # a segment still being run, or stopped, after a continuation without its outputs
+        edr = xtc[-1].name.replace(".xtc", ".edr")
+        views.append({"md.tpr": "md.part.tpr", "md.xtc": xtc[-1].name, "md.edr": edr})
+    for view in views:
         if all((md_dir / f).is_file() for f in view.values()):
             return view
     raise InputError(f"{md_dir}: neither md.tpr + md.xtc + md.edr (a finished run) nor md.part.tpr + "
