@@ -253,7 +253,12 @@ def weighted_moments(q: np.ndarray, W: np.ndarray, mask=None):
 def spread(samples: np.ndarray, axis: int = 0) -> np.ndarray:
     """Bootstrap standard error as half the central 68.3 % interval of the replicates:
     the standard deviation for a normal distribution, but not blown up by the rare
-    replicate whose few distinct frames make a covariance nearly singular."""
+    replicate whose few distinct frames make a covariance nearly singular. A replicate
+    that has no value (NaN: too few frames kept under a mask) is left out."""
+    samples = np.asarray(samples, dtype=float)
+    if np.isnan(samples).any():
+        lo, hi = np.nanpercentile(samples, [15.865, 84.135], axis=axis)
+        return 0.5 * (hi - lo)
     lo, hi = np.percentile(samples, [15.865, 84.135], axis=axis)
     return 0.5 * (hi - lo)
 

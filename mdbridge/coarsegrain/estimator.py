@@ -118,17 +118,37 @@ def _constants_of(mean, cov, T_K, n_eff, contour_A, sums=None):
     return out
 
 
+def _inv(c):
+    """Inverse of each matrix of c (..., p, p); NaN for a singular one (a bootstrap replicate
+    that kept too few frames of a window under the open-pair mask)."""
+    c = np.asarray(c, dtype=float)
+    try:
+        return np.linalg.inv(c)
+    except np.linalg.LinAlgError:
+        flat = c.reshape((-1,) + c.shape[-2:])
+        out = np.full_like(flat, np.nan)
+        for k, m in enumerate(flat):
+            if np.all(np.isfinite(m)) and np.linalg.matrix_rank(m) == m.shape[0]:
+                out[k] = np.linalg.inv(m)
+        return out.reshape(c.shape)
+
+
 def _K_of(c, n):
     """Stiffness of each covariance c (..., 6, 6), bias-corrected for n samples."""
-    K = np.linalg.inv(c) * bias_factor(n, P)[..., :, None, None]
+    K = _inv(c) * bias_factor(n, P)[..., :, None, None]
     return 0.5 * (K + np.swapaxes(K, -1, -2))
 
 
 def _K_series(c, n):
     """The windows' compliance average: (mean covariance)^-1, bias-corrected with the
     pooled degrees of freedom (windows in series add compliances, not stiffnesses)."""
-    K = np.linalg.inv(c.mean(axis=-3)) * np.asarray(bias_factor(n, P))[..., None, None]
+    K = _inv(c.mean(axis=-3)) * np.asarray(bias_factor(n, P))[..., None, None]
     return 0.5 * (K + np.swapaxes(K, -1, -2))
+
+
+# a window closed in fewer than this fraction of the frames is left out, as an excluded
+# step's are (its few closed frames would not hold a 6 x 6 covariance)
+MIN_CLOSED_FRACTION = 0.5
 
 
 def closed_filled(q: np.ndarray, open_frames: np.ndarray) -> np.ndarray:
@@ -148,6 +168,17 @@ def window_closed(open_frames: np.ndarray, starts: np.ndarray, m: int) -> np.nda
     n = open_frames.shape[1]
     idx = (starts[:, None] + np.arange(m)[None, :]) % n
     return ~open_frames[:, idx].any(axis=-1)
+
+
+def closed_windows(qm: np.ndarray, starts: np.ndarray, open_frames: np.ndarray, m: int, source: str):
+    """(qm, starts, keep) of the m-step windows closed in at least MIN_CLOSED_FRACTION of the
+    frames; keep (T, n_w): the frames each keeps."""
+    keep = window_closed(open_frames, starts, m)
+    enough = keep.mean(axis=0) >= MIN_CLOSED_FRACTION
+    if not enough.any():
+        raise InputError(f"{source}: m = {m}: every window touches an open pair in more than "
+                         f"{100 * (1 - MIN_CLOSED_FRACTION):g} % of the frames")
+    return qm[:, enough], starts[enough], keep[:, enough]
 
 
 def window_sums(q: np.ndarray, starts: np.ndarray, m: int) -> np.ndarray:
@@ -256,8 +287,7 @@ class CoarseGrain(AnalysisBase):
         for k, m in enumerate(self.m_values):
             if self.progress is not None:
                 self.progress("lengths analysed", k, len(self.m_values), "lengths")
-            qm, starts = series[m]
-            keep = window_closed(open_, starts, m)
+            qm, starts, keep = closed_windows(*series[m], open_, m, ens.source)
             by_m[m] = self._estimate(m, qm, starts, (starts_boot, b), W_half, W_conv, n_conv,
                                       q[:, :, 2].mean(axis=0), window_sums(q, starts, m), keep)
         lw = long_wavelength(q, use, ens.closed, (starts_boot, b), W_half)
