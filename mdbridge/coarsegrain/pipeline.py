@@ -44,6 +44,7 @@ class CoarseGrainRequest:
     stop: int | None = None
     step: int | None = None
     window_ps: list[float] | None = None  # compliance by timescale (timescale.py); None: the default W
+    leave_out_open_frames: bool = False  # a step's local estimates without the frames it touches an open pair
 
 
 @dataclass
@@ -91,7 +92,8 @@ def read_input(req: CoarseGrainRequest, progress):
     if req.pairs_file:
         pairs, numbering = read_pairs_file(req.pairs_file)
     ens, extras = read_ensemble(u, pairs, numbering, CLOSED[req.closed], req.start, req.stop, req.step,
-                                req.max_open_fraction, source, progress=progress)
+                                req.max_open_fraction, source, progress=progress,
+                                leave_out_open_frames=req.leave_out_open_frames)
     return ens, extras, u, source
 
 

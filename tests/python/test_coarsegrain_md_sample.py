@@ -60,7 +60,7 @@ def test_21_models_reported_with_caveat(tmp_path, capsys):
     # (frame by frame), and the 6-step windows over pairs 6-10 keep 18 of the 21 models, too
     # few for a 6x6 covariance
     rc = _run(tmp_path, "--temperature", "300", "--min-effective", "5", "--discard", "0",
-              "--max-open-fraction", "0", "-m", "4", "--m-max", "4")
+              "--max-open-fraction", "0", "-m", "4", "--m-max", "4", "--leave-out-open-frames")
     assert rc == 0
     p = json.loads((tmp_path / "params.json").read_text())
     assert p["temperature_source"] == "given" and p["frames_used"] == 21

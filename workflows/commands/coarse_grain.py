@@ -89,6 +89,9 @@ def add_arguments(p):
     p.add_argument("--start", type=int, default=None, help="first trajectory frame (0-based)")
     p.add_argument("--stop", type=int, default=None, help="stop before this frame")
     p.add_argument("--step", type=validate.integer(min=1), default=None, help="take every STEP-th frame")
+    p.add_argument("--leave-out-open-frames", action="store_true",
+                   help="each step's local estimates without the frames where it touches an open pair "
+                        "(N1-N3 > 3.5 A; docs/intact.md)")
     p.add_argument("--window-ps", type=float, nargs="+", metavar="W",
                    help="compliance by timescale: windows (ps) for K(W); the first is params.json's "
                         "\"unrelaxed\" (default 50 ps; docs/coarse-graining.md, \"Compliance by timescale\"); "
@@ -128,7 +131,7 @@ def request(args):
         pairs_file=args.pairs, closed=args.closed, tension=args.tension, torque=args.torque,
         discard=args.discard, min_effective=args.min_effective, max_open_fraction=args.max_open_fraction,
         bootstrap=args.bootstrap, seed=args.seed, start=args.start, stop=args.stop, step=args.step,
-        window_ps=args.window_ps)
+        window_ps=args.window_ps, leave_out_open_frames=args.leave_out_open_frames)
 
 
 def headline(params: dict) -> str:
@@ -167,9 +170,10 @@ def run(args):
     print(f"{r.n_steps} steps ({len(res['opened_steps'])} touch a pair the opening rule counts as opened), "
           f"{res['frames_used']} frames used after discarding {res['discarded_frames']}, "
           f"N_eff = {res['effective_samples']:.0f}, T = {r.T_K:.1f} K ({r.T_source.split(' ')[0]})")
-    of = r.params["opening_rule"].get("open_step_frames", 0.0)
-    print(f"  {100 * of:.1f} % of the (step, frame)s touch an open pair (N1-N3 > 3.5 A): left out of the "
-          "local estimates frame by frame")
+    if args.leave_out_open_frames:
+        of = r.params["opening_rule"].get("open_step_frames", 0.0)
+        print(f"  {100 * of:.1f} % of the (step, frame)s touch an open pair (N1-N3 > 3.5 A): left out of the "
+              "local estimates frame by frame")
     print(headline(r.params))
     print(constants_table(r.params))
     print(unrelaxed_line(r.params))
