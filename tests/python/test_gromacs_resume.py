@@ -85,6 +85,31 @@ def frames(d: Path):
     return np.array(t), np.array(x)
 
 
+def kill_after_first_checkpoint(d: Path, gmx) -> list:
+    """Start the run in D with a checkpoint every 0.3 s, SIGKILL mdrun just after its first
+    checkpoint (frames beyond it are written and must be truncated away); the run's error."""
+    err: list[BaseException] = []
+
+    def first_run():
+        try:
+            run_md(d, gmx=gmx, checkpoint_min=0.005, **RUN)
+        except ExternalToolError as e:
+            err.append(e)
+
+    th = threading.Thread(target=first_run)
+    th.start()
+    deadline = time.time() + 600
+    while not (d / "md.part.cpt").exists():
+        assert th.is_alive() and time.time() < deadline, "mdrun ended before its first checkpoint"
+        time.sleep(0.05)
+    time.sleep(0.1)
+    pids = mdrun_children()
+    assert len(pids) == 1 and not (d / "md.done").exists(), "mdrun finished before the kill"
+    os.kill(pids[0], signal.SIGKILL)
+    th.join()
+    return err
+
+
 @pytest.fixture(scope="module")
 def reference(built, gmx, tmp_path_factory):
     d = copy_build(built, tmp_path_factory.mktemp("ref") / "md")
@@ -95,25 +120,7 @@ def reference(built, gmx, tmp_path_factory):
 @pytest.fixture(scope="module")
 def resumed(built, gmx, tmp_path_factory):
     d = copy_build(built, tmp_path_factory.mktemp("killed") / "md")
-    err: list[BaseException] = []
-
-    def first_run():
-        try:
-            run_md(d, gmx=gmx, checkpoint_min=0.005, **RUN)   # a checkpoint every 0.3 s
-        except ExternalToolError as e:
-            err.append(e)
-
-    th = threading.Thread(target=first_run)
-    th.start()
-    deadline = time.time() + 600
-    while not (d / "md.part.cpt").exists():
-        assert th.is_alive() and time.time() < deadline, "mdrun ended before its first checkpoint"
-        time.sleep(0.05)
-    time.sleep(0.1)           # frames beyond the checkpoint: they must be truncated away
-    pids = mdrun_children()
-    assert len(pids) == 1 and not (d / "md.done").exists(), "mdrun finished before the kill"
-    os.kill(pids[0], signal.SIGKILL)
-    th.join()
+    err = kill_after_first_checkpoint(d, gmx)
     assert err and "signal 9" in str(err[0]), err
     assert not (d / "md.done").exists() and not (d / "md.xtc").exists()
     log = (d / "md.part.log").read_text()
@@ -190,24 +197,7 @@ def test_a_checkpoint_carried_without_its_outputs_continues_as_a_segment(resumed
         if f.suffix in (".gro", ".top", ".itp", ".mdp", ".json") and f.name not in ("md.done", "checks.json"):
             shutil.copy(f, d / f.name)
     (d / "md.done").unlink(missing_ok=True)
-    err: list[BaseException] = []
-
-    def first_run():
-        try:
-            run_md(d, gmx=gmx, checkpoint_min=0.005, **RUN)
-        except ExternalToolError as e:
-            err.append(e)
-    th = threading.Thread(target=first_run)
-    th.start()
-    deadline = time.time() + 600
-    while not (d / "md.part.cpt").exists():
-        assert th.is_alive() and time.time() < deadline, "mdrun ended before its first checkpoint"
-        time.sleep(0.05)
-    time.sleep(0.1)
-    pids = mdrun_children()
-    assert len(pids) == 1, "mdrun finished before the kill"
-    os.kill(pids[0], signal.SIGKILL)
-    th.join()
+    kill_after_first_checkpoint(d, gmx)
     kept = {"md.part.cpt", "md.part.tpr", "md.run.json", "conf.gro", "topol.top", "md.mdp", "build.json"}
     for f in d.iterdir():
         if f.name not in kept and f.suffix != ".itp":
