@@ -62,8 +62,9 @@ def fit_drift(t, E, n_atoms: int) -> dict:
             "fluctuation_rms_kJ_mol": float(np.std(E[late] - np.polyval(p, t[late])))}
 
 
-def energy_drift(directory: Path, gmx: str, n_atoms: int) -> dict:
-    col = read_energies(directory, gmx)
+def energy_drift(directory: Path, gmx: str, n_atoms: int, col: dict | None = None) -> dict:
+    """The run's drift record; col: its energies when already read (read_energies)."""
+    col = read_energies(directory, gmx) if col is None else col
     t = col["time"]
     E = col.get("Conserved En.", col.get("Total Energy"))
     if E is None:
@@ -172,12 +173,12 @@ class DuplexFrameChecks(AnalysisBase):
         r.links.append(o3p_links(x / NM, self._resid, self._names, self.n_bp, box / NM))
 
 
-def _pair_hold_energy(directory: Path, gmx: str, build: dict) -> dict | None:
+def _pair_hold_energy(directory: Path, col: dict, build: dict) -> dict | None:
     """The restraint energy of a --hold-pairs run per energy frame (near zero while the duplex
-    is intact: the restraints are flat below the open rule; gromacs/pair_hold.py)."""
+    is intact: the restraints are flat below the open rule; gromacs/pair_hold.py); col: the
+    run's energies (read_energies)."""
     if not build.get("pair_hold"):
         return None
-    col = read_energies(directory, gmx)
     name = build["pair_hold"]["energy_term"]
     if name not in col:
         raise ExternalToolError(f"{Path(directory) / 'md.edr'}: no {name!r} energy in a --hold-pairs run")
@@ -203,6 +204,7 @@ def write_checks(directory: Path, *, gmx: str) -> dict:
         inner = np.array([lk[s]["interior_A"] for lk in links])
         junction[s] = {"junction_min_A": float(j.min()), "junction_max_A": float(j.max()),
                        "interior_min_A": float(inner.min()), "interior_max_A": float(inner.max())}
+    energies = read_energies(d, gmx)                  # once, for the drift and the restraint energy
     intact = (dist < INTACT_CUTOFF_A).mean(axis=1)   # (T,) mdbridge/md/integrity.py
     # per pair and frame, as data: N1-N3 and every Watson-Crick H-bond (too large for JSON)
     np.savez_compressed(d / "integrity.npz", times_ps=np.asarray(times, float),
@@ -216,14 +218,14 @@ def write_checks(directory: Path, *, gmx: str) -> dict:
         "junction_ok": all(v["junction_max_A"] <= v["interior_max_A"] + 0.05
                            and v["junction_min_A"] >= v["interior_min_A"] - 0.05
                            for v in junction.values()),
-        "energy": energy_drift(d, gmx, u.atoms.n_atoms),
+        "energy": energy_drift(d, gmx, u.atoms.n_atoms, energies),
         "watson_crick": {"criterion": f"N1(purine)-N3(pyrimidine) < {INTACT_CUTOFF_A} A, minimum image",
                          "times_ps": [float(t) for t in times],
                          "fraction_intact": [float(f) for f in intact],
                          "final_fraction_intact": float(intact[-1]),
                          "min_fraction_intact": float(intact.min())},
         "integrity": integrity_summary(dist, times),
-        "pair_hold": _pair_hold_energy(d, gmx, build),
+        "pair_hold": _pair_hold_energy(d, energies, build),
         "frames_t0_vs_rod": build.get("frames_t0_vs_rod"),
         # which start every number of this run comes from (equilibrate.py)
         "protocol": build.get("protocol", "paper"),
