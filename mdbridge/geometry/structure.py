@@ -52,6 +52,15 @@ def base_of_resname(resname: str):
     return None
 
 
+def dna_base(resname: str, where: str) -> str:
+    """A/C/G/T for a DNA residue name (base_of_resname), or an InputError naming WHERE."""
+    b = base_of_resname(resname)
+    if b is None:
+        raise InputError(f"{where}: residue {str(resname).strip()} is not a DNA nucleotide (allowed: DA DC DG DT, "
+                         "their AMBER terminal forms DA5 DA3 ..., A C G T, ADE CYT GUA THY)")
+    return b
+
+
 def _canonical_atom_name(name: str) -> str:
     n = str(name).strip().replace("*", "'")
     return {"OP1": "O1P", "OP2": "O2P", "C7": "C5M"}.get(n, n)

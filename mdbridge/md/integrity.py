@@ -15,16 +15,13 @@ from MDAnalysis.lib.distances import calc_bonds
 from dna_models.errors import InputError
 from dna_models.nucleotides import PURINES, WATSON_CRICK_HBONDS
 from mdbridge.geometry.analysis_base import AnalysisBase, UniverseFrames
+from mdbridge.geometry.structure import dna_base
 
 INTACT_CUTOFF_A = 3.5
 
 
 def _base(residue) -> str:
-    base = residue.resname.strip().upper().lstrip("D")[:1]
-    if base not in ("A", "C", "G", "T", "U"):
-        raise InputError(f"residue {residue.resname}{residue.resid}: not a DNA base "
-                         "(allowed: DA DC DG DT and A C G T)")
-    return base
+    return dna_base(residue.resname, f"residue {residue.resname}{residue.resid}")
 
 
 def _named(residue, name: str):

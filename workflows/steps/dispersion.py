@@ -78,22 +78,30 @@ KINDS = ("bend", "twist", "stretch")
 def measure_tension(md_dir, out, discard_ps: float = 0.0, gmx: str | None = None) -> dict:
     """OUT.json: the MD's mean axial tension [pN] after discard_ps, with its error."""
     from mdbridge.md.gromacs.gmx import find_gmx
-    from mdbridge.md.gromacs.tension import mean_with_error, tension_series
+    from mdbridge.md.gromacs.tension import tension_series
     d = Path(md_dir)
     s = tension_series(d, find_gmx(gmx))
-    t = np.asarray(s["time"], float)
-    if len(t) < 16 or discard_ps >= t[-1] - t[0]:
-        raise InputError(f"{d / 'md.edr'}: {len(t)} energy frames over {t[-1] - t[0] if len(t) else 0:g} ps; the "
-                         f"tension needs a record longer than the discarded {discard_ps:g} ps")
-    m = mean_with_error(t, s["tension_pN"], discard_ps=discard_ps)
-    rec = {"md_dir": str(d), "tension_pN": m["mean"], "tension_err_pN": m["sem"], "discard_ps": discard_ps,
-           "window_ps": m["window_ps"], "stationary": m["halves"]["stationary"], "halves": m["halves"],
-           "box_length_A": float(np.mean(s["length_nm"])) * 10.0, "axis": s["axis"],
-           "temperature_K": _build_temperature(d),
-           "definition": "F = -P_aa A (virial, kinetic term included; mdbridge/md/gromacs/tension.py); error: "
-                         + m["sem_rule"]}
+    rec = tension_record(s["time"], s["tension_pN"], s["length_nm"], discard_ps, d / "md.edr")
+    rec = {"md_dir": str(d), **rec, "axis": s["axis"], "temperature_K": _build_temperature(d)}
     write_json(out, rec)
     return rec
+
+
+def tension_record(time_ps, tension_pN, length_nm, discard_ps: float, source) -> dict:
+    """The mean axial tension after discard_ps with its error and stationarity, and the mean
+    box length, of one record's tension series (from md.edr, or a run's joined segments)."""
+    from mdbridge.md.gromacs.tension import mean_with_error
+    t = np.asarray(time_ps, float)
+    if len(t) < 16 or discard_ps >= t[-1] - t[0]:
+        raise InputError(f"{source}: {len(t)} energy frames over {t[-1] - t[0] if len(t) else 0:g} ps; the "
+                         f"tension needs a record longer than the discarded {discard_ps:g} ps")
+    m = mean_with_error(t, tension_pN, discard_ps=discard_ps)
+    keep = t >= t[0] + discard_ps
+    return {"tension_pN": m["mean"], "tension_err_pN": m["sem"], "discard_ps": discard_ps,
+            "window_ps": m["window_ps"], "stationary": m["halves"]["stationary"], "halves": m["halves"],
+            "box_length_A": float(np.mean(np.asarray(length_nm, float)[keep])) * 10.0,
+            "definition": "F = -P_aa A (virial, kinetic term included; mdbridge/md/gromacs/tension.py); error: "
+                          + m["sem_rule"]}
 
 
 def _build_temperature(d: Path):
@@ -449,6 +457,10 @@ def seed_differences_step(runs: dict[str, tuple[Path, Path]], out, block_files: 
                              for k in names},
            "rod": {"name": rod_name, "mass_inertia": rod_source}, "block_error_files": [str(f) for f in block_files],
            "variants": variants,
+           # the headline: the tension-corrected differences, with the block errors when given
+           "differences_by_kind": variants["block_errors" if blocks else "fit_errors"]["tension_corrected"][
+               "differences_by_kind"],
+           "errors": "block_errors" if blocks else "fit_errors",
            "definition": "per mode: each realisation's MD omega0 minus the linear rod's at that realisation's own "
                          "virial tension, err^2 = err_md^2 + (d omega_rod/dT dT)^2; per kind chi2 = sum z^2 of the "
                          "differences against the reference, dof the number of modes; raw: the MD's omega0 without "

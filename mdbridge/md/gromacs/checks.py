@@ -27,7 +27,7 @@ from dna_models.units import ANGSTROM_PER_NM as NM
 from mdbridge.geometry.analysis_base import AnalysisBase, UniverseFrames
 from mdbridge.md.builder.duplex import base_pairs
 from dna_models.nucleotides import WATSON_CRICK_HBONDS
-from mdbridge.md.integrity import (INTACT_CUTOFF_A, central_atoms, hbond_atoms, hbond_table, integrity_summary,
+from mdbridge.md.integrity import (INTACT_CUTOFF_A, hbond_atoms, hbond_table, integrity_summary,
                                    pair_distances)
 
 from .energy import read_energies
@@ -145,7 +145,8 @@ class DuplexFrameChecks(AnalysisBase):
     AXIS), an analysis of the one loop (mdbridge/geometry/analysis_base.py): results.links,
     the O3'-P links of each frame (`o3p_links`; the box may in principle change, NVE keeps
     it fixed), side_image_A (T,), the smallest distance to a side-wall image, and
-    pair_distance_A (T, n_bp), the Watson-Crick N1-N3 distances (mdbridge/md/integrity.py)."""
+    hbond_distance_A (T, m), every Watson-Crick H-bond's distance (mdbridge/md/integrity.py
+    hbond_atoms); `pair_distance_A` is its N1-N3 slot (T, n_bp)."""
 
     def __init__(self, universe, n_bp: int, axis: int):
         super().__init__(UniverseFrames(universe))
@@ -154,13 +155,11 @@ class DuplexFrameChecks(AnalysisBase):
         self._names = list(universe.atoms.names)
         residue = {int(r.resid): r for r in universe.residues}
         self.pairs = [(residue[i], residue[j]) for i, j in base_pairs(n_bp)]
-        self._wc = central_atoms(self.pairs)
-        self._hb = hbond_atoms(self.pairs)[:2]
+        self._hb = hbond_atoms(self.pairs)
 
     def _prepare(self):
         self.results.links = []
         self.results.side_image_A = np.empty(self.n_frames)
-        self.results.pair_distance_A = np.empty((self.n_frames, self.n_bp))
         self.results.hbond_distance_A = np.empty((self.n_frames, len(self._hb[0])))
 
     def _single_frame(self):
@@ -168,9 +167,13 @@ class DuplexFrameChecks(AnalysisBase):
         x = u.atoms.positions.astype(float)
         box = u.dimensions[:3].astype(float)
         r.side_image_A[k] = min_side_image_distance(x, box, self.axis)
-        r.pair_distance_A[k] = pair_distances(self._wc[0].positions, self._wc[1].positions, u.dimensions)
         r.hbond_distance_A[k] = pair_distances(self._hb[0].positions, self._hb[1].positions, u.dimensions)
         r.links.append(o3p_links(x / NM, self._resid, self._names, self.n_bp, box / NM))
+
+    def _conclude(self):
+        # N1-N3 is slot 0 of each pair's H-bonds (hbond_atoms), in pair order
+        pair, slot = self._hb[2], self._hb[3]
+        self.results.pair_distance_A = self.results.hbond_distance_A[:, slot == 0][:, np.argsort(pair[slot == 0])]
 
 
 def _pair_hold_energy(directory: Path, col: dict, build: dict) -> dict | None:

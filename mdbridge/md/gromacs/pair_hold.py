@@ -26,6 +26,7 @@ from pathlib import Path
 from dna_models.errors import DnarodError, InputError
 from dna_models.nucleotides import PURINES, WATSON_CRICK_HBONDS
 from dna_models.units import ANGSTROM_PER_NM as NM
+from mdbridge.geometry.structure import dna_base
 from mdbridge.md.integrity import INTACT_CUTOFF_A
 
 from .topology import Molecule
@@ -68,13 +69,6 @@ class PairHold:
                 "section": SECTION, "energy_term": ENERGY_TERM}
 
 
-def _base(resname: str) -> str:
-    b = resname.strip().upper().lstrip("D")[:1]
-    if b not in "ACGT":
-        raise InputError(f"residue {resname}: not a DNA nucleotide (allowed DA DC DG DT)")
-    return b
-
-
 def hbond_atom_pairs(mols: list[Molecule], n_bp: int) -> list[tuple[int, int, int, str, str]]:
     """[(global atom nr i, global atom nr j (1-based, topol.top order), pair index (0-based),
     name i, name j)] of every Watson-Crick H-bond. mols: strand I then strand II, one copy
@@ -96,9 +90,9 @@ def hbond_atom_pairs(mols: list[Molecule], n_bp: int) -> list[tuple[int, int, in
     out = []
     for k in range(n_bp):
         a, b = k, 2 * n_bp - 1 - k
-        if _base(resnames[a]) not in PURINES:
+        if dna_base(resnames[a], f"pair {k}") not in PURINES:
             a, b = b, a                      # the purine first, as the table is keyed
-        pu, py = _base(resnames[a]), _base(resnames[b])
+        pu, py = dna_base(resnames[a], f"pair {k}"), dna_base(resnames[b], f"pair {k}")
         if {pu, py} not in ({"A", "T"}, {"G", "C"}):
             raise InputError(f"pair {k}: {resnames[a]}-{resnames[b]} is not a Watson-Crick pair")
         for na, nb in WATSON_CRICK_HBONDS[pu]:

@@ -1,0 +1,158 @@
+"""The intact duplex's results from its reduced segments (docs/intact.md):
+
+    python3 -m dnarod.steps.intact RESULTS [--discard-ps T] [--seeds seed1 seed2] [--kinds ...]
+
+RESULTS holds one folder per seed with its reduced segments (seedS/segments/segNN, written by
+`python3 -m dnarod.steps.segments reduce`) and the run input (run/seedS/build.json). For each
+seed it writes into RESULTS/seedS:
+
+    mode_series.npz, integrity.json, energies.npz   the segments joined (segments.join_segments;
+                                                    the series whole, the open fraction after T)
+    tension.json                                    the virial tension after T, with its error
+    modes.json, spectra.png                         `dnarod modes` of the series after T
+    prediction.json                                 the paper's rod at this seed's tension, as it
+                                                    is and at the box with the MD's rho and I
+
+The discarded start T comes from the run's own relaxation unless given (RESULTS/discard.json):
+for each seed and each slow observable (the virial tension, the restraint energy, the squared
+amplitudes of bend n = 1-3, twist n = 1 and stretch n = 1), the start after which the record
+holds the most effectively independent frames (mdbridge/stats.py equilibration_start); T is
+the largest of them, rounded up to 50 ps. A T above MAX_DISCARD_PS is refused: the record
+would be too short for the modes it must resolve.
+
+Over the seeds, into RESULTS: blocks_KIND.json (block errors pooled over the seeds),
+seeds.json (the tension-corrected seed differences; `differences_by_kind` with the block
+errors) and prediction.json (the reference seed's, the first).
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import shutil
+import sys
+import tempfile
+from pathlib import Path
+
+from dna_models.errors import InputError
+from mdbridge.jsonio import write_json
+
+KINDS = ("bend", "twist", "stretch")
+MAX_DISCARD_PS = 500.0
+CANDIDATE_STEP_PS = 10.0
+
+
+def _observables(seed_dir: Path) -> dict:
+    """The slow observables of one joined seed (module doc): name -> (times_ps, values)."""
+    import numpy as np
+    from mdbridge.analysis.mode_spectra import load_npz
+    s = load_npz(seed_dir / "mode_series.npz")[0]
+    e = np.load(seed_dir / "energies.npz")
+    obs = {"tension_pN": (e["times_ps"], e["tension_pN"])}
+    if "restraint_kJ_mol" in e.files:
+        obs["restraint_kJ_mol"] = (e["times_ps"], e["restraint_kJ_mol"])
+    for kind, ns in (("bend", (1, 2, 3)), ("twist", (1,)), ("stretch", (1,))):
+        a = np.abs(getattr(s, kind)) ** 2
+        for n in ns:
+            i = int(np.flatnonzero(np.asarray(s.n) == n)[0])
+            obs[f"{kind}_{n}_squared"] = (s.times_ps, a[:, i].reshape(len(s.times_ps), -1).sum(axis=1))
+    return obs
+
+
+def discard_from_relaxation(results: Path, seeds) -> dict:
+    """RESULTS/discard.json: each seed's and observable's equilibration start (module doc) and
+    the discard T they give; the seeds must be joined (join_segments) without a discard."""
+    import math
+    import numpy as np
+    from mdbridge.stats import equilibration_start
+    per_seed: dict[str, dict] = {}
+    for seed in seeds:
+        per_seed[seed] = {}
+        for name, (t, y) in _observables(results / seed).items():
+            t = np.asarray(t, float)
+            dt = float(np.median(np.diff(t)))
+            step = max(1, int(round(CANDIDATE_STEP_PS / dt)))
+            r = equilibration_start(y, range(0, len(t) // 2, step))
+            per_seed[seed][name] = {"start_ps": float(t[r["start"]] - t[0]), "n_effective": r["n_effective"],
+                                    "record_ps": float(t[-1] - t[0])}
+    longest = max(v["start_ps"] for obs in per_seed.values() for v in obs.values())
+    T = 50.0 * math.ceil(longest / 50.0)
+    rec = {"discard_ps": T, "longest_start_ps": longest, "max_discard_ps": MAX_DISCARD_PS, "per_seed": per_seed,
+           "rule": "per seed and observable, the start after which the record holds the most effectively "
+                   "independent frames, N / (2 tau_int) (Chodera 2016, J Chem Theory Comput 12:1799; candidates "
+                   f"every {CANDIDATE_STEP_PS:g} ps up to half the record); the discard is the largest, rounded up "
+                   "to 50 ps (mdbridge/stats.py equilibration_start)"}
+    write_json(results / "discard.json", rec)
+    if T > MAX_DISCARD_PS:
+        raise InputError(f"{results / 'discard.json'}: the run relaxes for {longest:g} ps, more than the "
+                         f"{MAX_DISCARD_PS:g} ps the record can spare; see per_seed for the observable")
+    return rec
+
+
+def _segments(seed_dir: Path) -> list[Path]:
+    segs = sorted(p for p in (seed_dir / "segments").glob("seg[0-9][0-9]") if p.is_dir())
+    if not segs:
+        raise InputError(f"{seed_dir / 'segments'}: no segment folders segNN (segments reduce writes them)")
+    return segs
+
+
+def analyse_seed(results: Path, seed: str, discard_ps: float) -> dict:
+    """One seed's joined series, integrity, tension, modes and paper-rod prediction."""
+    from dnarod.steps.dispersion import predict_and_compare, tension_record
+    from dnarod.steps.segments import join_segments
+    from mdbridge.analysis.mode_run import mode_spectra
+    import numpy as np
+    d = results / seed
+    build = results / "run" / seed / "build.json"
+    if not build.is_file():
+        raise InputError(f"{build}: missing: the run input's build.json gives the atoms' rho and I")
+    join_segments(_segments(d), d, discard_ps)
+    e = np.load(d / "energies.npz")
+    rec = tension_record(e["times_ps"], e["tension_pN"], e["length_nm"], discard_ps, d / "energies.npz")
+    rec = {"md_dir": str(d / "segments"), **rec,
+           "temperature_K": float(json.loads(build.read_text())["temperature_K"])}
+    write_json(d / "tension.json", rec)
+    with tempfile.TemporaryDirectory(prefix="dnarod-intact-") as tmp:
+        mode_spectra([str(d / "mode_series.npz")], Path(tmp), discard_ps)
+        for name in ("modes.json", "spectra.png"):
+            shutil.copy(Path(tmp) / name, d / name)
+    predict_and_compare(d / "modes.json", d / "prediction.json", [d / "tension.json"], md_inertia=build)
+    return rec
+
+
+def analyse(results, discard_ps: float | None = None, seeds=("seed1", "seed2"), kinds=KINDS) -> dict:
+    """Every seed (analyse_seed), then the block errors and the seed differences over them;
+    the discard from the run's relaxation (discard_from_relaxation) unless given."""
+    from dnarod.steps.dispersion import block_errors_step, seed_differences_step
+    from dnarod.steps.segments import join_segments
+    results = Path(results)
+    if discard_ps is None:
+        for seed in seeds:
+            join_segments(_segments(results / seed), results / seed, 0.0)
+        discard_ps = discard_from_relaxation(results, seeds)["discard_ps"]
+    for seed in seeds:
+        analyse_seed(results, seed, discard_ps)
+    series = {s: (results / s / "mode_series.npz", results / s / "modes.json") for s in seeds}
+    blocks = []
+    for kind in kinds:
+        blocks.append(results / f"blocks_{kind}.json")
+        block_errors_step(series, blocks[-1], discard_ps, None, (kind,))
+    runs = {s: (results / s / "modes.json", results / s / "tension.json") for s in seeds}
+    rec = seed_differences_step(runs, results / "seeds.json", blocks, results / "run" / seeds[0] / "build.json")
+    shutil.copy(results / seeds[0] / "prediction.json", results / "prediction.json")
+    return rec
+
+
+def main(argv=None) -> int:
+    from dnarod.steps.analyse import run_step
+    ap = argparse.ArgumentParser(prog="python3 -m dnarod.steps.intact", description=__doc__.splitlines()[0])
+    ap.add_argument("results", help="the folder with seedS/segments/segNN and run/seedS/build.json")
+    ap.add_argument("--discard-ps", type=float, default=None,
+                    help="the discarded start (default: from the run's relaxation, RESULTS/discard.json)")
+    ap.add_argument("--seeds", nargs="+", default=["seed1", "seed2"])
+    ap.add_argument("--kinds", nargs="+", default=list(KINDS), choices=KINDS)
+    a = ap.parse_args(argv)
+    return run_step("intact", lambda: analyse(a.results, a.discard_ps, tuple(a.seeds), tuple(a.kinds)))
+
+
+if __name__ == "__main__":
+    sys.exit(main())
