@@ -30,7 +30,7 @@ import numpy as np
 from dna_models.nucleotides import WATSON_CRICK_HBONDS
 from mdbridge.geometry.steps import STEP_NAMES
 from mdbridge.jsonio import write_json
-from mdbridge.md.integrity import INTACT_CUTOFF_A, hbond_atoms, integrity_summary, pair_distances
+from mdbridge.md.integrity import INTACT_CUTOFF_A, PairIntegrity, integrity_summary
 
 
 def _universe(d: Path):
@@ -52,21 +52,15 @@ def read_run(d: Path, t0: float, t1: float, stride: int) -> dict:
     u = _universe(d)
     res = {int(r.resid): r for r in u.residues}
     pairs = [(res[i], res[j]) for i, j in base_pairs(n)]
-    a, b, pair, slot, names = hbond_atoms(pairs)
     times = np.array([ts.time for ts in u.trajectory])
     frames = np.flatnonzero((times >= t0 - 1e-6) & (times <= t1 + 1e-6))[::stride]
-    hb = np.empty((len(frames), len(a)))
-    for k, f in enumerate(frames):
-        u.trajectory[f]
-        hb[k] = pair_distances(a.positions, b.positions, u.dimensions)
+    hb = PairIntegrity(u, pairs, hbonds=True).run(frames=frames)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         bpf = BasePairFrames(u, pairs=base_pairs(n)).run(frames=frames)
     q = bpf.step_parameters(periodic=True)
-    n13 = hb[:, slot == 0]
-    order = np.argsort(pair[slot == 0])
-    return {"times_ps": times[frames], "n1_n3": n13[:, order], "hbond": hb,
-            "hbond_names": ["-".join(x) for x in names], "q": q, "build": build, "n_bp": n}
+    return {"times_ps": times[frames], "n1_n3": hb.results.distance_A, "hbond": hb.results.hbond_distance_A,
+            "hbond_names": ["-".join(x) for x in hb.hbond_names], "q": q, "build": build, "n_bp": n}
 
 
 def elasticity(run: dict) -> dict:

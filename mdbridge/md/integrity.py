@@ -61,6 +61,11 @@ def hbond_atoms(pairs):
     return mda.AtomGroup(a), mda.AtomGroup(b), np.array(pair), np.array(slot), names
 
 
+def n1_n3_columns(pair, slot) -> np.ndarray:
+    """The columns of hbond_atoms' H-bonds that are each pair's N1-N3 (slot 0), in pair order."""
+    return np.flatnonzero(slot == 0)[np.argsort(pair[slot == 0])]
+
+
 def hbond_table(pairs, distances_A) -> np.ndarray:
     """The H-bond distances (T, m) of hbond_atoms(PAIRS) as (T, n_pairs, 3), NaN where a pair
     has fewer than three (A-T: two)."""
@@ -82,15 +87,22 @@ class PairIntegrity(AnalysisBase):
     """N1-N3 distance of every base pair in every selected frame, an analysis of the one loop
     (mdbridge/geometry/analysis_base.py): PairIntegrity(universe, pairs).run(start, stop,
     step, progress=...).results has distance_A (T, n_bp) and fraction_intact (T,), the
-    fraction of pairs below cutoff_A; the frames' times are `times_ps`.
+    fraction of pairs below cutoff_A; the frames' times are `times_ps`. With hbonds=True it
+    measures every Watson-Crick H-bond (hbond_atoms) and reads N1-N3 from their slot 0:
+    results.hbond_distance_A (T, m) and hbond_A (T, n_bp, 3) (hbond_table) beside.
 
     pairs: [(residue of strand I, residue of strand II)], e.g. `BasePairFrames(u).pairs`.
     """
 
-    def __init__(self, universe, pairs, cutoff_A: float = INTACT_CUTOFF_A, verbose: bool = False):
+    def __init__(self, universe, pairs, cutoff_A: float = INTACT_CUTOFF_A, verbose: bool = False,
+                 hbonds: bool = False):
         super().__init__(UniverseFrames(universe), verbose)
-        self.universe = universe
-        self._a, self._b = central_atoms(pairs)
+        self.universe, self.pairs, self.hbonds = universe, pairs, hbonds
+        if hbonds:
+            self._a, self._b, pair, slot, self.hbond_names = hbond_atoms(pairs)
+            self._n1_n3 = n1_n3_columns(pair, slot)
+        else:
+            self._a, self._b = central_atoms(pairs)
         self.cutoff_A = cutoff_A
 
     def _prepare(self):
@@ -101,8 +113,13 @@ class PairIntegrity(AnalysisBase):
                                                        self.universe.dimensions)
 
     def _conclude(self):
-        self.results.distance_A = self._dist
-        self.results.fraction_intact = np.mean(self._dist < self.cutoff_A, axis=1)
+        if self.hbonds:
+            self.results.hbond_distance_A = self._dist
+            self.results.hbond_A = hbond_table(self.pairs, self._dist)
+            self.results.distance_A = self._dist[:, self._n1_n3]
+        else:
+            self.results.distance_A = self._dist
+        self.results.fraction_intact = np.mean(self.results.distance_A < self.cutoff_A, axis=1)
 
 
 def bp_intact_fraction(universe, pairs, start=None, stop=None, step=None,

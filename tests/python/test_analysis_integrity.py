@@ -77,3 +77,17 @@ def test_integrity_summary_junction_against_interior():
     # control: a pair exactly at the rule is closed (open means beyond 3.5 A)
     d[:, 3] = 3.5
     assert integrity_summary(d, np.arange(T))["open_fraction_per_pair"][3] == 0.0
+
+
+def test_hbond_path_reads_the_same_n1_n3(refdata):
+    """PairIntegrity(hbonds=True) measures every H-bond and reads N1-N3 from their slot 0
+    (what checks.json and the pair-hold screen use): equal to the direct N1-N3 measure."""
+    import MDAnalysis as mda
+    from mdbridge.geometry.structure import BasePairFrames
+    from mdbridge.md.integrity import PairIntegrity
+    u = mda.Merge(mda.Universe(str(refdata / "355d" / "355d.pdb")).select_atoms("nucleic"))
+    pairs = BasePairFrames(u).pairs
+    direct = PairIntegrity(u, pairs).run().results
+    both = PairIntegrity(u, pairs, hbonds=True).run().results
+    np.testing.assert_array_equal(both.distance_A, direct.distance_A)
+    assert both.hbond_A.shape == (1, 12, 3) and both.hbond_distance_A.shape == (1, 8 * 3 + 4 * 2)

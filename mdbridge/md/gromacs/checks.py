@@ -27,7 +27,7 @@ from dna_models.units import ANGSTROM_PER_NM as NM
 from mdbridge.geometry.analysis_base import AnalysisBase, UniverseFrames
 from mdbridge.md.builder.duplex import base_pairs
 from dna_models.nucleotides import WATSON_CRICK_HBONDS
-from mdbridge.md.integrity import (INTACT_CUTOFF_A, hbond_atoms, hbond_table, integrity_summary,
+from mdbridge.md.integrity import (INTACT_CUTOFF_A, hbond_atoms, n1_n3_columns, hbond_table, integrity_summary,
                                    pair_distances)
 
 from .energy import read_energies
@@ -171,9 +171,7 @@ class DuplexFrameChecks(AnalysisBase):
         r.links.append(o3p_links(x / NM, self._resid, self._names, self.n_bp, box / NM))
 
     def _conclude(self):
-        # N1-N3 is slot 0 of each pair's H-bonds (hbond_atoms), in pair order
-        pair, slot = self._hb[2], self._hb[3]
-        self.results.pair_distance_A = self.results.hbond_distance_A[:, slot == 0][:, np.argsort(pair[slot == 0])]
+        self.results.pair_distance_A = self.results.hbond_distance_A[:, n1_n3_columns(self._hb[2], self._hb[3])]
 
 
 def _pair_hold_energy(directory: Path, col: dict, build: dict) -> dict | None:
