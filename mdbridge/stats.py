@@ -19,10 +19,6 @@ Autocorrelation
   within e^-5 of it (Sokal 1997, "Monte Carlo methods in statistical mechanics",
   Sec 3; the same rule as emcee's `integrated_time`).
   `e_folding_lag`: the lag at which the autocorrelation falls below 1/e.
-  `equilibration_start`: the start that maximises the effectively independent frames left
-  after it (Chodera 2016, J Chem Theory Comput 12:1799): a relaxing start inflates the
-  variance and the correlation time of what follows it, so cutting it raises N / (2 tau_int)
-  until the start is gone, and cutting more only loses frames.
 
 Moving-block bootstrap
   `block_length`, `block_starts`, `replicate_moments`, `weighted_moments`, `spread`:
@@ -145,19 +141,6 @@ def integrated_time(x: np.ndarray, c: float = SOKAL_C) -> np.ndarray:
 def effective_samples(n_frames: int, tau) -> np.ndarray:
     """N / (2 tau_int): the number of independent frames the series is worth."""
     return n_frames / (2.0 * np.asarray(tau, dtype=float))
-
-
-def equilibration_start(y, starts) -> dict:
-    """The start (a frame index of y, among `starts`) after which y holds the most effectively
-    independent frames, (T - t0) / (2 tau_int(y[t0:])) (module doc), and that count at each
-    candidate start."""
-    y = np.asarray(y, dtype=float)
-    starts = [int(s) for s in starts if 0 <= int(s) < len(y) - 16]
-    if not starts:
-        raise ValueError(f"equilibration_start: a series of {len(y)} frames leaves no candidate start with 16 frames")
-    n_eff = [float(effective_samples(len(y) - s, integrated_time(y[s:]))) for s in starts]
-    best = int(np.argmax(n_eff))
-    return {"start": starts[best], "n_effective": n_eff[best], "starts": starts, "n_effective_by_start": n_eff}
 
 
 def e_folding_lag(r: np.ndarray) -> int:

@@ -16,7 +16,7 @@ seed it writes into RESULTS/seedS:
 The discarded start T comes from the run's own relaxation unless given (RESULTS/discard.json):
 for each seed and each slow observable (the virial tension, the restraint energy, the squared
 amplitudes of bend n = 1-3, twist n = 1 and stretch n = 1), the start after which the record
-holds the most effectively independent frames (mdbridge/stats.py equilibration_start); T is
+holds the most effectively independent frames (mdbridge/coarsegrain/equilibration.py); T is
 the largest of them, rounded up to 50 ps. A T above MAX_DISCARD_PS is refused: the record
 would be too short for the modes it must resolve.
 
@@ -63,7 +63,7 @@ def discard_from_relaxation(results: Path, seeds) -> dict:
     the discard T they give; the seeds must be joined (join_segments) without a discard."""
     import math
     import numpy as np
-    from mdbridge.stats import equilibration_start
+    from mdbridge.coarsegrain.equilibration import equilibration_start
     per_seed: dict[str, dict] = {}
     for seed in seeds:
         per_seed[seed] = {}
@@ -71,8 +71,8 @@ def discard_from_relaxation(results: Path, seeds) -> dict:
             t = np.asarray(t, float)
             dt = float(np.median(np.diff(t)))
             step = max(1, int(round(CANDIDATE_STEP_PS / dt)))
-            r = equilibration_start(y, range(0, len(t) // 2, step))
-            per_seed[seed][name] = {"start_ps": float(t[r["start"]] - t[0]), "n_effective": r["n_effective"],
+            start, n_eff = equilibration_start(y, step)
+            per_seed[seed][name] = {"start_ps": float(t[start] - t[0]), "n_effective": float(n_eff[0]),
                                     "record_ps": float(t[-1] - t[0])}
     longest = max(v["start_ps"] for obs in per_seed.values() for v in obs.values())
     T = 50.0 * math.ceil(longest / 50.0)
@@ -80,7 +80,7 @@ def discard_from_relaxation(results: Path, seeds) -> dict:
            "rule": "per seed and observable, the start after which the record holds the most effectively "
                    "independent frames, N / (2 tau_int) (Chodera 2016, J Chem Theory Comput 12:1799; candidates "
                    f"every {CANDIDATE_STEP_PS:g} ps up to half the record); the discard is the largest, rounded up "
-                   "to 50 ps (mdbridge/stats.py equilibration_start)"}
+                   "to 50 ps (mdbridge/coarsegrain/equilibration.py)"}
     write_json(results / "discard.json", rec)
     if T > MAX_DISCARD_PS:
         raise InputError(f"{results / 'discard.json'}: the run relaxes for {longest:g} ps, more than the "
