@@ -12,6 +12,11 @@ intact runs, across sessions"):
       OUT/segNN/integrity.npz     N1-N3 distance of every pair in every frame (float16)
       OUT/segNN/energies.npz      the virial tension, the box and, with --hold-pairs, the
                                   restraint energy per energy frame
+      OUT/segNN/steps.npz         the six step parameters of every step (the closing one
+                                  last) every STEPS_STRIDE-th frame (float16), what the
+                                  coarse-graining reads; `steps` writes it alone:
+
+    python3 -m dnarod.steps.segments steps MDDIR OUT/segNN
 
 and `join` puts the segments of one run together in time: a segment's frames past the next
 segment's start (written after its last checkpoint, then continued differently) are left
@@ -56,9 +61,40 @@ def _sources(md_dir: Path) -> dict:
                      "md.part.xtc + md.part.edr (a segment being run): nothing to reduce")
 
 
+STEPS_STRIDE = 2        # 1 ps at the intact runs' 0.5-ps frames: the fastest step motions
+                        # decorrelate within ~1 ps, and 6.6 MB per 3.5 ns of 158 bp is committable
+
+
+def _universe(d: Path, src: dict):
+    import MDAnalysis as mda
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return mda.Universe(str(d / src["md.tpr"]), str(d / src["md.xtc"]))
+
+
+def reduce_steps(md_dir, out, stride: int = STEPS_STRIDE) -> dict:
+    """OUT/steps.npz: the segment's step parameters (shift, slide, rise [A], tilt, roll,
+    twist [deg], 3DNA's branch), the periodic closing step last, every STRIDE-th frame."""
+    from mdbridge.geometry.structure import BasePairFrames
+    from mdbridge.md.builder.duplex import base_pairs
+    d, out = Path(md_dir), Path(out)
+    build = json.loads((d / "build.json").read_text())
+    u = _universe(d, _sources(d))
+    frames = np.arange(0, len(u.trajectory), stride)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        bpf = BasePairFrames(u, pairs=base_pairs(int(build["n_bp"]))).run(frames=frames)
+    q = bpf.step_parameters(periodic=True)
+    times = np.array([u.trajectory[int(f)].time for f in frames])
+    out.mkdir(parents=True, exist_ok=True)
+    np.savez_compressed(out / "steps.npz", times_ps=times, q=q.astype(np.float16),
+                        columns=np.array(["shift_A", "slide_A", "rise_A", "tilt_deg", "roll_deg", "twist_deg"]),
+                        sequence=np.array(build["sequence"]), stride=stride)
+    return {"frames": int(len(frames)), "stride": stride}
+
+
 def reduce_segment(md_dir, out) -> dict:
     """The segment's mode series, pair distances and energies into OUT (module doc)."""
-    import MDAnalysis as mda
     from mdbridge.md.builder.duplex import base_pairs
     from mdbridge.md.gromacs.energy import read_energies
     from mdbridge.md.gromacs.gmx import find_gmx
@@ -81,9 +117,7 @@ def reduce_segment(md_dir, out) -> dict:
         gmx = find_gmx(None)
         energies = read_energies(view, gmx, edr="md.edr")
         tension = tension_series(view, gmx, edr="md.edr")
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        u = mda.Universe(str(d / src["md.tpr"]), str(d / src["md.xtc"]))
+    u = _universe(d, src)
     res = {int(r.resid): r for r in u.residues}
     pairs = [(res[i], res[j]) for i, j in base_pairs(int(build["n_bp"]))]
     a = PairIntegrity(u, pairs).run()
@@ -93,8 +127,9 @@ def reduce_segment(md_dir, out) -> dict:
     np.savez_compressed(out / "energies.npz", times_ps=np.asarray(tension["time"], float),
                         tension_pN=tension["tension_pN"], length_nm=tension["length_nm"],
                         area_nm2=tension["area_nm2"], temperature_K=energies["Temperature"], **extra)
+    steps = reduce_steps(d, out)
     rec = {"md_dir": str(d.resolve()), "files": src, "frames": int(len(a.times_ps)),
-           "times_ps": [float(a.times_ps[0]), float(a.times_ps[-1])]}
+           "times_ps": [float(a.times_ps[0]), float(a.times_ps[-1])], "steps": steps}
     write_json(out / "segment.json", rec)
     return rec
 
@@ -166,6 +201,9 @@ def main(argv=None) -> int:
     p = sub.add_parser("reduce")
     p.add_argument("md_dir")
     p.add_argument("out")
+    p = sub.add_parser("steps")
+    p.add_argument("md_dir")
+    p.add_argument("out")
     p = sub.add_parser("join")
     p.add_argument("segments", nargs="+")
     p.add_argument("-o", "--out", required=True)
@@ -175,6 +213,8 @@ def main(argv=None) -> int:
     def step():
         if a.step == "reduce":
             reduce_segment(a.md_dir, a.out)
+        elif a.step == "steps":
+            reduce_steps(a.md_dir, a.out)
         else:
             join_segments(a.segments, a.out, a.discard_ps)
     return run_step(a.step, step)
