@@ -59,6 +59,7 @@ def test_the_discard_cuts_the_relaxation(tmp_path, seed):
     assert json.loads((tmp_path / "discard.json").read_text())["discard_ps"] == T
     e = np.load(tmp_path / "seed1" / "energies.npz")
     err = tension_record(e["times_ps"], e["tension_pN"], e["length_nm"], T, "synthetic")["tension_err_pN"]
+
     def bias(T):                                         # the relaxation's mean after T
         return 300 * 60 * (np.exp(-T / 60) - np.exp(-T_PS / 60)) / (T_PS - T)
     assert bias(T) < 0.35 * err, (bias(T), err)
