@@ -18,6 +18,9 @@ from mdbridge.geometry.analysis_base import AnalysisBase, UniverseFrames
 from mdbridge.geometry.structure import dna_base
 
 INTACT_CUTOFF_A = 3.5
+UNSTACKED_RISE_A = 4.5   # 3DNA's rise of a stacked B-DNA step is 3.3-3.4 A with a spread of ~0.2-0.3 A
+                         # (Olson et al. 1998, PNAS 95:11163); above 4.5 A the step's bases no longer
+                         # stack, a kink, whatever its pairs do (docs/intact.md)
 
 
 def _base(residue) -> str:
@@ -160,3 +163,23 @@ def integrity_summary(distance_A, times_ps, discard_ps: float = 0.0,
             "junction_pairs": jp,
             "junction_open_fraction": float(per_pair[jp].mean()),
             "interior_open_fraction": float(per_pair[interior].mean())}
+
+
+def stacking_summary(rise_A, times_ps, discard_ps: float = 0.0, cutoff_A: float = UNSTACKED_RISE_A) -> dict:
+    """The unstacked fraction of step rises (T, n_steps) at times_ps (rise > cutoff_A): over
+    time, per step (after discard_ps) and overall; the steps that are unstacked in more than
+    half of the kept frames are listed (0-based, step i joins pairs i and i + 1)."""
+    r = np.asarray(rise_A, float)
+    t = np.asarray(times_ps, float)
+    if r.ndim != 2 or r.shape[0] != t.size or t.size == 0:
+        raise InputError(f"stacking: rises {r.shape} do not match {t.size} frame times")
+    un = r > cutoff_A
+    keep = t >= t[0] + discard_ps
+    if not keep.any():
+        raise InputError(f"stacking: --discard-ps {discard_ps} leaves no frame of {t[0]:g}-{t[-1]:g} ps")
+    per_step = un[keep].mean(axis=0)
+    return {"criterion": f"unstacked: 3DNA rise > {cutoff_A} A", "discard_ps": float(discard_ps),
+            "unstacked_fraction": float(un[keep].mean()),
+            "unstacked_fraction_per_step": per_step.tolist(),
+            "mostly_unstacked_steps": np.flatnonzero(per_step > 0.5).tolist(),
+            "unstacked_fraction_time": un.mean(axis=1).tolist(), "times_ps": t.tolist()}

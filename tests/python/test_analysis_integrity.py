@@ -91,3 +91,24 @@ def test_hbond_path_reads_the_same_n1_n3(refdata):
     both = PairIntegrity(u, pairs, hbonds=True).run().results
     np.testing.assert_array_equal(both.distance_A, direct.distance_A)
     assert both.hbond_A.shape == (1, 12, 3) and both.hbond_distance_A.shape == (1, 8 * 3 + 4 * 2)
+
+
+def test_stacking_of_the_dodecamer_and_a_kink(refdata):
+    """No step of the crystal dodecamer (355D) is unstacked (3DNA rise 3.1-3.6 A there); a step
+    whose rise is set to a kink's (6 A, as the vacuum MD's kinked steps) in half the frames is
+    counted, per step and over time (the control: the same series without it counts none)."""
+    import MDAnalysis as mda
+    from mdbridge.geometry.structure import BasePairFrames
+    from mdbridge.md.integrity import stacking_summary
+    u = mda.Merge(mda.Universe(str(refdata / "355d" / "355d.pdb")).select_atoms("nucleic"))
+    rise = BasePairFrames(u).run().step_parameters()[:, :, 2]
+    assert stacking_summary(rise, [0.0])["unstacked_fraction"] == 0.0
+    series = np.repeat(rise, 10, axis=0)
+    kinked = series.copy()
+    kinked[5:, 4] = 6.0
+    s = stacking_summary(kinked, np.arange(10.0))
+    assert s["unstacked_fraction"] == pytest.approx(5 / (10 * 11))
+    assert s["unstacked_fraction_per_step"][4] == 0.5 and s["mostly_unstacked_steps"] == []
+    assert s["unstacked_fraction_time"][:5] == [0.0] * 5 and s["unstacked_fraction_time"][5] == pytest.approx(1 / 11)
+    assert stacking_summary(kinked, np.arange(10.0), discard_ps=5)["mostly_unstacked_steps"] == [4]
+    assert stacking_summary(series, np.arange(10.0))["unstacked_fraction"] == 0.0

@@ -25,7 +25,8 @@ out, and the segments must follow one another without a gap:
     python3 -m dnarod.steps.segments join OUT/seg01 OUT/seg02 ... -o OUT --discard-ps T
 
       OUT/mode_series.npz  one realisation, the layout of every mode_series.npz
-      OUT/integrity.json   open fraction after the discard, per pair, at the junction
+      OUT/integrity.json   open fraction after the discard, per pair, at the junction; with
+                           steps.npz, the unstacked fraction of the steps (`stacking`)
       OUT/energies.npz     the joined energy series
 """
 from __future__ import annotations
@@ -154,7 +155,7 @@ def _kept(times: list[np.ndarray], what: str, names: list[str]) -> list[np.ndarr
 def join_segments(segments, out, discard_ps: float = 0.0) -> dict:
     """The segments of one run (in time order) as one mode series, integrity and energies."""
     from mdbridge.analysis.mode_spectra import ModeSeries, load_npz, save_npz
-    from mdbridge.md.integrity import integrity_summary
+    from mdbridge.md.integrity import integrity_summary, stacking_summary
     segs = [Path(s) for s in segments]
     series = []
     for s in segs:
@@ -186,6 +187,16 @@ def join_segments(segments, out, discard_ps: float = 0.0) -> dict:
     step = max(1, len(t) // 500)          # the curve, at most ~500 points
     summary["open_fraction_time"] = summary["open_fraction_time"][::step]
     summary["open_fraction_times_ps"] = t[::step].tolist()
+    if all((s / "steps.npz").is_file() for s in segs):     # the steps' stacking beside the pairs
+        st = [np.load(s / "steps.npz") for s in segs]
+        keep = _kept([z["times_ps"] for z in st], "step frames", names)
+        ts = np.concatenate([z["times_ps"][kk] for z, kk in zip(st, keep)])
+        rise = np.concatenate([z["q"][kk][:, :, 2].astype(float) for z, kk in zip(st, keep)])
+        stacking = stacking_summary(rise, ts, discard_ps=discard_ps)
+        step = max(1, len(ts) // 500)
+        stacking["unstacked_fraction_time"] = stacking["unstacked_fraction_time"][::step]
+        stacking["times_ps"] = stacking["times_ps"][::step]
+        summary["stacking"] = stacking
     write_json(out / "integrity.json", {**summary, "segments": names})
     en = [np.load(s / "energies.npz") for s in segs]
     keep = _kept([z["times_ps"] for z in en], "energy frames", names)
