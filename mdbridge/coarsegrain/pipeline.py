@@ -4,9 +4,10 @@
 (workflows/commands/coarse_grain.py parses, calls this and prints) and what the
 comparison's loop runs on its equilibrium MD (workflows/steps/cgloop.py), in the manner
 of mdbridge/md/build.py's `BuildRequest` / `build_md`. The input is an MD structure with
-its trajectories, or a rod output file (mdbridge/md/realisation.py), which is the whole
-input; the steps: read the step ensemble (reader.py), the temperature (temperature.py),
-the estimator (estimator.py), params.json (params.py), the figures, the per-step and
+its trajectories, a rod output file (mdbridge/md/realisation.py), which is the whole
+input, or a run's input folder with its segments' steps.npz (reader.py
+read_steps_ensemble); the steps: read the step ensemble (reader.py), the temperature
+(temperature.py), the estimator (estimator.py), params.json (params.py), the figures, the per-step and
 grid material files (stepmaterial.py) and the bootstrap replicas (cgrod.py).
 """
 from __future__ import annotations
@@ -78,7 +79,7 @@ def _quiet(*args, **kwargs):
 
 def read_input(req: CoarseGrainRequest, progress):
     """(ensemble, extras, universe or None, source) of the request's input."""
-    from mdbridge.coarsegrain.reader import read_ensemble, read_rod_ensemble
+    from mdbridge.coarsegrain.reader import is_steps_file, read_ensemble, read_rod_ensemble, read_steps_ensemble
     from mdbridge.geometry.structure import load_universe, read_pairs_file
     if kind_of(req.structure) == "rod":
         if req.trajectories:
@@ -86,6 +87,10 @@ def read_input(req: CoarseGrainRequest, progress):
                              f"({' '.join(req.trajectories)})")
         ens, extras = read_rod_ensemble(req.structure, req.start, req.stop, req.step)
         return ens, extras, None, req.structure
+    if req.trajectories and all(is_steps_file(t) for t in req.trajectories):
+        ens, extras = read_steps_ensemble(req.structure, req.trajectories, req.max_open_fraction,
+                                          req.leave_out_open_frames)
+        return ens, extras, None, f"{req.structure} + {' + '.join(req.trajectories)}"
     u = load_universe(req.structure, *req.trajectories)
     source = " + ".join([req.structure] + list(req.trajectories))
     pairs, numbering = (None, "resid")
@@ -107,7 +112,7 @@ def temperature(req: CoarseGrainRequest, u, source: str, extras: dict, caveats: 
         if extras.get("temperature_K") is None:
             raise InputError(f"{source}: the rod file has no attribute 'temperature_K' (a scene with "
                              "[thermal] temperature_K writes it): give --temperature K")
-        return float(extras["temperature_K"]), "rod file (attribute temperature_K)"
+        return float(extras["temperature_K"]), extras.get("temperature_source", "rod file (attribute temperature_K)")
     if req.edr:
         T_K, sd = edr_temperature(req.edr)
         return T_K, f"edr ({req.edr}: mean of gmx energy 'Temperature', s.d. {sd:.1f} K)"

@@ -230,3 +230,44 @@ def read_rod_ensemble(path, start=None, stop=None, step=None):
     extras["mass_inertia"] = {"mass": mass, "inertia": inertia, "slice_inertia": inertia,
                               "slice_inertia_err": np.zeros((n_bp, 3, 3)), "hydrogens": True, "frames": 0}
     return ens, extras
+
+
+def is_steps_file(path) -> bool:
+    """A segment's steps.npz (workflows/steps/segments.py reduce): an npz with 'q' and 'columns'."""
+    import zipfile
+    from pathlib import Path
+    p = Path(path)
+    if p.suffix != ".npz" or not p.is_file() or not zipfile.is_zipfile(p):
+        return False
+    with zipfile.ZipFile(p) as z:
+        return {"q.npy", "columns.npy"} <= set(z.namelist())
+
+
+def read_steps_ensemble(run_dir, files, max_open_fraction=MAX_OPEN_FRACTION, leave_out_open_frames=False):
+    """StepEnsemble of a long MD kept as its segments' step parameters (steps.npz FILES, in
+    time order; mdbridge/md/segments.py read_steps) once its trajectory is gone, and the
+    extras read_ensemble gives: the open pairs from the same frames' N1-N3, each base pair's
+    mass and inertia (averaged over each segment's frames when it was reduced), the pairs,
+    and the run's temperature (RUN_DIR/build.json, the thermostat's reference)."""
+    import json
+    from pathlib import Path
+    from mdbridge.md.integrity import INTACT_CUTOFF_A
+    from mdbridge.md.segments import read_steps
+    d = Path(run_dir)
+    if not (d / "build.json").is_file():
+        raise InputError(f"{d}: with steps files the structure is the run's input folder, with its build.json")
+    build = json.loads((d / "build.json").read_text())
+    r = read_steps(files)
+    if r["sequence"] != build["sequence"]:
+        raise InputError(f"{files[0]}: its sequence is not the one of {d / 'build.json'}")
+    dist = r["n1_n3_A"]
+    frac = np.mean(dist > INTACT_CUTOFF_A, axis=0)
+    opened = frac > max_open_fraction
+    ens = StepEnsemble(q=r["q"], sequence=r["sequence"], closed=True, times_ps=r["times_ps"],
+                       opened=steps_of_pairs(opened, True),
+                       open_frames=steps_of_pairs(dist > INTACT_CUTOFF_A, True) if leave_out_open_frames else None,
+                       source=f"{d} + {len(files)} steps file(s)")
+    extras = {"open_fraction": frac, "opened_pairs": np.flatnonzero(opened), "mass_inertia": r["mass_inertia"],
+              "pairs": r["pairs"], "temperature_K": float(build["temperature_K"]),
+              "temperature_source": f"{d / 'build.json'} (the thermostat's reference)"}
+    return ens, extras

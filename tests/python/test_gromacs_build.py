@@ -313,3 +313,38 @@ def test_build_md_without_ps_runs_as_long_as_the_rod_run_it_is_given(gmx, rodsim
     assert main(["build-md", str(scene), "--rod", str(rod), "-o", str(tmp_path / "x"),
                  "--temperature", "0", "--ps", "20"]) == 2
     assert f"covers {covered_ps:g} ps, the MD 20 ps" in capsys.readouterr().err
+
+
+def test_a_segment_kept_as_steps_is_the_trajectory_s_ensemble(warm, gmx, tmp_path):
+    """A long run's segment kept as steps.npz (float16, its trajectory gone) gives the
+    coarse-graining the same ensemble as the trajectory: the step parameters to float16's
+    resolution (< 0.05 deg, < 0.005 A), the same open pairs, and the same masses and inertia."""
+    import shutil
+    from dnarod.steps.segments import reduce_steps
+    from mdbridge.coarsegrain.reader import read_ensemble, read_steps_ensemble
+    from mdbridge.md.integrity import PairIntegrity
+    from mdbridge.md.builder.duplex import base_pairs
+    d0, _, _ = warm
+    d = tmp_path / "md"
+    shutil.copytree(d0, d, ignore=shutil.ignore_patterns("md.tpr", "md.xtc", "md.edr", "md.log", "md.done", "md.part.*",
+                                                       "*.cpt", "confout.gro", "checks.json"))
+    run_md(d, steps=400, gmx=gmx, threads=1, output_ps=0.05, stream=None)
+    seg = tmp_path / "seg01"
+    reduce_steps(d, seg, stride=1)
+    u = mda.Universe(str(d / "md.tpr"), str(d / "md.xtc"))
+    res = {int(r.resid): r for r in u.residues}
+    a = PairIntegrity(u, [(res[i], res[j]) for i, j in base_pairs(21)]).run()
+    np.savez_compressed(seg / "integrity.npz", times_ps=np.asarray(a.times_ps, float),
+                        n1_n3_A=a.results.distance_A.astype(np.float16))
+    ens_t, ext_t = read_ensemble(mda.Universe(str(d / "md.tpr"), str(d / "md.xtc")), closed=True)
+    ens_s, ext_s = read_steps_ensemble(d, [seg / "steps.npz"])
+    assert ens_s.q.shape == ens_t.q.shape == (9, 21, 6)
+    np.testing.assert_allclose(ens_s.times_ps, ens_t.times_ps, atol=1e-6)
+    np.testing.assert_allclose(ens_s.q[..., :3], ens_t.q[..., :3], atol=0.005)
+    np.testing.assert_allclose(ens_s.q[..., 3:], ens_t.q[..., 3:], atol=0.05)
+    assert np.array_equal(ens_s.opened, ens_t.opened)
+    np.testing.assert_array_equal(ext_s["mass_inertia"]["mass"], ext_t["mass_inertia"]["mass"])
+    for k in ("inertia", "slice_inertia"):
+        np.testing.assert_allclose(ext_s["mass_inertia"][k], ext_t["mass_inertia"][k], rtol=1e-9)
+    assert ext_s["pairs"] == ext_t["pairs"]
+    assert ext_s["temperature_K"] == 300.0

@@ -57,8 +57,9 @@ examples:
 
 def add_arguments(p):
     p.add_argument("structure", metavar="STRUCTURE",
-                   help="topology/coordinates (TPR, PDB, GRO, ...), or a rod output file (rodsim run of a "
-                        "DNA scene, HDF5: the whole input)")
+                   help="topology/coordinates (TPR, PDB, GRO, ...), a rod output file (rodsim run of a "
+                        "DNA scene, HDF5: the whole input), or, with steps.npz files as the trajectories, the "
+                        "run's input folder (docs/intact.md)")
     p.add_argument("trajectories", metavar="TRAJECTORY", nargs="*", help="trajectories, concatenated in order")
     add_output(p, metavar="DIR", help="output directory")
     p.add_argument("--temperature", metavar="K", help="temperature in K (default: kinetic, from velocities)")
@@ -150,7 +151,9 @@ def _check_inputs(args) -> None:
     from mdbridge.coarsegrain.temperature import parse_temperature
     if args.temperature is not None:
         parse_temperature(args.temperature)
-    if Path(args.structure).is_dir():
+    from mdbridge.coarsegrain.reader import is_steps_file
+    steps = bool(args.trajectories) and all(is_steps_file(t) for t in args.trajectories)
+    if Path(args.structure).is_dir() and not steps:
         raise InputError(f"{args.structure}: a folder; give the structure and trajectory files in it "
                          f"(e.g. {Path(args.structure) / 'md.tpr'} {Path(args.structure) / 'md.xtc'})")
     if args.pairs:

@@ -43,6 +43,7 @@ import numpy as np
 
 from dna_models.errors import InputError
 from mdbridge.jsonio import write_json
+from mdbridge.md.segments import kept_frames
 
 # the trajectory of a finished run or of the segment being written (run.py's part files)
 _VIEWS = ({"md.tpr": "md.tpr", "md.xtc": "md.xtc", "md.edr": "md.edr"},
@@ -75,7 +76,11 @@ def _universe(d: Path, src: dict):
 
 def reduce_steps(md_dir, out, stride: int = STEPS_STRIDE) -> dict:
     """OUT/steps.npz: the segment's step parameters (shift, slide, rise [A], tilt, roll,
-    twist [deg], 3DNA's branch), the periodic closing step last, every STRIDE-th frame."""
+    twist [deg], 3DNA's branch), the periodic closing step last, every STRIDE-th frame, and
+    what the coarse-graining reads from the atoms besides (mdbridge/coarsegrain/reader.py
+    mass_inertia): each base pair's mass and inertia averaged over INERTIA_FRAMES frames, and
+    the pairs' residue labels."""
+    from mdbridge.coarsegrain.reader import INERTIA_FRAMES, mass_inertia
     from mdbridge.geometry.structure import BasePairFrames
     from mdbridge.md.builder.duplex import base_pairs
     d, out = Path(md_dir), Path(out)
@@ -86,11 +91,14 @@ def reduce_steps(md_dir, out, stride: int = STEPS_STRIDE) -> dict:
         warnings.simplefilter("ignore")
         bpf = BasePairFrames(u, pairs=base_pairs(int(build["n_bp"]))).run(frames=frames)
     q = bpf.step_parameters(periodic=True)
-    times = np.array([u.trajectory[int(f)].time for f in frames])
+    times = np.asarray(bpf.results.time, float)
+    mi = mass_inertia(bpf, np.unique(np.linspace(0, len(frames) - 1, min(len(frames), INERTIA_FRAMES)).astype(int)))
     out.mkdir(parents=True, exist_ok=True)
     np.savez_compressed(out / "steps.npz", times_ps=times, q=q.astype(np.float16),
                         columns=np.array(["shift_A", "slide_A", "rise_A", "tilt_deg", "roll_deg", "twist_deg"]),
-                        sequence=np.array(build["sequence"]), stride=stride)
+                        sequence=np.array(build["sequence"]), stride=stride,
+                        pairs=np.array([(f"{a.resname}{a.resid}", f"{b.resname}{b.resid}") for a, b in bpf.pairs]),
+                        **{f"mi_{k}": np.asarray(v) for k, v in mi.items()})
     return {"frames": int(len(frames)), "stride": stride}
 
 
@@ -135,23 +143,6 @@ def reduce_segment(md_dir, out) -> dict:
     return rec
 
 
-def _kept(times: list[np.ndarray], what: str, names: list[str]) -> list[np.ndarray]:
-    """Per segment, the frames to keep: a segment's frames from the next segment's start on
-    are left out (a run stopped between checkpoints wrote frames past its last checkpoint;
-    the next segment continues from that checkpoint, and its frames are the run's). Then the
-    segments must follow one another, one frame apart."""
-    keep = [np.ones(len(t), dtype=bool) for t in times]
-    for i in range(len(times) - 1):
-        keep[i] = times[i] < times[i + 1][0] - 1e-6
-    for (a, ka, na), (b, nb) in zip(zip(times, keep, names), zip(times[1:], names[1:])):
-        dt = float(np.median(np.diff(a)))
-        end = a[ka][-1] if ka.any() else -np.inf
-        if not (0 < b[0] - end <= 1.5 * dt):
-            raise InputError(f"{nb}: its {what} start at {b[0]:g} ps, {na}'s end at {end:g} ps: "
-                             f"segments must follow one another (one frame, {dt:g} ps, apart)")
-    return keep
-
-
 def join_segments(segments, out, discard_ps: float = 0.0) -> dict:
     """The segments of one run (in time order) as one mode series, integrity and energies."""
     from mdbridge.analysis.mode_spectra import ModeSeries, load_npz, save_npz
@@ -164,7 +155,7 @@ def join_segments(segments, out, discard_ps: float = 0.0) -> dict:
             raise InputError(f"{s / 'mode_series.npz'}: {len(r)} realisations; a segment has one")
         series.append(r[0])
     names = [str(s) for s in segs]
-    keep = _kept([s.times_ps for s in series], "mode frames", names)
+    keep = kept_frames([s.times_ps for s in series], "mode frames", names)
     first = series[0]
     cat = {k: np.concatenate([getattr(s, k)[kk] for s, kk in zip(series, keep)])
            for k in ("times_ps", "bend", "twist", "stretch")}
@@ -179,7 +170,7 @@ def join_segments(segments, out, discard_ps: float = 0.0) -> dict:
     out.mkdir(parents=True, exist_ok=True)
     save_npz(out / "mode_series.npz", [joined], extra={"segments": names})
     integ = [np.load(s / "integrity.npz") for s in segs]
-    keep = _kept([z["times_ps"] for z in integ], "pair frames", names)
+    keep = kept_frames([z["times_ps"] for z in integ], "pair frames", names)
     t = np.concatenate([z["times_ps"][kk] for z, kk in zip(integ, keep)])
     dist = np.concatenate([z["n1_n3_A"][kk].astype(float) for z, kk in zip(integ, keep)])
     summary = integrity_summary(dist, t, discard_ps=discard_ps)
@@ -189,7 +180,7 @@ def join_segments(segments, out, discard_ps: float = 0.0) -> dict:
     summary["open_fraction_times_ps"] = t[::step].tolist()
     if all((s / "steps.npz").is_file() for s in segs):     # the steps' stacking beside the pairs
         st = [np.load(s / "steps.npz") for s in segs]
-        keep = _kept([z["times_ps"] for z in st], "step frames", names)
+        keep = kept_frames([z["times_ps"] for z in st], "step frames", names)
         ts = np.concatenate([z["times_ps"][kk] for z, kk in zip(st, keep)])
         rise = np.concatenate([z["q"][kk][:, :, 2].astype(float) for z, kk in zip(st, keep)])
         stacking = stacking_summary(rise, ts, discard_ps=discard_ps)
@@ -199,7 +190,7 @@ def join_segments(segments, out, discard_ps: float = 0.0) -> dict:
         summary["stacking"] = stacking
     write_json(out / "integrity.json", {**summary, "segments": names})
     en = [np.load(s / "energies.npz") for s in segs]
-    keep = _kept([z["times_ps"] for z in en], "energy frames", names)
+    keep = kept_frames([z["times_ps"] for z in en], "energy frames", names)
     np.savez_compressed(out / "energies.npz",
                         **{k: np.concatenate([z[k][kk] for z, kk in zip(en, keep)]) for k in en[0].files})
     return summary
