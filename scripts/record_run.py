@@ -104,7 +104,10 @@ def commit(names) -> int:
         if name == "main_job":      # a rerun of the main job is one more realisation of its setting
             from dnarod.report.realisations import record
             path = ROOT / "results" / "main_job_realisations.json"
-            if record(path, json.loads(src.read_text())):
+            if not path.is_file():
+                print(f"record_run: no results/{path.name}: the kicked MD's speed is not added to the "
+                      "realisations of the main job's setting", file=sys.stderr)
+            elif record(path, json.loads(src.read_text())):
                 print(f"record_run: its kicked MD's speed appended to results/{path.name}")
     return 0
 
