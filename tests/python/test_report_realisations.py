@@ -14,6 +14,7 @@ independent truth, the committed realisations of the main job's setting
   own scatter."""
 import json
 import math
+import re
 from pathlib import Path
 
 import numpy as np
@@ -98,3 +99,39 @@ def test_record_appends_a_new_realisation_once(tmp_path):
     got = json.loads(path.read_text())
     assert len(got["realisations"]) == len(X) + 1
     assert got["summary"] == pytest.approx(R.summary(got["realisations"])) and got["summary"]["k"] == len(X) + 1
+
+
+def _quotes(rec: dict) -> list[tuple[str, str]]:
+    """(page, text): the realisations' figures as docs/dispersion.md and docs/results.md print them."""
+    s, reals = rec["summary"], rec["realisations"]
+    rod = json.loads((ROOT / "docs/figures/wavespeed.json").read_text())
+    first = reals[0]
+    z = (rod["measured_A_per_ps"] - first["speed_A_per_ps"]) / math.hypot(
+        math.hypot(first["speed_err_A_per_ps"], s["floor_A_per_ps"]), rod["measured_err_A_per_ps"])
+    lo, hi = s["tau_interval_68_A_per_ps"]
+    return ([("docs/dispersion.md", f"has {s['k']} realisations"),
+             ("docs/dispersion.md", f"their chi2 is {s['chi2_one_record']:.1f} for {s['dof']} dof"),
+             ("docs/dispersion.md", f"tau = {s['tau_A_per_ps']:.2f} A/ps, with a 68 % interval of "
+                                    f"{lo:.2f}-{hi:.2f} A/ps"),
+             ("docs/dispersion.md", f"the interval's upper end, {s['floor_A_per_ps']:.2f} A/ps"),
+             ("docs/dispersion.md", f"sqrt(err^2 + {s['floor_A_per_ps']:.2f}^2) (chi2 {s['chi2_with_floor']:.2f} for "
+                                    f"{s['dof']} dof)"),
+             ("docs/results.md", f"{s['min_A_per_ps']:.2f}-{s['max_A_per_ps']:.2f} A/ps in {s['k']} runs"),
+             ("docs/results.md", f"a floor of {s['floor_A_per_ps']:.2f} A/ps"),
+             ("docs/results.md", f"a third {reals[2]['speed_A_per_ps']:.2f} +- {reals[2]['speed_err_A_per_ps']:.2f}"),
+             ("docs/results.md", f"(z {z:.1f} for {first['speed_A_per_ps']:.2f})")]
+            + [("docs/dispersion.md", f"{r['speed_A_per_ps']:.2f} +- {r['speed_err_A_per_ps']:.2f}") for r in reals])
+
+
+def _unquoted(rec: dict) -> list[tuple[str, str]]:
+    pages = {p: re.sub(r"\s+", " ", (ROOT / p).read_text()) for p in ("docs/dispersion.md", "docs/results.md")}
+    return [(p, t) for p, t in _quotes(rec) if t not in pages[p]]
+
+
+def test_docs_quote_the_realisations():
+    """docs/dispersion.md ("The kicked wave") and docs/results.md ("The rod against the MD") quote
+    results/main_job_realisations.json. Control: one more realisation changes what they must say."""
+    assert _unquoted(REC) == []
+    more = dict(REC, realisations=REC["realisations"] + [{"speed_A_per_ps": 1.5, "speed_err_A_per_ps": 0.05}])
+    more["summary"] = R.summary(more["realisations"])
+    assert len(_unquoted(more)) >= 5
