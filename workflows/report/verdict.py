@@ -7,9 +7,11 @@ then holds only rows with a number, and `reason_missing` fills the "not measured
 refused" list below it, where the reasons stand in full."""
 from __future__ import annotations
 
+import html
 import math
 import re
 
+from dnarod.report import dispersion
 from dnarod.report.values import number
 
 Z_AGREE = 2.0   # two standard errors: "agree" below, "differ" at or above
@@ -139,8 +141,6 @@ def opening(res: dict, waves: bool = True) -> list[str]:
     (dispersion.findings), and one sentence that names what has no number, each reason once
     (group_reasons). The reasons in full stand below: the "not measured" list and the
     dispersion section."""
-    import html
-    from dnarod.report import dispersion
     said, refused = findings(res) if waves else ([], [])
     d_said, d_refused = dispersion.findings(res.get("dispersion"))
     out = said + d_said
