@@ -13,7 +13,9 @@ The README and docs quote the files in results/ (tests/python/test_docs_numbers.
            results.json.
     record_run.py commit main_job test_times
         -> results/main_job.json, results/test_times.json: the records the docs quote, replaced
-           by this machine's newest (then update the docs' figures: test_docs_numbers.py)
+           by this machine's newest (then update the docs' figures: test_docs_numbers.py); the
+           main job's kicked MD speed is also appended to results/main_job_realisations.json, the
+           realisations of its setting whose scatter the report adds to a single run's error
 """
 import argparse
 import datetime
@@ -80,7 +82,10 @@ def main_job(args) -> dict:
         md_energy_drift_kJ_mol_per_ns_per_atom=round(res["md_energy_drift_kJ_mol_per_ns_per_atom"], 2),
         md_energy_drift_target_kJ_mol_per_ns_per_atom=res["md_energy_drift_target_kJ_mol_per_ns_per_atom"],
         md_phase_speed_A_per_ps=round(res["md_wave_speed_A_per_ps"], 2),
-        md_phase_speed_err_A_per_ps=round(res["md_wave_speed_err_A_per_ps"], 2))
+        # the record's own error: the report's adds the floor between realisations, which the
+        # realisations record is made from (workflows/report/realisations.py)
+        md_phase_speed_err_A_per_ps=round(res.get("md_wave_speed_err_one_record_A_per_ps",
+                                                  res["md_wave_speed_err_A_per_ps"]), 2))
     return rec
 
 
@@ -96,6 +101,14 @@ def commit(names) -> int:
             return 2
         shutil.copyfile(src, ROOT / "results" / f"{name}.json")
         print(f"record_run: {src} -> results/{name}.json")
+        if name == "main_job":      # a rerun of the main job is one more realisation of its setting
+            from dnarod.report.realisations import record
+            path = ROOT / "results" / "main_job_realisations.json"
+            if not path.is_file():
+                print(f"record_run: no results/{path.name}: the kicked MD's speed is not added to the "
+                      "realisations of the main job's setting", file=sys.stderr)
+            elif record(path, json.loads(src.read_text())):
+                print(f"record_run: its kicked MD's speed appended to results/{path.name}")
     return 0
 
 

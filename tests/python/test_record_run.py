@@ -35,3 +35,21 @@ def test_the_scripts_do_not_write_results():
         calls = [ln for ln in (ROOT / "scripts" / script).read_text().splitlines()
                  if "record_run.py" in ln and not ln.lstrip().startswith("#")]
         assert calls and not any("commit" in ln for ln in calls), calls
+
+
+def test_committing_a_main_job_adds_its_realisation(tmp_path):
+    """`commit main_job` also appends the run's kicked-MD speed (its one-record error) to the
+    realisations of the main job's setting (workflows/report/realisations.py), once."""
+    (tmp_path / "results").mkdir()
+    real = tmp_path / "results" / "main_job_realisations.json"
+    real.write_text((ROOT / "results" / "main_job_realisations.json").read_text())
+    k = len(json.loads(real.read_text())["realisations"])
+    rr = _record_run(tmp_path)
+    rr.RECORDS.mkdir(parents=True)
+    rec = {"date": "2026-12-07", "machine": "a stand-in", "md_phase_speed_A_per_ps": 1.2,
+           "md_phase_speed_err_A_per_ps": 0.04}
+    (rr.RECORDS / "main_job.json").write_text(json.dumps(rec))
+    assert rr.main(["commit", "main_job"]) == 0 and rr.main(["commit", "main_job"]) == 0
+    got = json.loads(real.read_text())
+    assert len(got["realisations"]) == k + 1 and got["summary"]["k"] == k + 1
+    assert got["realisations"][-1]["speed_err_A_per_ps"] == 0.04

@@ -91,3 +91,21 @@ def test_report_from_synthetic_runs(tmp_path):
     listed = page[below:page.index("</ul>", below)]
     import html
     assert "predicted (CG rod)" in listed and html.escape(res["cg_rod_reason"]) in listed
+    # another setting than the main job's: one record's error, and the opening says so
+    assert res["md_wave_speed_err_A_per_ps"] == res["md_wave_speed_err_one_record_A_per_ps"]
+    assert "one record's error" in verdict
+    # the main job's setting (workflows/report/realisations.py) with one seed: the floor between its
+    # realisations joins the record's error, in the summary, the matched comparison and the opening
+    from dnarod.report import realisations, verdict as opening
+    rec = json.loads(realisations.RECORD.read_text())
+    main = dict(cfg, scene=rec["setting"]["scene"], md={"run_ps": rec["setting"]["md_run_ps"],
+                                                         "build_args": rec["setting"]["build_args"],
+                                                         "run_args": rec["setting"]["run_args"]})
+    assert realisations.setting(main) == rec["setting"]
+    r2 = report.results_json(main, report.collect(main, tmp_path))
+    floor = rec["summary"]["floor_A_per_ps"]
+    assert r2["md_wave_speed_err_one_record_A_per_ps"] == pytest.approx(res["md_wave_speed_err_A_per_ps"])
+    assert r2["md_wave_speed_err_A_per_ps"] == pytest.approx(np.hypot(res["md_wave_speed_err_A_per_ps"], floor))
+    head = next(r for r in r2["comparison"]["rows"] if r["A_v_A_per_ps"] == 1)
+    assert head["md"]["speed_err_A_per_ps"] == r2["md_wave_speed_err_A_per_ps"]
+    assert f"scatter between {rec['summary']['k']} runs of this setting" in opening.opening(r2)[0]

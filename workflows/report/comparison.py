@@ -158,10 +158,15 @@ def html_table(comp: dict) -> str:
     for r in comp["rows"]:
         rod, md = r.get("rod") or {}, r.get("md") or {}
         at = r.get("rod_at_md_amplitude") or {}
+        if md.get("speed_err_realisations_A_per_ps") is not None:
+            seeds = (f"one seed; between runs of this setting {_f(md['speed_err_realisations_A_per_ps'], 2)}, "
+                     "results/main_job_realisations.json")
+        elif md.get("speed_err_seeds_A_per_ps") is not None:
+            seeds = _f(md["speed_err_seeds_A_per_ps"], 2)
+        else:
+            seeds = "not estimable: one seed"
         md_err = (f"{_f(md.get('speed_err_A_per_ps'), 2)} (fit {_f(md.get('speed_err_fit_A_per_ps'), 2)}, "
-                  f"record {_f(md.get('speed_err_record_A_per_ps'), 2)}, seeds "
-                  + (_f(md.get("speed_err_seeds_A_per_ps"), 2) if md.get("speed_err_seeds_A_per_ps") is not None
-                     else "not estimable: one seed") + ")") if md else "n/a"
+                  f"record {_f(md.get('speed_err_record_A_per_ps'), 2)}, seeds {seeds})") if md else "n/a"
         md_speed = (_f(md.get("speed_A_per_ps")) if math.isfinite(number(md.get("speed_A_per_ps")))
                     else "refused: " + html.escape(str(md.get("reason", "")))) if md else "n/a"
         trs.append(

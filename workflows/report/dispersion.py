@@ -76,30 +76,35 @@ def results(cfg: dict, found: dict) -> dict | None:
     return out
 
 
-def verdict(d: dict | None) -> str:
-    """One or two plain sentences on the dispersion (empty when it did not run)."""
+def findings(d: dict | None) -> tuple[list[str], list[tuple[str, str]]]:
+    """What the dispersion found, for the report's opening (verdict.opening): at most two plain
+    sentences (the modes against the rods; the MD's own tension and stiffness), and the
+    predictions without a number as (what, reason) pairs, whose reasons the opening states once
+    and `html_section` in full. Empty when the dispersion did not run."""
     if d is None:
-        return ""
+        return [], []
     if not d.get("rows"):
-        return "No dispersion: " + html.escape(str(d.get("reason"))) + "."
+        return [], [("the equilibrium modes", str(d.get("reason")))]
     measured = sum(1 for r in d["rows"] if r["md_omega0_per_ps"] is not None)
-    out = [f"At equilibrium the MD resolves {measured} of its {len(d['rows'])} modes (bend, twist, stretch; "
-           f"tension {d['tension_pN']:.3g} &plusmn; {d['tension_err_pN']:.2g} pN from its virial)."]
+    compared, refused = [], []
     for name, label in MODELS:
         s = d["summary"][name]
         if s["modes_compared"]:
             per = ", ".join(f"{s[k]['within_2_sigma']} of {s[k]['modes_compared']} {k}" for k in KINDS
                             if s[k]["modes_compared"])
-            out.append(f"The {label} at that tension, with no fitted parameter, is within two standard errors "
-                       f"of the MD for {per} modes (median |z| = {s['median_abs_z']:.2g}).")
+            compared.append(f"the {label} for {per} (median |z| {s['median_abs_z']:.2g})")
         elif (d.get("refused") or {}).get(name) and name != "cg_rod_box_twist":
-            out.append(f"No {label} prediction: " + html.escape(d["refused"][name]) + ".")
+            refused.append((f"the {label}'s modes", str(d["refused"][name])))
+    first = (f"At equilibrium the MD resolves {measured} of its {len(d['rows'])} modes (bend, twist, stretch) at its "
+             f"virial tension {d['tension_pN']:.3g} &plusmn; {d['tension_err_pN']:.2g} pN")
+    out = [first + ("; within two standard errors of them, with no fitted parameter: " + "; ".join(compared)
+                    if compared else "") + "."]
     dyn = d["fit"]["dynamics"]
     if not dyn.get("reason"):
         out.append(f"From its own bend modes the MD's tension is {dyn['tension_pN']:.3g} &plusmn; "
                    f"{dyn['tension_err_pN']:.2g} pN and its bend persistence length {dyn['persistence_length_nm']:.3g} "
                    f"&plusmn; {dyn['persistence_length_err_nm']:.2g} nm.")
-    return " ".join(out)
+    return out, refused
 
 
 def _f(x, nd=3):
@@ -153,6 +158,9 @@ def html_section(d: dict | None) -> str:
         boxes = ("<table id=\"dispersion-boxes\"><tr><th>box length scale</th><th>virial tension [pN]</th>"
                  "<th>T from the bend dynamics [pN]</th><th>bend omega0, n = 1..4 [rad/ps]</th></tr>"
                  + "".join(rows) + "</table>")
+    refused = "".join(f"<li><b>{html.escape(label)}</b>: {html.escape(str(d['refused'][n]))}</li>"
+                      for n, label in MODELS if (d.get("refused") or {}).get(n))
+    refused = f"<p>Predictions without a number:</p><ul id=\"dispersion-refused\">{refused}</ul>" if refused else ""
     st = (d.get("rod_states") or {}).get("cg_rod")
     torque = (f"<p>The coarse-grained material's intrinsic twist is {_f(st['intrinsic_twist_over_box'], 4)} times the "
               f"ligated box's: held at the box's twist its rod carries a torque of {_f(st['torque_pN_nm'], 3)} pN nm, "
@@ -166,7 +174,7 @@ def html_section(d: dict | None) -> str:
             "materials and the tension's error); z = (MD - rod) / sqrt(err_MD^2 + err_rod^2). "
             "docs/dispersion.md.</p>"
             f"<table id=\"dispersion-table\"><tr><th>kind</th><th>n</th><th>k [1/A]</th><th>MD omega0 [rad/ps]</th>"
-            f"{heads}</tr>{''.join(body)}</table>{torque}"
+            f"{heads}</tr>{''.join(body)}</table>{refused}{torque}"
             f"<p>The MD's own tension and bend stiffness, fitted with the linear rod ({html.escape(fit['template'])} "
             f"for every other constant):</p><ul id=\"dispersion-fit\">"
             + fit_line(fit["dynamics"], "from the frequencies")

@@ -20,7 +20,7 @@ import numpy as np
 
 from mdbridge.md.gromacs.checks import DRIFT_TARGET_KJ_MOL_NS_ATOM as DRIFT_TARGET
 from mdbridge.jsonio import write_json
-from dnarod.report import dispersion, prediction, verdict
+from dnarod.report import dispersion, prediction, realisations, verdict
 from dnarod.report.values import mean_over_seeds, number
 from dnarod.report.prediction import CAPTION as PREDICTION_CAPTION
 
@@ -99,7 +99,10 @@ def collect(cfg: dict, out: Path) -> dict:
 DEFINITIONS = {
     "wave_speed": "NLS fit of forward+backward travelling waves to the k = 2 pi/L mode of u(s,t); "
                   "error: parametric bootstrap (fitted model + REML Ornstein-Uhlenbeck noise); "
-                  "*_check: phase velocity of the mode",
+                  "*_check: phase velocity of the mode; md_wave_speed_err_A_per_ps: with one seed, the one "
+                  "record's error (md_wave_speed_err_one_record_A_per_ps) and the scatter between realisations "
+                  "of this setting (md_wave_speed_realisations: its floor, from results/main_job_realisations.json; "
+                  "workflows/report/realisations.py)",
     "md_energy_drift": "least-squares slope of the conserved energy from 10 % of the NVE "
                        "run to its end, per atom (mdbridge/md/gromacs/checks.py fit_drift); "
                        "worst headline run",
@@ -147,6 +150,15 @@ def results_json(cfg: dict, data: dict) -> dict:
     seeds = [int(s) for s in cfg["seeds"]]
     rod_j, _ = data["rod"].get(head, (None, None))
     md_runs, md_speed, md_err, comp, head_row, md_head = _headline_md(cfg, data, head, seeds)
+    # one record's error does not cover the scatter between runs of one setting: add the
+    # floor measured from the committed realisations of this setting (realisations.py)
+    floor = realisations.floor_for(cfg, len(md_runs)) if md_runs else {"floor_A_per_ps": None, "reason": "no MD"}
+    md_err_record = md_err
+    if floor["floor_A_per_ps"] is not None and math.isfinite(md_err):
+        md_err = math.hypot(md_err, floor["floor_A_per_ps"])
+        if md_head:     # the matched comparison's headline row states the same error
+            md_head.update(speed_err_one_record_A_per_ps=md_head.get("speed_err_A_per_ps"),
+                           speed_err_realisations_A_per_ps=floor["floor_A_per_ps"], speed_err_A_per_ps=md_err)
     res = {
         "headline_A_v_A_per_ps": head,
         "rod_wave_speed_A_per_ps": number(rod_j and rod_j["wave_speed_A_per_ps"]),
@@ -155,6 +167,8 @@ def results_json(cfg: dict, data: dict) -> dict:
         "rod_dispersion_speed_A_per_ps": number(rod_j and rod_j["dispersion"]["bend_branch_speed_A_per_ps"]),
         "md_wave_speed_A_per_ps": md_speed,
         "md_wave_speed_err_A_per_ps": md_err,
+        "md_wave_speed_err_one_record_A_per_ps": md_err_record,
+        "md_wave_speed_realisations": floor,
         "md_wave_speed_check_A_per_ps": mean_over_seeds([_check(m) for m in md_runs],
                                                  [0.0] * len(md_runs))[0] if md_runs else float("nan"),
         # the worst |drift| of the headline MD runs; target: DRIFT_TARGET (checks.py)
@@ -177,7 +191,7 @@ def results_json(cfg: dict, data: dict) -> dict:
         "comparison": comp,
         "md_wave_speed_err_parts_A_per_ps": {k: md_head.get(k) for k in (
             "speed_err_fit_A_per_ps", "speed_err_record_A_per_ps", "speed_err_seeds_A_per_ps",
-            "speed_err_seeds_note")} if md_head else None,
+            "speed_err_seeds_note", "speed_err_realisations_A_per_ps")} if md_head else None,
         "md_quantity": md_head.get("quantity"),
         "rod_quantity": (head_row.get("rod") or {}).get("quantity"),
         "md_regime": (head_row.get("md_regime") or {}).get("regime"),
@@ -430,8 +444,7 @@ def write_html(cfg: dict, res: dict, figs: dict, path: Path):
 <style>body{{font-family:sans-serif;max-width:1100px;margin:auto}} td,th{{border:1px solid #ccc;padding:3px 8px}}
 table{{border-collapse:collapse}} img{{max-width:100%}} figcaption{{font-size:90%;color:#333}}</style></head><body>
 <h1>Rod vs all-atom MD: bend-shear wave on a periodic duplex</h1>
-<section id="verdict"><h2>What this run found</h2><p>{dispersion.verdict(res.get("dispersion"))}
-{verdict.verdict(res) if waves else ""}</p></section>
+<section id="verdict"><h2>What this run found</h2><p>{" ".join(verdict.opening(res, waves))}</p></section>
 {lead_html}{disp_html}{note}
 {_wave_sections(table, matched_html, runs) if waves else
  "<p>No wave-speed analyses in this configuration (analysis.waves is false: no kicked run).</p>"}
