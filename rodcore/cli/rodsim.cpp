@@ -10,7 +10,8 @@
 // error (the frames written before it stay readable in OUT.h5, complete = 0),
 // 1 anything else, 128 + signal number after SIGINT/SIGTERM (a checkpoint
 // OUT.h5.ckpt is written first; `--resume` continues). Errors go to stderr
-// prefixed "rodsim: error:".
+// prefixed "rodsim: error:". The scene and OUT are checked before any work
+// (OUT: output_file.hpp).
 #include <CLI/CLI.hpp>
 
 #include <cmath>
@@ -24,6 +25,7 @@
 #include <string>
 #include <vector>
 
+#include "output_file.hpp"
 #include "progress.hpp"
 #include "rodcore/checkpoint.hpp"
 #include "rodcore/error.hpp"
@@ -134,6 +136,7 @@ std::shared_ptr<rodcore::H5Writer> open_output(const rodcore::Scene& scene, rodc
 int run(const std::string& scene_path, const std::string& out_path, const std::vector<std::string>& sets,
         bool quiet, bool resume, double checkpoint_every) {
   rodcore::Scene scene = rodcore::read_scene_file(scene_path, sets);
+  rodcore::check_output_file(out_path);  // before any work: a bad -o is found now, not after the run
   if (checkpoint_every >= 0.0) scene.output.checkpoint_interval_s = checkpoint_every;
   rodcore::Simulation sim(scene);
   const std::string ckpt = rodcore::checkpoint_path(out_path);
@@ -210,7 +213,10 @@ int main(int argc, char** argv) {
 
   auto* run_cmd = app.add_subcommand("run", "Run a scene and write OUT.h5 (time, s, fields/*, ...)");
   run_cmd->add_option("scene", scene_path, "Scene file (TOML)")->required();
-  run_cmd->add_option("-o,--output", out_path, "Output HDF5 file (written as OUT.h5.partial until complete)")
+  run_cmd
+      ->add_option("-o,--output", out_path,
+                   "Output HDF5 file (written as OUT.h5.partial until complete; an earlier HDF5 output is "
+                   "replaced, any other existing file refused, a missing folder made)")
       ->required();
   run_cmd->add_option(
       "--set", sets,
@@ -250,12 +256,17 @@ int main(int argc, char** argv) {
       std::cout << rodcore::scene_to_toml(rodcore::read_scene_file(scene_path, sets));
       return 0;
     }
-    return run(scene_path, out_path, sets, quiet, resume, checkpoint_every);
+    const int status = run(scene_path, out_path, sets, quiet, resume, checkpoint_every);
+    if (status != 0) rodcore::remove_made_folders();  // a stop leaves files in them: those stay
+    return status;
   } catch (const rodcore::InputError& e) {
+    rodcore::remove_made_folders();
     return fail(2, e.what());
   } catch (const rodcore::NumericalError& e) {
+    rodcore::remove_made_folders();
     return fail(3, e.what());
   } catch (const std::exception& e) {
+    rodcore::remove_made_folders();
     return fail(1, e.what());
   }
 }
