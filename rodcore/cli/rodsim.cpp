@@ -206,6 +206,16 @@ int main(int argc, char** argv) {
       std::string("rodsim ") + rodcore::kRodcoreVersion + " (git revision " + rodcore::git_revision() + ")",
       "Print the version and the git revision, as every output file records them");
 
+  // CLI::NonNegativeNumber lets NaN through (it compares) and prints DBL_MAX in full.
+  const CLI::Validator finite_seconds(
+      [](std::string& text) {
+        double v = 0.0;
+        if (!CLI::detail::lexical_cast(text, v)) return text + ": not a number (allowed: seconds >= 0)";
+        if (!std::isfinite(v)) return text + ": not a finite number (allowed: seconds >= 0)";
+        if (v < 0.0) return text + ": out of range (allowed: seconds >= 0)";
+        return std::string();
+      },
+      "SECONDS >= 0");
   std::string scene_path, out_path;
   std::vector<std::string> sets;
   bool quiet = false, resume = false;
@@ -226,7 +236,7 @@ int main(int argc, char** argv) {
       ->add_option("--checkpoint-every", checkpoint_every,
                    "Write the checkpoint OUT.h5.ckpt every SECONDS of wall time (overrides "
                    "output.checkpoint_interval_s; 0: only on SIGINT/SIGTERM)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(finite_seconds);
   run_cmd->add_flag(
       "--resume", resume,
       "Continue an interrupted run from OUT.h5.ckpt, appending to OUT.h5.partial (same scene and --set "
@@ -243,7 +253,7 @@ int main(int argc, char** argv) {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     if (e.get_exit_code() == 0) return app.exit(e);  // --help
-    app.exit(e, std::cerr, std::cerr);
+    std::cerr << "rodsim: error: " << e.what() << "\nRun with --help for the options.\n";
     return 2;
   }
 

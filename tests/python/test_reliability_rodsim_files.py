@@ -175,3 +175,14 @@ def test_a_missing_parent_folder_is_made_and_removed_if_the_run_fails(rodsim, tm
     assert p.returncode == 3, p.stderr
     with h5py.File(kept, "r") as f:
         assert f.attrs["complete"] == 0
+
+
+@pytest.mark.parametrize("value,says", [("nan", "not a finite number"), ("inf", "not a finite number"),
+                                        ("-1", "out of range"), ("soon", "not a number")])
+def test_checkpoint_interval_must_be_finite(rodsim, tmp_path, value, says):
+    # NaN passed CLI11's NonNegativeNumber (a comparison) and was silently ignored
+    p = run(rodsim, "run", SCENE, "-o", tmp_path / "o.h5", *ENDLESS, "--checkpoint-every", value)
+    refused(p, f"--checkpoint-every: {value}: {says} (allowed: seconds >= 0)")
+    assert list(tmp_path.iterdir()) == []
+    # the control: 0 (checkpoints only on a signal) is allowed
+    assert run(rodsim, "run", SCENE, "-o", tmp_path / "o.h5", *SHORT, "--checkpoint-every", "0").returncode == 0
