@@ -10,7 +10,8 @@
 // error (the frames written before it stay readable in OUT.h5, complete = 0),
 // 1 anything else, 128 + signal number after SIGINT/SIGTERM (a checkpoint
 // OUT.h5.ckpt is written first; `--resume` continues). Errors go to stderr
-// prefixed "rodsim: error:".
+// prefixed "rodsim: error:". The scene and OUT are checked before any work
+// (OUT: output_file.hpp).
 #include <CLI/CLI.hpp>
 
 #include <cmath>
@@ -24,6 +25,7 @@
 #include <string>
 #include <vector>
 
+#include "output_file.hpp"
 #include "progress.hpp"
 #include "rodcore/checkpoint.hpp"
 #include "rodcore/error.hpp"
@@ -134,6 +136,7 @@ std::shared_ptr<rodcore::H5Writer> open_output(const rodcore::Scene& scene, rodc
 int run(const std::string& scene_path, const std::string& out_path, const std::vector<std::string>& sets,
         bool quiet, bool resume, double checkpoint_every) {
   rodcore::Scene scene = rodcore::read_scene_file(scene_path, sets);
+  rodcore::check_output_file(out_path);  // before any work: a bad -o is found now, not after the run
   if (checkpoint_every >= 0.0) scene.output.checkpoint_interval_s = checkpoint_every;
   rodcore::Simulation sim(scene);
   const std::string ckpt = rodcore::checkpoint_path(out_path);
@@ -203,6 +206,16 @@ int main(int argc, char** argv) {
       std::string("rodsim ") + rodcore::kRodcoreVersion + " (git revision " + rodcore::git_revision() + ")",
       "Print the version and the git revision, as every output file records them");
 
+  // CLI::NonNegativeNumber lets NaN through (it compares) and prints DBL_MAX in full.
+  const CLI::Validator finite_seconds(
+      [](std::string& text) {
+        double v = 0.0;
+        if (!CLI::detail::lexical_cast(text, v)) return text + ": not a number (allowed: seconds >= 0)";
+        if (!std::isfinite(v)) return text + ": not a finite number (allowed: seconds >= 0)";
+        if (v < 0.0) return text + ": out of range (allowed: seconds >= 0)";
+        return std::string();
+      },
+      "SECONDS >= 0");
   std::string scene_path, out_path;
   std::vector<std::string> sets;
   bool quiet = false, resume = false;
@@ -210,7 +223,10 @@ int main(int argc, char** argv) {
 
   auto* run_cmd = app.add_subcommand("run", "Run a scene and write OUT.h5 (time, s, fields/*, ...)");
   run_cmd->add_option("scene", scene_path, "Scene file (TOML)")->required();
-  run_cmd->add_option("-o,--output", out_path, "Output HDF5 file (written as OUT.h5.partial until complete)")
+  run_cmd
+      ->add_option("-o,--output", out_path,
+                   "Output HDF5 file (written as OUT.h5.partial until complete; an earlier HDF5 output is "
+                   "replaced, any other existing file refused, a missing folder made)")
       ->required();
   run_cmd->add_option(
       "--set", sets,
@@ -220,7 +236,7 @@ int main(int argc, char** argv) {
       ->add_option("--checkpoint-every", checkpoint_every,
                    "Write the checkpoint OUT.h5.ckpt every SECONDS of wall time (overrides "
                    "output.checkpoint_interval_s; 0: only on SIGINT/SIGTERM)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(finite_seconds);
   run_cmd->add_flag(
       "--resume", resume,
       "Continue an interrupted run from OUT.h5.ckpt, appending to OUT.h5.partial (same scene and --set "
@@ -237,7 +253,7 @@ int main(int argc, char** argv) {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     if (e.get_exit_code() == 0) return app.exit(e);  // --help
-    app.exit(e, std::cerr, std::cerr);
+    std::cerr << "rodsim: error: " << e.what() << "\nRun with --help for the options.\n";
     return 2;
   }
 
@@ -250,12 +266,17 @@ int main(int argc, char** argv) {
       std::cout << rodcore::scene_to_toml(rodcore::read_scene_file(scene_path, sets));
       return 0;
     }
-    return run(scene_path, out_path, sets, quiet, resume, checkpoint_every);
+    const int status = run(scene_path, out_path, sets, quiet, resume, checkpoint_every);
+    if (status != 0) rodcore::remove_made_folders();  // a stop leaves files in them: those stay
+    return status;
   } catch (const rodcore::InputError& e) {
+    rodcore::remove_made_folders();
     return fail(2, e.what());
   } catch (const rodcore::NumericalError& e) {
+    rodcore::remove_made_folders();
     return fail(3, e.what());
   } catch (const std::exception& e) {
+    rodcore::remove_made_folders();
     return fail(1, e.what());
   }
 }

@@ -126,9 +126,10 @@ def test_set_overrides_and_their_errors(rodsim, tmp_path):
 
 def test_input_problems_exit_2(rodsim, tmp_path):
     p = run(rodsim, "run", tmp_path / "none.toml", "-o", tmp_path / "x.h5")
-    assert p.returncode == 2 and "none.toml' cannot be read" in p.stderr
-    p = run(rodsim, "run", SCENES / "dna21.toml", "-o", tmp_path / "no" / "dir" / "x.h5")
-    assert p.returncode == 2 and "cannot create output file" in p.stderr
+    assert p.returncode == 2 and "none.toml': no such file" in p.stderr
+    (tmp_path / "plain").write_text("a file\n")
+    p = run(rodsim, "run", SCENES / "dna21.toml", "-o", tmp_path / "plain" / "x.h5")
+    assert p.returncode == 2 and "plain is a file, not a folder" in p.stderr
     p = run(rodsim, "run", SCENES / "dna21.toml")  # no -o
     assert p.returncode == 2 and "--output" in p.stderr
     p = run(rodsim, "frobnicate")

@@ -66,7 +66,8 @@ def add_arguments(p):
     p.add_argument("--seed-kick", type=validate.finite(), default=None, metavar="A_PER_PS",
                    help="out-of-plane seed velocity amplitude (0.01 A/ps; 0: none)")
     p.add_argument("--contact-diameter-nm", type=validate.finite(above=0), default=None, metavar="D",
-                   help="self-contact: [contact] diameter_nm = D in the scene (needs a rodsim with [contact])")
+                   help="self-contact: [contact] diameter_nm = D in the scene, so the ring cannot pass "
+                        "through itself (off by default; docs/topology.md, Self-contact)")
     p.add_argument("--no-atoms", action="store_true", help="the rod only, no all-atom ring")
     p.add_argument("--md-temperature-K", type=validate.finite(min=0), default=TEMPERATURE_K, metavar="T",
                    help=f"thermal velocities of the all-atom ring ({TEMPERATURE_K:g})")

@@ -10,7 +10,9 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -244,12 +246,58 @@ Scene build_scene(toml::table& table, Context& ctx) {
   return std::move(draft.scene);
 }
 
+// The first byte at which TEXT stops being UTF-8 (RFC 3629: no overlong forms, no surrogates,
+// at most U+10FFFF), or npos.
+std::size_t first_non_utf8(const std::string& text) {
+  const auto* b = reinterpret_cast<const unsigned char*>(text.data());
+  const std::size_t n = text.size();
+  for (std::size_t i = 0; i < n;) {
+    const unsigned c = b[i];
+    std::size_t len = 0;
+    unsigned lo = 0x80, hi = 0xBF;  // the allowed range of the second byte
+    if (c < 0x80) len = 1;
+    else if (c >= 0xC2 && c <= 0xDF) len = 2;
+    else if (c == 0xE0) len = 3, lo = 0xA0;
+    else if (c == 0xED) len = 3, hi = 0x9F;
+    else if (c >= 0xE1 && c <= 0xEF) len = 3;
+    else if (c == 0xF0) len = 4, lo = 0x90;
+    else if (c == 0xF4) len = 4, hi = 0x8F;
+    else if (c >= 0xF1 && c <= 0xF3) len = 4;
+    else return i;
+    if (i + len > n) return i;
+    for (std::size_t k = 1; k < len; ++k)
+      if (b[i + k] < (k == 1 ? lo : 0x80u) || b[i + k] > (k == 1 ? hi : 0xBFu)) return i;
+    i += len;
+  }
+  return std::string::npos;
+}
+
+// The scene file's text, refused when it is not a scene's: a folder, no such file, an empty
+// file, or binary bytes (a NUL, or not UTF-8, which TOML requires), each named for what it is
+// rather than left to the TOML parser or to the first required key.
 std::string read_text(const std::string& path) {
+  const std::string what = "scene file '" + path + "'";
+  std::error_code ec;
+  if (fs::is_directory(path, ec)) throw InputError(what + ": is a folder, not a scene TOML file");
+  if (!fs::exists(path, ec)) throw InputError(what + ": no such file (a scene TOML file is expected)");
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError("scene file '" + path + "' cannot be read (does it exist?)");
+  if (!in) throw InputError(what + ": cannot be read (" + std::strerror(errno) + ")");
   std::ostringstream ss;
   ss << in.rdbuf();
-  return ss.str();
+  std::string text = ss.str();
+  if (text.find_first_not_of(" \t\r\n") == std::string::npos)
+    throw InputError(
+        what + ": is empty" + (text.empty() ? "" : " (only white space)") +
+        "; a scene TOML file is expected, with at least [rod] length and points (docs/scenes.md)");
+  const std::size_t nul = text.find('\0');
+  const std::size_t bad = nul != std::string::npos ? nul : first_non_utf8(text);
+  if (bad != std::string::npos) {
+    const auto line = 1 + std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(bad), '\n');
+    throw InputError(what + ": is not a TOML file: its bytes are binary (" +
+                     (nul != std::string::npos ? "a NUL byte" : "bytes that are not UTF-8") + " on line " +
+                     std::to_string(line) + "); a scene is UTF-8 text");
+  }
+  return text;
 }
 
 toml::table parse(const std::string& text, const std::string& source) {
