@@ -184,6 +184,50 @@ int run(const std::string& scene_path, const std::string& out_path, const std::v
   return 0;
 }
 
+// CLI::NonNegativeNumber lets NaN through (it compares) and prints DBL_MAX in full.
+CLI::Validator finite_seconds_validator() {
+  return CLI::Validator(
+      [](std::string& text) {
+        double v = 0.0;
+        if (!CLI::detail::lexical_cast(text, v)) return text + ": not a number (allowed: seconds >= 0)";
+        if (!std::isfinite(v)) return text + ": not a finite number (allowed: seconds >= 0)";
+        if (v < 0.0) return text + ": out of range (allowed: seconds >= 0)";
+        return std::string();
+      },
+      "SECONDS >= 0");
+}
+
+int check(const std::string& scene_path, const std::vector<std::string>& sets) {
+  try {
+    std::cout << rodcore::scene_to_toml(rodcore::read_scene_file(scene_path, sets));
+    return 0;
+  } catch (const rodcore::InputError& e) {
+    return fail(2, e.what());
+  } catch (const std::exception& e) {
+    return fail(1, e.what());
+  }
+}
+
+// The run with its exit status; the folders it made are removed again when it fails (a stop
+// leaves files in them: those stay).
+int run_or_fail(const std::string& scene_path, const std::string& out_path,
+                const std::vector<std::string>& sets, bool quiet, bool resume, double checkpoint_every) {
+  try {
+    const int status = run(scene_path, out_path, sets, quiet, resume, checkpoint_every);
+    if (status != 0) rodcore::remove_made_folders();
+    return status;
+  } catch (const rodcore::InputError& e) {
+    rodcore::remove_made_folders();
+    return fail(2, e.what());
+  } catch (const rodcore::NumericalError& e) {
+    rodcore::remove_made_folders();
+    return fail(3, e.what());
+  } catch (const std::exception& e) {
+    rodcore::remove_made_folders();
+    return fail(1, e.what());
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -206,16 +250,7 @@ int main(int argc, char** argv) {
       std::string("rodsim ") + rodcore::kRodcoreVersion + " (git revision " + rodcore::git_revision() + ")",
       "Print the version and the git revision, as every output file records them");
 
-  // CLI::NonNegativeNumber lets NaN through (it compares) and prints DBL_MAX in full.
-  const CLI::Validator finite_seconds(
-      [](std::string& text) {
-        double v = 0.0;
-        if (!CLI::detail::lexical_cast(text, v)) return text + ": not a number (allowed: seconds >= 0)";
-        if (!std::isfinite(v)) return text + ": not a finite number (allowed: seconds >= 0)";
-        if (v < 0.0) return text + ": out of range (allowed: seconds >= 0)";
-        return std::string();
-      },
-      "SECONDS >= 0");
+  const CLI::Validator finite_seconds = finite_seconds_validator();
   std::string scene_path, out_path;
   std::vector<std::string> sets;
   bool quiet = false, resume = false;
@@ -257,26 +292,10 @@ int main(int argc, char** argv) {
     return 2;
   }
 
-  try {
-    if (app.got_subcommand("kinds")) {
-      print_kinds();
-      return 0;
-    }
-    if (app.got_subcommand("check")) {
-      std::cout << rodcore::scene_to_toml(rodcore::read_scene_file(scene_path, sets));
-      return 0;
-    }
-    const int status = run(scene_path, out_path, sets, quiet, resume, checkpoint_every);
-    if (status != 0) rodcore::remove_made_folders();  // a stop leaves files in them: those stay
-    return status;
-  } catch (const rodcore::InputError& e) {
-    rodcore::remove_made_folders();
-    return fail(2, e.what());
-  } catch (const rodcore::NumericalError& e) {
-    rodcore::remove_made_folders();
-    return fail(3, e.what());
-  } catch (const std::exception& e) {
-    rodcore::remove_made_folders();
-    return fail(1, e.what());
+  if (app.got_subcommand("kinds")) {
+    print_kinds();
+    return 0;
   }
+  if (app.got_subcommand("check")) return check(scene_path, sets);
+  return run_or_fail(scene_path, out_path, sets, quiet, resume, checkpoint_every);
 }
