@@ -1,0 +1,75 @@
+"""The coarse-grained rod's prediction with the stiffness each mode feels: the rule of
+docs/coarse-graining.md, "Compliance by timescale", items 2 and 3.
+
+A mode (kind, n) of frequency omega_n feels the storage stiffness K'(omega_n) = Re J*(omega_n)^-1
+of the q -> 0 collective coordinates (mdbridge/coarsegrain/timescale.py dynamic_compliance_q0),
+not the whole record's (relaxed) K: a slow episode that relaxes over many periods does not
+resist the wave. omega_n is found self-consistently, with no MD frequency in it: start from the
+relaxed rod's omega_n, evaluate K'(omega_n), take the linear rod of that stiffness (the same
+mean shape, mass and inertia, at the MD's tension; mdbridge/analysis/dispersion_prediction.py),
+and repeat until omega_n moves by less than TOLERANCE (at most MAX_ITERATIONS times).
+
+Against the circle: a collective coordinate's J* at its own resonance is its inertia, not
+the material, so mode n's own body-frame wavenumber is left out of the q -> 0 fit of its J*
+(`left_out_wavenumber`: twist and stretch k = n, bend k = |turns - n|) and the intercept
+refitted (timescale.Coordinates(..., leave_out=k)).
+
+The lag window of J*: MAX_LAG_PERIODS periods of the mode, at most a quarter of the record.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from dna_models.errors import InputError
+
+MAX_ITERATIONS = 10
+TOLERANCE = 0.01
+MAX_LAG_PERIODS = 8.0
+
+
+def left_out_wavenumber(kind: str, n: int, turns: int) -> int:
+    """The body-frame wavenumber of lab mode n (the rule's item 3)."""
+    return abs(int(turns) - int(n)) if kind == "bend" else int(n)
+
+
+def max_lag_frames(omega_per_ps: float, dt_ps: float, n_frames: int) -> int:
+    """MAX_LAG_PERIODS periods of omega in frames, at most n_frames // 4 (at least 2)."""
+    return int(max(2, min(n_frames // 4, round(MAX_LAG_PERIODS * 2 * math.pi / omega_per_ps / dt_ps))))
+
+
+def storage_stiffness(coords, dt_ps: float, omega_per_ps: float, n_boot: int, seed: int) -> dict:
+    """K'(omega) = Re J*(omega)^-1 (6, 6, kT units per step) of coords, J* with its errors."""
+    from mdbridge.coarsegrain.timescale import dynamic_compliance_q0
+    lag = max_lag_frames(omega_per_ps, dt_ps, coords.T)
+    d = dynamic_compliance_q0(coords, dt_ps, [omega_per_ps], lag, n_boot=n_boot, seed=seed)
+    return {"K_storage": d["K"][0].real, "J": d["J"][0], "J_storage_err": d["J_storage_err"][0],
+            "J_loss_err": d["J_loss_err"][0], "max_lag_frames": lag}
+
+
+def unrelaxed_mode(kind: str, n: int, q, keep, closed: bool, dt_ps: float, material_of, frequency_of,
+                   omega_start: float, n_boot: int = 50, seed: int = 0) -> dict:
+    """One mode's self-consistent frequency (module doc). material_of(F) turns a 6x6 per-step
+    stiffness into the rod's material, frequency_of(material) gives this mode's omega [rad/ps];
+    q (T, n_steps, 6) the kept frames' step parameters, keep (n_steps,) the steps used."""
+    from mdbridge.coarsegrain.qstiffness import helical_turns
+    from mdbridge.coarsegrain.timescale import Coordinates
+    turns = helical_turns(np.asarray(q)[:, :, 5].mean(axis=0)) if closed else 0
+    k = left_out_wavenumber(kind, n, turns) if closed else None
+    coords = Coordinates(q, keep, closed, leave_out=k)
+    if not (math.isfinite(omega_start) and omega_start > 0):
+        raise InputError(f"{kind} n = {n}: the relaxed rod's frequency {omega_start} is no start")
+    omega, path = float(omega_start), [float(omega_start)]
+    for _ in range(MAX_ITERATIONS):
+        s = storage_stiffness(coords, dt_ps, omega, n_boot, seed)
+        new = float(frequency_of(material_of(s["K_storage"])))
+        path.append(new)
+        converged = abs(new - omega) < TOLERANCE * omega
+        omega = new
+        if converged:
+            break
+    return {"kind": kind, "n": int(n), "omega_per_ps": omega, "converged": bool(converged),
+            "iterations": len(path) - 1, "omega_path_per_ps": path, "left_out_wavenumber": k,
+            "K_storage": s["K_storage"].tolist(), "J_storage_err": np.asarray(s["J_storage_err"]).tolist(),
+            "max_lag_frames": s["max_lag_frames"]}
