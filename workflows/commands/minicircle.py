@@ -9,7 +9,7 @@ import sys
 from mdbridge.md.gromacs.defaults import TEMPERATURE_K
 
 NAME = "minicircle"
-HELP = "a DNA ring at a chosen linking-number difference: closed rod, relaxation, writhe, all-atom ring"
+HELP = "a DNA ring at a chosen linking number: closed rod, relaxation, writhe, all-atom ring"
 DESCRIPTION = """\
 A closed DNA ring of N base pairs at Lk = round(Lk0) + D, Lk0 = N / (bp per turn of
 the relaxed rod), relaxed in the Langevin rod, with its linking number, twist and
@@ -214,9 +214,12 @@ def run(args):
 
 def _lk_words(mc, D: int) -> str:
     """Lk, the D asked for and Lk - Lk0, each named (the command's description)."""
-    return (f"Lk0 = {mc.Lk0:.4f} ({mc.n_bp / mc.Lk0:.4f} bp per turn); Lk = round(Lk0) + D = {round(mc.Lk0)} "
-            f"{'+' if D >= 0 else '-'} {abs(D)} = {mc.Lk} (D = {D} as asked); linking-number difference "
-            f"Lk - Lk0 = {mc.Lk - mc.Lk0:+.4f}, not {D}: a closed ring's Lk is an integer and this Lk0 is not")
+    words = (f"Lk0 = {mc.Lk0:.4f} ({mc.n_bp / mc.Lk0:.4f} bp per turn); Lk = round(Lk0) + D = {round(mc.Lk0)} "
+             f"{'+' if D >= 0 else '-'} {abs(D)} = {mc.Lk} (D = {D} as asked); linking-number difference "
+             f"Lk - Lk0 = {mc.Lk - mc.Lk0:+.4f}")
+    if abs(mc.Lk - mc.Lk0 - D) < 5e-5:
+        return words
+    return words + f", not {D}: a closed ring's Lk is an integer and this Lk0 is not"
 
 
 def _atoms(args, run_, seq, out, Lk, choice, gmx, info) -> None:
