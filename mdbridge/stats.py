@@ -102,6 +102,26 @@ def time_block_sem(t, y, block_ps: float = 1.0) -> float:
     return float(np.std(means, ddof=1) / np.sqrt(len(means)))
 
 
+def stationarity(t, y, sem=None, floor: float = 0.0) -> dict:
+    """The stated test of a series' end: the means of y over the third and the fourth
+    quarter of t differ by less than twice the standard error of that difference, or by
+    less than FLOOR (a change too small to matter: a series without fluctuations, such as a
+    relaxation at zero temperature, has no standard error to compare with). sem(t, y): the
+    standard error of one quarter's mean (default: the means of 1-unit time blocks,
+    `time_block_sem`). A two-sided test at ~95 % for a stationary series."""
+    t, y = np.asarray(t, float), np.asarray(y, float)
+    sem = sem or time_block_sem
+    t0, t1 = t[0], t[-1]
+    q3 = (t >= t0 + 0.5 * (t1 - t0)) & (t < t0 + 0.75 * (t1 - t0))
+    q4 = t >= t0 + 0.75 * (t1 - t0)
+    h = q3 | q4
+    diff = float(y[q4].mean() - y[q3].mean())
+    se = float(np.hypot(sem(t[q3], y[q3]), sem(t[q4], y[q4])))
+    return {"mean_second_half": float(y[h].mean()), "change_between_quarters": diff,
+            "standard_error_of_change": se, "floor": float(floor),
+            "stationary": bool(abs(diff) < max(2.0 * se, float(floor)))}
+
+
 # -- autocorrelation ----------------------------------------------------------------------
 SOKAL_C = 5.0
 

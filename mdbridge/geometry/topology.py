@@ -35,7 +35,7 @@ from dna_models.errors import InputError, NumericalError
 
 from .compiled import rodcore_module
 
-# Rounds of (axis -> twist -> one-turn window -> axis) in duplex_topology: the centres
+# Rounds of (axis -> twist -> one-turn window -> axis) in one_turn_axis: the centres
 # wobble about the axis (the grooves are unequal), which biases the first twist; three
 # rounds move the window by < 1e-3 bp on the test rings (tests/python/test_topology.py).
 _AXIS_ITERATIONS = 3
@@ -204,14 +204,33 @@ def ribbon_topology(x, v, period=None, writhe_stride: int = 1) -> dict:
             "Wr_coarsening": float(r["Wr_coarsening"])}
 
 
+def one_turn_axis(c, ribbon_of, period=None, rounds: int = _AXIS_ITERATIONS):
+    """The helical axis of points c (n, 3) that circle it once per helical turn (the base-pair
+    centres of a duplex, the base-pair origins of a rod with intrinsic shift and slide):
+    c averaged over a window of one turn (`one_turn_average`), the turn being the twist of
+    the vectors ribbon_of(axis) (n, 3) about the axis, the points c themselves first
+    (a fixed point, `rounds` rounds). Returns (axis, points per turn)."""
+    c = np.asarray(c, float)
+    axis = c
+    per_turn = float("nan")
+    for _ in range(rounds):
+        ta = centred_tangents(axis, period)
+        Tw = twist(ta, perpendicular_unit(ribbon_of(axis), ta))
+        if abs(Tw) < 1.0:
+            raise InputError(f"one-turn axis: the ribbon turns {Tw:.2f} times about the axis over {len(c)} "
+                             "points; a helical turn is needed to average the axis over one")
+        per_turn = len(c) / abs(Tw)
+        axis = one_turn_average(c, per_turn, period)
+    return axis, per_turn
+
+
 def duplex_topology(strand_I, strand_II, period=None) -> dict:
     """Lk, Tw, Wr of a DNA duplex from its two backbone strands, (n, 3) each, point i of
     both in base pair i and both ordered along strand I (so relaxed B-DNA has Lk > 0).
 
     Lk: the linking number of the two strand polygons (exact integer). The axis: the
-    base-pair centres (strand midpoints) averaged over one helical turn, n / Tw base pairs
-    long, Tw the twist of strand I about the axis before (a fixed point: the centres
-    themselves first, _AXIS_ITERATIONS rounds).
+    base-pair centres (strand midpoints) averaged over one helical turn (`one_turn_axis`,
+    the turn being strand I's twist about the axis).
     Tw: the twist of strand I about that axis; Wr: the axis's writhe. Also
     Wr_bp_centres, the writhe of the unaveraged centres (what a base-pair-origin axis
     gives; docs/topology.md), and bp_per_turn."""
@@ -222,15 +241,10 @@ def duplex_topology(strand_I, strand_II, period=None) -> dict:
     period = _period_or_none(period)
     Lk = linking_number(I, II, period)
     c = 0.5 * (I + II)
-    axis = c
-    for _ in range(_AXIS_ITERATIONS):
-        ta = centred_tangents(axis, period)
-        Tw = twist(ta, perpendicular_unit(I - axis, ta))
-        if abs(Tw) < 1.0:
-            raise InputError(f"duplex: strand I turns {Tw:.2f} times about the axis over {len(I)} base "
-                             "pairs; a helical turn is needed to average the axis over one")
-        bp_per_turn = len(I) / abs(Tw)
-        axis = one_turn_average(c, bp_per_turn, period)
+    try:
+        axis, bp_per_turn = one_turn_axis(c, lambda a: I - a, period)
+    except InputError as e:
+        raise InputError(f"duplex: strand I, {len(I)} base pairs: {e}") from None
     ta = centred_tangents(axis, period)
     Tw = twist(ta, perpendicular_unit(I - axis, ta))
     Wr = periodic_writhe(axis, period) if period is not None else writhe(axis)

@@ -15,9 +15,15 @@
    strand's last O3' lies within -lb of its first P, and the junction check proves the
    closing step carries exactly an interior step's bonded terms. The C1' Lk of the written
    conf.gro (mdbridge.md.topology, the path `dnarod topology` reads) must again be the rod's.
+5. The atoms must be usable: rigid nucleotide templates on a bent, sheared rod put atoms of
+   neighbouring nucleotides on top of each other, so the ring is minimised (restrained, as
+   build-md --minimize) unless asked not to, and conf.gro's closest non-bonded pairs
+   (gromacs/clashes.py: any atoms closer than CLASH_A, heavy atoms closer than HEAVY_CLASH_A)
+   are stated; a clash is an error naming the pair and the fix, after build.json is written.
 """
 from __future__ import annotations
 
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -32,6 +38,7 @@ from .builder.backbone import check_structure_links
 from .builder.duplex import base_pairs
 from .gromacs import defaults
 from .gromacs.box import plan_ring_box
+from .gromacs.clashes import clashes, contact_words
 from .gromacs.inputs import build_inputs
 from .gromacs.mdp import MdSettings
 from .gromacs.rod import rod_initial_from_run
@@ -63,7 +70,7 @@ def ring_settings(temperature_K: float, md_ps: float = defaults.MD_PS) -> MdSett
 
 
 def build_ring_md(run: RodRun, sequence: str, output, *, Lk: int, frame: int = -1,
-                  temperature_K: float = defaults.TEMPERATURE_K, seed: int = 0, minimize: bool = False,
+                  temperature_K: float = defaults.TEMPERATURE_K, seed: int = 0, minimize: bool = True,
                   protocol: str = "paper", equilibrate_ps: float = defaults.EQUILIBRATE_PS,
                   margin_A: float = defaults.MARGIN_A, forcefield: str = defaults.FORCEFIELD,
                   electrostatics: str = defaults.ELECTROSTATICS, gmx: str | None = None,
@@ -85,16 +92,38 @@ def build_ring_md(run: RodRun, sequence: str, output, *, Lk: int, frame: int = -
                           "is not the rod's (docs/builder.md, 'Rings closed in space')")
     say(f"built {n_bp}-bp ring: strands' Lk {strands_Lk} = the rod's; O3'-P links "
         f"{links.min():.3f}-{links.max():.3f} A; box {np.round(box.box_A, 1).tolist()} A; pdb2gmx, grompp ...")
-    info = build_inputs(output, structure, rod, box, sequence=sequence, forcefield=forcefield,
-                        electrostatics=electrostatics, temperature_K=temperature_K, seed=seed,
-                        settings=settings, minimize=minimize, gmx=gmx, threads=threads, protocol=protocol,
-                        equilibrate_ps=equilibrate_ps, description="minicircle", lb_nm=RING_LB_NM,
-                        meta={"ring": True, "rod_frame": frame, "rod_Lk": Lk, "strands_Lk_built": strands_Lk,
-                              "O3P_links_built_A": [float(links.min()), float(links.max())], **(meta or {})})
-    gro_Lk = int(md_topology(output)["Lk"][0])
-    if gro_Lk != Lk:
-        raise DnarodError(f"{output}/conf.gro: its C1' strands link {gro_Lk} times, the rod ring {Lk} times")
-    info["strands_Lk_conf_gro"] = gro_Lk
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        info = build_inputs(output, structure, rod, box, sequence=sequence, forcefield=forcefield,
+                            electrostatics=electrostatics, temperature_K=temperature_K, seed=seed,
+                            settings=settings, minimize=minimize, gmx=gmx, threads=threads, protocol=protocol,
+                            equilibrate_ps=equilibrate_ps, description="minicircle", lb_nm=RING_LB_NM,
+                            meta={"ring": True, "rod_frame": frame, "rod_Lk": Lk, "strands_Lk_built": strands_Lk,
+                                  "O3P_links_built_A": [float(links.min()), float(links.max())], **(meta or {})})
+    for w in caught:     # the clash warning is step 5's error below; the others are said
+        if "closer than" not in str(w.message):
+            say(f"warning: {w.message}")
+    gro = md_topology(output)
+    info["strands_Lk_conf_gro"] = int(gro["Lk"][0])
+    info["conf_gro_topology"] = {k: float(gro[k][0]) for k in ("Tw", "Wr", "Wr_bp_centres", "bp_per_turn")}
+    contact = info["closest_nonbonded_contact"]
     from mdbridge.jsonio import write_json
     write_json(output / "build.json", info)
+    if info["strands_Lk_conf_gro"] != Lk:
+        raise DnarodError(f"{output}/conf.gro: its C1' strands link {info['strands_Lk_conf_gro']} times, the rod "
+                          f"ring {Lk} times")
+    t = info["conf_gro_topology"]
+    if abs(Lk - t["Tw"] - t["Wr"]) >= 0.5:      # `dnarod topology`'s rule (docs/topology.md)
+        raise DnarodError(f"{output}/conf.gro: Lk = {Lk} but Tw + Wr = {t['Tw'] + t['Wr']:.3f} about the one-turn "
+                          "axis of its C1' strands: not a duplex ring (docs/topology.md)")
+    em = info.get("minimization")
+    say(("minimised: " + ("converged" if em["converged"] else "NOT converged") if em else "not minimised")
+        + f"; conf.gro: {contact_words(contact)}")
+    if clashes(contact):
+        fix = ("minimise it (leave out --no-minimize)" if not em else
+               "the restrained minimisation (base heavy atoms held) did not separate them: a rod state with "
+               "less bend and shear per base pair (more --points-per-bp, a longer --relax-ps) or no atoms "
+               "(--no-atoms)")
+        raise DnarodError(f"{output}/conf.gro: the atoms clash ({contact_words(contact)}): MD would blow up "
+                          f"from these contacts; {fix} (build.json: closest_nonbonded_contact)")
     return info

@@ -16,6 +16,14 @@ minicircle"; the command is `dnarod minicircle`).
 4. The checks of the run (`relaxation_topology`): every frame a ring, Lk constant and equal to
    the ring's. A rod without self-contact passes through itself once an overtwisted ring has
    buckled far enough (Lk jumps by 2): that is an error naming the frame, not a result.
+5. Relaxed or not (`relaxation_test`): the ring is called relaxed only when its energy and
+   its writhe have stopped changing by the stated test of mdbridge.stats `stationarity`:
+   for each, the mean over the last quarter of the run differs from the mean over the third
+   quarter by less than twice the standard error of that difference (each quarter's from
+   the means of its longest blocks that leave RELAXED_BLOCKS of them) or by less than a
+   floor (RELAXED_FLOOR_KT, RELAXED_FLOOR_WR).
+   Otherwise the command says "not relaxed" with those numbers; the atoms are still built
+   on the last frame.
 """
 from __future__ import annotations
 
@@ -27,6 +35,7 @@ import numpy as np
 
 from dna_models.errors import InputError, NumericalError
 from dna_models.units import Units
+from mdbridge.stats import sem_longest_blocks, stationarity
 
 from .material.ring import RingState, grid_frames, relaxed_turns, ring_state
 from .run import RodRun
@@ -36,6 +45,13 @@ from .topology import WRITHE_POINTS, is_closed, rod_topology
 SEED_KICK_A_PER_PS = 0.01       # out-of-plane seed velocity amplitude (module docstring, step 2)
 RELAX_PS = 5000.0               # default relaxation: about 20 / omega_2 of a 336-bp ring
 FRAMES = 101
+# The relaxation test (module docstring, step 5): a change of the mean energy between the
+# run's third and last quarter below this (kT at 300 K) is too small to matter, and a run at
+# kT = 0 has no fluctuation to compare a change with.
+RELAXED_FLOOR_KT = 0.1
+RELAXED_FLOOR_WR = 0.01         # turns: a slowly buckling ring changes its writhe at an almost flat energy
+RELAXED_BLOCKS = 4
+RELAXED_MIN_FRAMES = 4 * RELAXED_BLOCKS + 1   # a quarter of the frames holds RELAXED_BLOCKS blocks
 DT_PER_POINT_SPACING = 0.2      # Langevin step at kT = 0 (tau per 1 point/bp): RK4-stable on DNA
 DT_THERMAL = 0.1                # at kT > 0: every class within 1 % (docs/thermal.md, "Error in dt")
 
@@ -196,3 +212,48 @@ def relaxation_topology(run: RodRun, Lk: int, contact: bool, writhe_points: int 
 def check_relaxation(top: dict) -> None:
     if top.get("failure"):
         raise NumericalError(top["failure"])
+
+
+def relaxation_test(run: RodRun, top: dict, reference_K: float, u: Units | None = None) -> dict:
+    """Step 5 of the module docstring on the run's energy, in kT at reference_K (the command:
+    300 K), and on its writhe (top: `relaxation_topology`'s): relaxed (True, False, or None
+    when the run has fewer than RELAXED_MIN_FRAMES frames), the numbers of both, and the
+    rule in words."""
+    u = u or run.units()
+    rule = (f"relaxed: for the energy and for Wr alike, the mean over the run's last quarter differs from the "
+            f"mean over its third quarter by less than 2 standard errors of the difference (blocks: the longest "
+            f"leaving {RELAXED_BLOCKS} per quarter) or by less than a floor ({RELAXED_FLOOR_KT:g} kT at "
+            f"{reference_K:g} K; {RELAXED_FLOOR_WR:g} turns)")
+    n = 0 if run.energy is None else len(run.energy)
+    if n < RELAXED_MIN_FRAMES or len(top.get("Wr", [])) != n:
+        return {"relaxed": None, "rule": rule,
+                "reason": f"{n} frames with an energy and a writhe; the test needs at least {RELAXED_MIN_FRAMES}"}
+    t = np.asarray(u.time_to_ps(np.asarray(run.time, float)))
+    E = np.asarray(run.energy, float) / u.kT_to_rod(reference_K)
+    Wr = np.asarray(top["Wr"], float)
+
+    def test(y, floor):
+        r = stationarity(t, y, sem=lambda _, yq: sem_longest_blocks(yq, RELAXED_BLOCKS), floor=floor)
+        return {"first": float(y[0]), "last": float(y[-1]), "mean_last_half": r["mean_second_half"],
+                "change_last_vs_third_quarter": r["change_between_quarters"],
+                "standard_error_of_change": r["standard_error_of_change"], "floor": floor,
+                "stationary": r["stationary"]}
+    e, w = test(E, RELAXED_FLOOR_KT), test(Wr, RELAXED_FLOOR_WR)
+    return {"relaxed": e["stationary"] and w["stationary"], "rule": rule, "energy_kT": e, "Wr": w}
+
+
+def relaxation_words(test: dict, relax_ps: float) -> str:
+    """The relaxation test's verdict with its numbers, for the command's output."""
+    if test["relaxed"] is None:
+        return f"not called relaxed: the relaxation was not tested ({test['reason']})"
+
+    def numbers(name, r, unit):
+        return (f"{name} {r['first']:.4g} -> {r['last']:.4g}{unit}, mean of the last quarter - third quarter "
+                f"{r['change_last_vs_third_quarter']:+.2g}{unit} (2 standard errors "
+                f"{2 * r['standard_error_of_change']:.2g}, floor {r['floor']:g})")
+    words = (f"over {relax_ps:g} ps: " + numbers("energy", test["energy_kT"], " kT") + "; "
+             + numbers("Wr", test["Wr"], ""))
+    if test["relaxed"]:
+        return f"relaxed by the stated test (docs/topology.md): {words}"
+    still = " and ".join(k for k, key in (("the energy", "energy_kT"), ("Wr", "Wr")) if not test[key]["stationary"])
+    return f"NOT relaxed ({still} still changing) {words}; relax longer (--relax-ps)"

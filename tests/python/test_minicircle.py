@@ -128,14 +128,20 @@ def test_built_strands_link_as_the_rod_and_a_control_that_must_fail():
     assert strand_linking(build_duplex(seq, o, R @ Rz, ring=True)) == {"C1'": Lk + 1, "P": Lk + 1}
 
 
+MC60 = ("--bp", 60, "--delta-lk", -1, "--random-seed", 2, "--relax-ps", 200, "--frames", 21)
+
+
 def test_all_atom_ring_through_gromacs(dnarod, gmx, tmp_path):
-    """A 60-bp sequence-dependent ring at Delta Lk = -1, relaxed, built, pdb2gmx (both strands
+    """A 60-bp sequence-dependent ring at D = -1, relaxed, built, pdb2gmx (both strands
     closed into rings: the junction carries an interior step's 19 terms), restrained
-    minimisation and grompp (the command runs them); the strands of the built structure and
-    of conf.gro link as the rod; `dnarod topology` reads the folder as a ring."""
+    minimisation (the default) and grompp; the strands of the built structure and of
+    conf.gro link as the rod; no atom pair clashes, and the command says so; the atoms'
+    writhe (one-turn axis of the C1' strands) is the rod's about its helical axis, and
+    Lk = Tw + Wr on the atoms; `dnarod topology` reads the folder as a ring. Control: the
+    writhe of the rod's unaveraged centreline (what the command reported before: the
+    base-pair origins circle the axis) is off by more than 0.05."""
     out = tmp_path / "mc60"
-    p = _minicircle(dnarod, out, "--bp", 60, "--delta-lk", -1, "--random-seed", 2, "--relax-ps", 200,
-                    "--frames", 11, "--minimize")
+    p = _minicircle(dnarod, out, *MC60)
     assert p.returncode == 0, p.stderr[-3000:]
     d = json.loads((out / "minicircle.json").read_text())
     Lk = d["Lk"]
@@ -143,14 +149,96 @@ def test_all_atom_ring_through_gromacs(dnarod, gmx, tmp_path):
     assert b["strands_Lk_built"] == {"C1'": Lk, "P": Lk} and b["strands_Lk_conf_gro"] == Lk
     assert all(j["ok"] and j["junction_total"] == 19 for j in b["junctions"])
     assert b["total_charge_e"] == -120.0 and b["minimization"]["converged"]
+    c = b["closest_nonbonded_contact"]
+    assert c["min_distance_A"] >= 1.5 and c["heavy"]["min_distance_A"] >= 2.2
+    assert c["n_below_clash"] == 0 and c["heavy"]["n_below_clash"] == 0
+    assert "minimised: converged; conf.gro: closest atom pair" in p.stderr and "closest heavy-atom pair" in p.stderr
     assert "periodic-molecules      = no" in (out / "atoms" / "md.mdp").read_text()
     box = np.asarray(b["box_nm"]) * 10.0
     assert np.all(box >= np.asarray(b["box"]["centerline_range_A"]) + 20.0 + 20.0)
+    atoms = b["conf_gro_topology"]
+    assert abs(Lk - atoms["Tw"] - atoms["Wr"]) < 0.01
+    assert abs(d["Wr_final"] - atoms["Wr"]) < 0.005, (d["Wr_final"], atoms)
+    assert abs(d["Wr_centreline_final"] - atoms["Wr"]) > 0.05                    # the control
+    assert f"Wr {atoms['Wr']:.4f} (the rod's frame: Wr {d['Wr_final']:.4f})" in p.stderr
     t = subprocess.run([str(dnarod), "topology", str(out / "atoms"), "-o", str(tmp_path / "topo")],
                        capture_output=True, text=True, timeout=300)
     assert t.returncode == 0, t.stderr[-2000:]
     r = json.loads((tmp_path / "topo" / "topology.json").read_text())["paths"][str(out / "atoms")]
-    assert r["closed"] and r["Lk"] == [Lk]
+    assert r["closed"] and r["Lk"] == [Lk] and r["Wr"][0] == pytest.approx(atoms["Wr"], abs=1e-9)
+
+
+def test_clashing_atoms_are_an_error(dnarod, gmx, tmp_path):
+    """The same ring without the minimisation: rigid templates on the bent, sheared rod put
+    atoms of neighbouring nucleotides on top of each other (the check's control). Exit 2,
+    naming the closest pairs and the fix, with build.json and minicircle.json written."""
+    out = tmp_path / "mc60"
+    p = _minicircle(dnarod, out, *MC60, "--no-minimize")
+    assert p.returncode == 2, p.stderr[-3000:]
+    assert "the atoms clash" in p.stderr and "leave out --no-minimize" in p.stderr and "Traceback" not in p.stderr
+    c = json.loads((out / "atoms" / "build.json").read_text())["closest_nonbonded_contact"]
+    assert c["n_below_clash"] > 10 and c["heavy"]["n_below_clash"] > 5 and c["heavy"]["min_distance_A"] < 1.5
+    assert "the atoms clash" in json.loads((out / "minicircle.json").read_text())["failure"]
+
+
+def test_relaxed_only_when_the_stated_test_says_so(dnarod, tmp_path):
+    """The 60-bp ring (kT = 0, critical friction): after 500 ps its energy still falls (the
+    last quarter's mean 0.45 kT below the third's, beyond twice its standard error and
+    the 0.1-kT floor): "NOT relaxed", with the numbers; after 2000 ps the change is 0.001
+    kT: relaxed. With fewer frames than the test needs the ring is not called relaxed.
+    The Lk asked for is reached: Lk = round(Lk0) + D in every frame, and Lk - Lk0 is
+    printed as what it is."""
+    runs = {}
+    for ps, frames in ((500, 41), (2000, 41), (2000, 11)):
+        out = tmp_path / f"r{ps}_{frames}"
+        p = _minicircle(dnarod, out, "--bp", 60, "--delta-lk", -1, "--random-seed", 2, "--relax-ps", ps,
+                        "--frames", frames, "--no-atoms")
+        assert p.returncode == 0, p.stderr[-2000:]
+        runs[ps, frames] = p.stderr, json.loads((out / "minicircle.json").read_text())
+    err, d = runs[500, 41]
+    r = d["relaxation"]
+    assert r["relaxed"] is False and "NOT relaxed (the energy still changing)" in err
+    e = r["energy_kT"]
+    assert abs(e["change_last_vs_third_quarter"]) > max(2 * e["standard_error_of_change"], e["floor"])
+    assert f"{e['change_last_vs_third_quarter']:+.2g} kT" in err
+    err, d = runs[2000, 41]
+    assert d["relaxation"]["relaxed"] is True and "relaxed by the stated test" in err
+    assert abs(d["relaxation"]["energy_kT"]["change_last_vs_third_quarter"]) < 0.1
+    err, d = runs[2000, 11]
+    assert d["relaxation"]["relaxed"] is None and "not called relaxed" in err and "at least 17" in err
+    Lk0 = d["Lk0"]
+    assert d["Lk"] == round(Lk0) - 1 and d["delta_Lk_asked"] == -1 and set(d["topology"]["Lk"]) == {d["Lk"]}
+    assert f"Lk = round(Lk0) + D = {round(Lk0)} - 1 = {d['Lk']} (D = -1 as asked)" in err
+    assert f"Lk - Lk0 = {d['Lk'] - Lk0:+.4f}, not -1" in err
+
+
+def test_relaxation_rule_on_known_series():
+    """mdbridge.stats.stationarity as the minicircle uses it: a stationary correlated series
+    (AR(1), correlation time 2 frames, as a thermal ring's energy) passes in at least 85 %
+    of 200 realisations; the same with a drift of 4 of its standard errors between the
+    quarters fails in at least 85 %; a noise-free decay passes only once its change
+    between the quarters is below the floor."""
+    from mdbridge.rod.minicircle import RELAXED_BLOCKS
+    from mdbridge.stats import sem_longest_blocks, stationarity
+
+    def sem(_, y):
+        return sem_longest_blocks(y, RELAXED_BLOCKS)
+    t = np.arange(101.0)
+    rng = np.random.default_rng(5)
+    passed, drift_passed = 0, 0
+    for _ in range(200):
+        y = np.zeros(101)
+        for k in range(1, 101):
+            y[k] = 0.6 * y[k - 1] + rng.standard_normal()
+        r = stationarity(t, y, sem=sem)
+        passed += r["stationary"]
+        slope = 4 * r["standard_error_of_change"] / 25.0
+        drift_passed += stationarity(t, y - slope * t, sem=sem)["stationary"]
+    assert passed >= 170 and drift_passed <= 30, (passed, drift_passed)
+    decay = np.exp(-t / 10.0)
+    change = decay[75:].mean() - decay[50:75].mean()
+    assert not stationarity(t, decay, sem=sem, floor=0.5 * abs(change))["stationary"]
+    assert stationarity(t, decay, sem=sem, floor=2.0 * abs(change))["stationary"]
 
 
 @pytest.mark.parametrize("args, says", [

@@ -10,10 +10,13 @@ mdbridge.md.topology, `dnarod topology`) against independently true things:
 * the planar circle (Wr = 0 exactly, Tw = Lk);
 * the writhe per period of a helical axis (Fuller: the area of the tangent's cone);
 * Lk = Tw + Wr, its convergence order in N measured;
+* a DNA rod whose base-pair origins circle its helical axis (shift and slide): the writhe
+  is the axis's, as for the all-atom duplex;
 * controls that must fail: the twist about d3 under shear, the writhe of the unaveraged
-  base-pair centres.
+  base-pair centres and of a rod's unaveraged centreline.
 """
 import json
+import re
 import subprocess
 
 import h5py
@@ -384,3 +387,49 @@ def test_coarse_writhe_fails_the_check(tmp_path, dnarod):
     assert out.returncode == 2 and "Lk = Tw + Wr fails" in out.stderr and "frame 0" in out.stderr
     assert (tmp_path / "topo" / "topology.json").is_file()
     assert run("200").returncode == 0
+
+
+def wobbling_rod_frame(m, n_bp=336, points_per_bp=2, rho_A=0.7, ell_A=5.0):
+    """A DNA rod on the (1, 3) torus helix of ring_duplex (R = 130 A, r = 40 A): the helix
+    axis is that curve, d1 turns m times about it (the ribbon links m - 3 times), and the
+    base-pair origins, the rod's centreline, sit rho_A off the axis along d1 + d2 (what a
+    mean slide of -0.7 A does): they circle the axis once per turn. Rod units (ell_A)."""
+    N = n_bp * points_per_bp
+    axis, D = framed_torus_curve(1, 3, m, N, R=130.0 / ell_A, r=40.0 / ell_A)
+    x = axis + (rho_A / ell_A) * (D[:, :, 0] + D[:, :, 1]) / np.sqrt(2.0)
+    return x, D
+
+
+def test_rod_writhe_is_the_helical_axis_writhe_and_the_summary_is_one_frame(tmp_path, dnarod):
+    """`dnarod topology` on a rod whose centreline circles its helical axis (the base-pair
+    origins of Olson 1998 DNA do, by about 0.5 A): Wr is the writhe of the curve the axis
+    was wound on (the Gauss integral), within 0.02, for Lk = 32 and Lk = 31 alike, and
+    Lk = Tw + Wr; the unaveraged centreline's writhe (rodsim's topology/Wr) carries that of
+    its own small helix, (1 - cos theta) per turn, and is off by more than 0.1 (the
+    control). The summary line prints each frame's Lk, Tw and Wr together: each printed
+    triple adds up (Tw + Wr = Lk), which frame 0's Tw and Wr next to the last frame's Lk
+    would not."""
+    frames = [wobbling_rod_frame(m) for m in (35, 34)]
+    with h5py.File(tmp_path / "dna.h5", "w") as f:
+        f["time"], f["s"] = np.arange(2.0), np.arange(len(frames[0][0])) * 0.676
+        f["centerline"] = np.stack([x for x, _ in frames])
+        f["directors"] = np.stack([D for _, D in frames])
+    out = subprocess.run([str(dnarod), "topology", str(tmp_path / "dna.h5"), "-o", str(tmp_path / "topo")],
+                         capture_output=True, text=True)
+    assert out.returncode == 0, out.stderr
+    r = json.loads((tmp_path / "topo" / "topology.json").read_text())["paths"][str(tmp_path / "dna.h5")]
+    exact = gauss_writhe(1, 3, 2000, R=130.0, r=40.0)
+    assert r["Lk"] == [32, 31]
+    for f in range(2):
+        assert abs(r["Wr"][f] - exact) < 0.02, (r["Wr"], exact)
+        assert abs(r["Lk"][f] - r["Tw"][f] - r["Wr"][f]) < 0.02
+        assert abs(r["Wr_centreline"][f] - exact) > 0.1, (r["Wr_centreline"], exact)
+        assert r["points_per_turn"][f] == pytest.approx(672 / (r["Lk"][f] - exact), rel=0.01)
+    printed = re.search(r"first frame Lk (\S+), Tw (\S+), Wr (\S+); last frame Lk (\S+), Tw (\S+), Wr (\S+);",
+                        out.stdout)
+    assert printed, out.stdout
+    first, last = np.array(printed.groups()[:3], float), np.array(printed.groups()[3:], float)
+    for f, (Lk, Tw, Wr) in ((0, first), (-1, last)):
+        assert (Lk, Tw, Wr) == (r["Lk"][f], round(r["Tw"][f], 4), round(r["Wr"][f], 4))
+        assert abs(Lk - Tw - Wr) < 0.02
+    assert abs(last[0] - first[1] - first[2]) > 0.9         # the mixed line of the report would not add up

@@ -24,10 +24,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
-import numpy as np
-
 from dna_models.errors import InputError
-from mdbridge.stats import time_block_sem
+from mdbridge import stats
 
 from .energy import read_energies
 from .gmx import run_gmx, run_gmx_with_progress
@@ -95,18 +93,10 @@ def render_equilibration(s: MdSettings, *, ps: float, temperature_K: float, axis
 
 
 def stationarity(t, y) -> dict:
-    """The stated test on the second half of a series (see module doc): the means of
-    its two quarters (third and fourth of the stage) agree within twice their
-    combined standard error (1-ps block means): a two-sided test at ~95 %."""
-    t, y = np.asarray(t, float), np.asarray(y, float)
-    t0, t1 = t[0], t[-1]
-    q3 = (t >= t0 + 0.5 * (t1 - t0)) & (t < t0 + 0.75 * (t1 - t0))
-    q4 = t >= t0 + 0.75 * (t1 - t0)
-    h = q3 | q4
-    diff = float(y[q4].mean() - y[q3].mean())
-    se = float(np.hypot(time_block_sem(t[q3], y[q3], BLOCK_PS), time_block_sem(t[q4], y[q4], BLOCK_PS)))
-    return {"mean_second_half": float(y[h].mean()), "change_between_quarters": diff,
-            "standard_error_of_change": se, "stationary": bool(abs(diff) < 2.0 * se)}
+    """The stated test on the second half of a series (see module doc; mdbridge.stats
+    stationarity): the means of its two quarters (third and fourth of the stage) agree
+    within twice their combined standard error (1-ps block means): a two-sided test at ~95 %."""
+    return stats.stationarity(t, y, sem=lambda tq, yq: stats.time_block_sem(tq, yq, BLOCK_PS))
 
 
 def equilibrate(outdir: Path, gmx: str, settings: MdSettings, *, ps: float, temperature_K: float,
@@ -143,7 +133,7 @@ def equilibrate(outdir: Path, gmx: str, settings: MdSettings, *, ps: float, temp
                         f"across, ref-p 0, tau-p {TAU_P_PS} ps",
             "box_length_start_nm": float(L[0]),
             "zero_tension_length_nm": float(L[h].mean()),
-            "zero_tension_length_se_nm": time_block_sem(t[h], L[h], LENGTH_BLOCK_PS),
+            "zero_tension_length_se_nm": stats.time_block_sem(t[h], L[h], LENGTH_BLOCK_PS),
             "zero_tension_length_se_doc": f"standard error from {LENGTH_BLOCK_PS:g}-ps block "
                                           "means over the second half; understated unless the "
                                           "half holds several barostat periods (see the range)",
