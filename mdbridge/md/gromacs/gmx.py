@@ -139,8 +139,9 @@ def run_gmx(gmx: str, args: list[str], cwd: Path, *, stdin: str | None = None,
         proc = subprocess.run(cmd, cwd=cwd, input=stdin if stdin is not None else "",
                               capture_output=True, text=True, timeout=timeout_s)
     except subprocess.TimeoutExpired:
-        raise ExternalToolError(f"`gmx {args[0]}` did not finish within {timeout_s:g} s in {cwd} "
-                                "(waiting for interactive input?)") from None
+        raise ExternalToolError(f"`gmx {args[0]}` did not finish within {timeout_s:g} s of wall time in {cwd}: "
+                                "it waits for interactive input, or the machine is too loaded to give it the "
+                                "CPU (see `uptime`)") from None
     log = cwd / (log_name or f"gmx_{args[0]}.log")
     log.write_text(f"$ {' '.join(cmd)}\n--- stdout\n{proc.stdout}\n--- stderr\n{proc.stderr}")
     if proc.returncode != 0:

@@ -148,6 +148,14 @@ def _local_ff_middle_residues(gmx: str, workdir: Path, ff: ForceField) -> None:
     (dst / "dna.r2b").write_text("\n".join(lines) + "\n")
 
 
+def pdb2gmx_timeout_s(pdb: Path) -> float:
+    """The wall time pdb2gmx gets before it is taken to wait for input: 600 s and 0.2 s per
+    atom of the PDB (a 336-bp ring took 17 min of wall time on a machine whose cores were
+    busy with other runs)."""
+    atoms = sum(1 for line in Path(pdb).read_text().splitlines() if line.startswith(("ATOM", "HETATM")))
+    return 600.0 + 0.2 * atoms
+
+
 def run_pdb2gmx(gmx: str, pdb: Path, workdir: Path, forcefield: str, *, lb_nm: float) -> dict:
     """Run pdb2gmx (vacuum, hydrogens rebuilt, one moleculetype per strand, ring closure
     with -lb LB_NM). Returns {'gro', 'top', 'itps': [...], 'stdout'}."""
@@ -163,7 +171,7 @@ def run_pdb2gmx(gmx: str, pdb: Path, workdir: Path, forcefield: str, *, lb_nm: f
     # pick "None" for each terminus, pdb2gmx finishes, and the junction check reports
     # the failure.
     proc = run_gmx(gmx, args, workdir, stdin=ff.terminus_answers, log_name="gmx_pdb2gmx.log",
-                   timeout_s=600)
+                   timeout_s=pdb2gmx_timeout_s(pdb))
     itps = sorted(workdir.glob("topol_*.itp"))
     if not itps:   # a single chain goes straight into topol.top
         raise ExternalToolError(f"pdb2gmx in {workdir} wrote no per-strand .itp files; "
