@@ -23,6 +23,12 @@ mean tension is below 0.35 of its stated error; on a stationary record the noisy
 over 14 observables costs up to ~10 % of it. A T above MAX_DISCARD_PS is
 refused: the record would be too short for the modes it must resolve.
 
+With --coarse-grain, each seed is coarse-grained from its steps.npz (seedS/cg: `dnarod
+coarse-grain`'s outputs, the same discard, W = the default unrelaxed window) and the rod of
+each seed's material predicts every seed's modes at that seed's tension, relaxed and with each
+mode's own storage stiffness (unrelaxed_A_on_B.json; workflows/steps/unrelaxed.py): A on B
+with A != B is the cross-validation.
+
 Over the seeds, into RESULTS: blocks_KIND.json (block errors pooled over the seeds),
 seeds.json (the tension-corrected seed differences; `differences_by_kind` with the block
 errors) and prediction.json (the reference seed's, the first).
@@ -36,6 +42,8 @@ import sys
 import tempfile
 from pathlib import Path
 
+import numpy as np
+
 from dna_models.errors import InputError
 from mdbridge.jsonio import write_json
 
@@ -46,7 +54,6 @@ CANDIDATE_STEP_PS = 10.0
 
 def _observables(seed_dir: Path) -> dict:
     """The slow observables of one joined seed (module doc): name -> (times_ps, values)."""
-    import numpy as np
     from mdbridge.analysis.mode_spectra import load_npz
     s = load_npz(seed_dir / "mode_series.npz")[0]
     e = np.load(seed_dir / "energies.npz")
@@ -65,7 +72,6 @@ def discard_from_relaxation(results: Path, seeds) -> dict:
     """RESULTS/discard.json: each seed's and observable's equilibration start (module doc) and
     the discard T they give; the seeds must be joined (join_segments) without a discard."""
     import math
-    import numpy as np
     from mdbridge.coarsegrain.equilibration import equilibration_start
     per_seed: dict[str, dict] = {}
     for seed in seeds:
@@ -103,7 +109,6 @@ def analyse_seed(results: Path, seed: str, discard_ps: float) -> dict:
     from dnarod.steps.dispersion import predict_and_compare, tension_record
     from dnarod.steps.segments import join_segments
     from mdbridge.analysis.mode_run import mode_spectra
-    import numpy as np
     d = results / seed
     build = results / "run" / seed / "build.json"
     if not build.is_file():
@@ -122,7 +127,31 @@ def analyse_seed(results: Path, seed: str, discard_ps: float) -> dict:
     return rec
 
 
-def analyse(results, discard_ps: float | None = None, seeds=("seed1", "seed2"), kinds=KINDS) -> dict:
+def coarse_grain_seeds(results: Path, seeds, discard_ps: float) -> None:
+    """seedS/cg of every seed from its steps.npz, and unrelaxed_A_on_B.json for every pair (module doc)."""
+    from dnarod.steps.unrelaxed import predict_unrelaxed
+    from mdbridge.coarsegrain.pipeline import CoarseGrainRequest, coarse_grain
+    from mdbridge.coarsegrain.timescale import DEFAULT_WINDOW_PS
+    steps = {s: [g / "steps.npz" for g in _segments(results / s)] for s in seeds}
+    for s in seeds:
+        r = coarse_grain(CoarseGrainRequest(structure=str(results / "run" / s), output=str(results / s / "cg"),
+                                            trajectories=[str(f) for f in steps[s]],
+                                            discard=int(round(discard_ps / _frame_ps(steps[s][0]))),
+                                            window_ps=[DEFAULT_WINDOW_PS]))
+        write_json(results / s / "cg" / "cg.json", {"ok": True, "caveats": r.caveats})
+    for a in seeds:
+        for b in seeds:
+            predict_unrelaxed(results / a / "cg", steps[a], results / b / "modes.json", results / b / "tension.json",
+                              results / f"unrelaxed_{a}_on_{b}.json")
+
+
+def _frame_ps(steps_file: Path) -> float:
+    t = np.load(steps_file)["times_ps"]
+    return float(np.median(np.diff(t)))
+
+
+def analyse(results, discard_ps: float | None = None, seeds=("seed1", "seed2"), kinds=KINDS,
+            coarse_grain: bool = False) -> dict:
     """Every seed (analyse_seed), then the block errors and the seed differences over them;
     the discard from the run's relaxation (discard_from_relaxation) unless given."""
     from dnarod.steps.dispersion import block_errors_step, seed_differences_step
@@ -139,6 +168,8 @@ def analyse(results, discard_ps: float | None = None, seeds=("seed1", "seed2"), 
     for kind in kinds:
         blocks.append(results / f"blocks_{kind}.json")
         block_errors_step(series, blocks[-1], discard_ps, None, (kind,))
+    if coarse_grain:
+        coarse_grain_seeds(results, seeds, discard_ps)
     runs = {s: (results / s / "modes.json", results / s / "tension.json") for s in seeds}
     rec = seed_differences_step(runs, results / "seeds.json", blocks, results / "run" / seeds[0] / "build.json")
     shutil.copy(results / seeds[0] / "prediction.json", results / "prediction.json")
@@ -153,8 +184,11 @@ def main(argv=None) -> int:
                     help="the discarded start (default: from the run's relaxation, RESULTS/discard.json)")
     ap.add_argument("--seeds", nargs="+", default=["seed1", "seed2"])
     ap.add_argument("--kinds", nargs="+", default=list(KINDS), choices=KINDS)
+    ap.add_argument("--coarse-grain", action="store_true",
+                    help="coarse-grain each seed from its steps and cross-predict the seeds' modes")
     a = ap.parse_args(argv)
-    return run_step("intact", lambda: analyse(a.results, a.discard_ps, tuple(a.seeds), tuple(a.kinds)))
+    return run_step("intact", lambda: analyse(a.results, a.discard_ps, tuple(a.seeds), tuple(a.kinds),
+                                              a.coarse_grain))
 
 
 if __name__ == "__main__":
