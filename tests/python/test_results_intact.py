@@ -177,3 +177,24 @@ def test_paired_is_not_stacked():
     full = int(sum(s["mean"][2] > UNSTACKED_RISE_A for s in cg["steps"]))
     assert f"in the committed full-charge run {full} steps do" in text and cg["frames_used"] == 8001
     assert full > max(counts)        # holding the pairs removes part of the kinking, not all
+
+
+def test_the_segments_so_far_as_the_docs_say():
+    """docs/intact.md's "So far": the last reduced segment's end per seed, and the committed
+    checkpoint's time (gmx dump -cp), which lies inside that segment: the next one starts there."""
+    import subprocess
+    from mdbridge.md.gromacs.gmx import find_gmx
+    text = " ".join(DOC.read_text().split())
+    ends, cpts = [], []
+    for seed in ("seed1", "seed2"):
+        segs = sorted((INTACT / seed / "segments").glob("seg[0-9][0-9]"))
+        t0, t1 = json.loads((segs[-1] / "segment.json").read_text())["times_ps"]
+        out = subprocess.run([find_gmx(None), "dump", "-cp", str(INTACT / "run" / seed / "md.part.cpt")],
+                             capture_output=True, text=True, check=True).stdout
+        t_cpt = float(next(ln.split("=")[1] for ln in out.splitlines() if ln.startswith("t =")))
+        assert t0 < t_cpt <= t1
+        ends.append(t1)
+        cpts.append(t_cpt)
+    assert (f"segments 1-{len(segs)} of both seeds, 0 to {ends[0]:.0f} ps (seed 1) and {ends[1]:.0f} ps (seed 2)"
+            in text)
+    assert f"checkpoints at {cpts[0]:.1f} and {cpts[1]:.1f} ps" in text
