@@ -9,8 +9,12 @@
 
 namespace rodcore {
 
-ProgressBar::ProgressBar(bool enabled, std::FILE* out)
-    : enabled_(enabled), out_(out), start_(std::chrono::steady_clock::now()), last_(start_) {}
+ProgressBar::ProgressBar(bool enabled, std::FILE* out, double time_unit_ps)
+    : enabled_(enabled),
+      out_(out),
+      time_unit_ps_(time_unit_ps),
+      start_(std::chrono::steady_clock::now()),
+      last_(start_) {}
 
 ProgressBar::~ProgressBar() { finish(); }
 
@@ -19,6 +23,7 @@ bool ProgressBar::stderr_is_terminal() { return isatty(STDERR_FILENO) == 1; }
 void ProgressBar::update(double t, double t_end, const std::function<std::string()>& note) {
   if (!enabled_) return;
   auto now = std::chrono::steady_clock::now();
+  if (!t_first_) t_first_ = t;
   if (drawn_ && now - last_ < std::chrono::milliseconds(100) && t < t_end) return;
   last_ = now;
   double f = t_end > 0 ? std::clamp(t / t_end, 0.0, 1.0) : 1.0;
@@ -29,8 +34,12 @@ void ProgressBar::update(double t, double t_end, const std::function<std::string
   bar.append(width - filled, '.');
   char eta[32] = "";
   if (f > 0.0 && f < 1.0) std::snprintf(eta, sizeof eta, "  ETA %.0f s", elapsed * (1.0 - f) / f);
+  char pace[40] = "";
+  if (time_unit_ps_ > 0.0 && elapsed > 1.0)  // simulated ns per wall hour
+    std::snprintf(pace, sizeof pace, "  %.3g ns/h",
+                  (t - *t_first_) * time_unit_ps_ * 1e-3 * 3600.0 / elapsed);
   const std::string extra = note ? "  " + note() : std::string();
-  std::fprintf(out_, "\r[%s] %5.1f%%  t = %.4g / %.4g%s%s   ", bar.c_str(), 100.0 * f, t, t_end,
+  std::fprintf(out_, "\r[%s] %5.1f%%  t = %.4g / %.4g%s%s%s   ", bar.c_str(), 100.0 * f, t, t_end, pace,
                extra.c_str(), eta);
   std::fflush(out_);
   drawn_ = true;
@@ -49,7 +58,8 @@ void ProgressObserver::frame(const Simulation&, const Frame& f) {
 
 void ProgressObserver::stepped(const Simulation& sim) {
   const Thermal& th = sim.scene().thermal;
-  if (!kinetic_kT_) {
+  // the overdamped rod has no velocities: its kinetic temperature is no news
+  if (!kinetic_kT_ || sim.scene().solver.time == TimeMethod::brownian) {
     bar_.update(sim.integrator_time(), sim.scene().output.t_end);
     return;
   }

@@ -13,7 +13,10 @@ namespace rodcore {
 
 class ProgressBar {
  public:
-  explicit ProgressBar(bool enabled, std::FILE* out = stderr);
+  // time_unit_ps > 0: the bar also shows the simulated time per wall hour, in ns/h
+  // (rod time t in units of time_unit_ps; from the first t it was shown, so a resumed run
+  // reports its own pace).
+  explicit ProgressBar(bool enabled, std::FILE* out = stderr, double time_unit_ps = 0.0);
   ~ProgressBar();
   // Redraws at most 10 times a second; `note` (e.g. the kinetic temperature)
   // is asked for only when it does.
@@ -25,6 +28,8 @@ class ProgressBar {
   bool enabled_;
   bool drawn_ = false;
   std::FILE* out_;
+  double time_unit_ps_;
+  std::optional<double> t_first_;
   std::chrono::steady_clock::time_point start_, last_;
 };
 

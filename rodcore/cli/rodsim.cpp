@@ -28,6 +28,7 @@
 #include "output_file.hpp"
 #include "progress.hpp"
 #include "rodcore/checkpoint.hpp"
+#include "rodcore/dna_units.hpp"
 #include "rodcore/error.hpp"
 #include "rodcore/h5_writer.hpp"
 #include "rodcore/initial_conditions.hpp"  // kinds (internal: rodsim is part of rodcore)
@@ -159,7 +160,8 @@ int run(const std::string& scene_path, const std::string& out_path, const std::v
                                          ". Continue with:\n  " + resume_command(scene_path, out_path, sets),
                                      sig);
       }));
-  rodcore::ProgressBar bar(!quiet && rodcore::ProgressBar::stderr_is_terminal());
+  rodcore::ProgressBar bar(!quiet && rodcore::ProgressBar::stderr_is_terminal(), stderr,
+                           rodcore::dna_units::tau_ps);
   sim.add_observer(std::make_shared<rodcore::ProgressObserver>(bar));
   rodcore::RunSummary sum;
   try {

@@ -158,7 +158,7 @@ double ClosureProjector::size(const std::array<double, 6>& d) const {
 }
 
 ClosureProjector::Result ClosureProjector::project(double* y, const RigidMotion& target, int steps,
-                                                   double tolerance) {
+                                                   double tolerance, bool relinearise) {
   Impl& d = *impl_;
   Result res;
   std::array<double, 6> gap = defect(holonomy(y), target);
@@ -169,7 +169,13 @@ ClosureProjector::Result ClosureProjector::project(double* y, const RigidMotion&
   for (int k = 0; k < steps; ++k) {
     remove(gap, strains);
     ++res.steps;
-    if (k + 1 < steps) gap = defect(holonomy(y), target);
+    if (k + 1 < steps) {
+      gap = defect(holonomy(y), target);
+      if (relinearise) {
+        if (size(gap) <= tolerance) break;
+        linearise();  // at the frames of the sweep just made: Newton, not chord
+      }
+    }
   }
   return res;
 }

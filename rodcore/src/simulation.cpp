@@ -60,6 +60,11 @@ constexpr double kSmoothTail = 1e-6;
 // output's (0.05 rad) for the 158-bp DNA rod at 300 K; at 4x fewer substeps.
 constexpr int kClosureSteps = 2;
 constexpr double kClosureTurn = 0.2;
+// The overdamped rod's steps are few and long (100 ps for the kilobase ring) and each moves
+// the closure of a ring of many persistence lengths far outside the chord steps' reach: up
+// to 6 Newton steps, re-linearised, to 1e-10 (each a sweep, O(N), against the step's solve).
+constexpr int kBrownianClosureSteps = 6;
+constexpr double kBrownianClosureTolerance = 1e-10;
 
 // solver.space / solver.time = automatic -> the measured default
 // (docs/performance.md, "Default method rule"); `note` says what and why.
@@ -196,12 +201,16 @@ struct Simulation::Impl {
       // so a resumed run projects where the uninterrupted one did. "Reaches"
       // to 1e-9 of the interval: a fixed step's accumulated time lands a few
       // ulps short of the multiple it stands for (and a frame there).
-      sys.project = [c, T, every, at_anchor](double t_prev, double t, double* y) {
+      const bool newton = static_cast<bool>(brownian);
+      sys.project = [c, T, every, at_anchor, newton](double t_prev, double t, double* y) {
         auto index = [every](double time) { return std::floor(time / every + 1e-9); };
         if (every > 0.0 && index(t) == index(t_prev)) return false;
         const RigidMotion g0{{y[at_anchor], y[at_anchor + 1], y[at_anchor + 2], y[at_anchor + 3]},
                              {y[at_anchor + 4], y[at_anchor + 5], y[at_anchor + 6]}};
-        return c->project(y, holonomy_for(T, g0), kClosureSteps).steps > 0;
+        return (newton ? c->project(y, holonomy_for(T, g0), kBrownianClosureSteps, kBrownianClosureTolerance,
+                                    true)
+                       : c->project(y, holonomy_for(T, g0), kClosureSteps))
+                   .steps > 0;
       };
     }
     if (brownian) {

@@ -72,6 +72,69 @@ Frames frames_of(Reconstructor& rec, const std::vector<double>& y, std::size_t N
 
 std::string num(double x) { return message_number(x, 3); }
 
+// Closing a sample the chord steps cannot close (a ring many persistence lengths long,
+// whose sample is a random coil far from the linearisation's circle): continuation in the
+// sample's amplitude. The strains y + a e_lin + c are kept closed while a goes from 0 (y
+// itself, closed) to 1, the correction c by Newton steps re-linearised at every trial
+// state (the sampler's six directions K_i^-1 B_i^T of that state); a stage that does not
+// converge is halved. Each Newton step is the least change in the energy metric at its own
+// linearisation, so c stays a sum of smooth, long-wave corrections and the sample's local
+// statistics are the linear sample's. On exit e = e_lin + c (a = 1) when `gap` <= tol.
+// A phantom ring (the sampler knows no contact) may pass through itself on the way: the
+// closed sample's Lk can differ from the initial state's by an even number.
+struct Continuation {
+  int stages = 0, sweeps = 0;
+  double gap = std::numeric_limits<double>::infinity();
+};
+
+Continuation close_by_continuation(ClosureProjector& closure, const std::vector<double>& y,
+                                   std::vector<double>& e, const RigidMotion& target, double tol) {
+  const std::size_t n6 = e.size();
+  const std::vector<double> e_lin = e;
+  std::vector<double> c(n6, 0.0), c_try(n6), trial(y.size());
+  Continuation out;
+  constexpr int kMaxSweeps = 2000, kNewton = 12;
+  constexpr double kStageTol = 1e-8;  // intermediate stages: close enough to start the next
+  double a = 0.0, da = 1.0;
+  while (a < 1.0 && out.sweeps < kMaxSweeps && da > 1e-6) {
+    const double a_try = std::min(1.0, a + da);
+    const double want = a_try < 1.0 ? kStageTol : tol;
+    c_try = c;
+    double prev = std::numeric_limits<double>::infinity(), gap = prev;
+    bool ok = false;
+    for (int k = 0; k < kNewton && out.sweeps < kMaxSweeps; ++k) {
+      trial = y;
+      for (std::size_t m = 0; m < n6; ++m) trial[y.size() - n6 + m] += a_try * e_lin[m] + c_try[m];
+      const auto d = ClosureProjector::defect(closure.holonomy(trial.data()), target);
+      ++out.sweeps;
+      gap = closure.size(d);
+      if (!std::isfinite(gap) || (k > 0 && gap > 0.5 * prev && gap > want)) break;
+      if (gap <= want) {
+        ok = true;
+        break;
+      }
+      prev = gap;
+      closure.linearise();  // at the trial state just swept
+      closure.remove(d, c_try.data());
+    }
+    if (ok) {
+      a = a_try;
+      c.swap(c_try);
+      ++out.stages;
+      out.gap = gap;
+      da = std::min(1.0, 2.0 * da);
+    } else {
+      da *= 0.5;
+    }
+  }
+  if (a < 1.0) {
+    out.gap = std::numeric_limits<double>::infinity();
+    return out;
+  }
+  for (std::size_t m = 0; m < n6; ++m) e[m] = e_lin[m] + c[m];
+  return out;
+}
+
 }  // namespace
 
 double kinetic_kT(const double* y, std::size_t N, double h, const MaterialField& mf) {
@@ -130,7 +193,8 @@ ThermalSampleReport add_thermal_sample(std::vector<double>& y, double L, const M
   };
   // Chord-Newton on the holonomy of the reconstruction (the same six
   // directions): exact closure where the linearisation is good enough to
-  // converge; else the linear-order sample is kept and the gap reported.
+  // converge; else continuation (close_by_continuation); else the linear-order
+  // sample is kept and the gap reported.
   const std::vector<double> e_linear = e;
   apply(trial);
   auto err = ClosureProjector::defect(closure.holonomy(trial.data()), ref_holonomy);
@@ -149,6 +213,20 @@ ThermalSampleReport add_thermal_sample(std::vector<double>& y, double L, const M
     const bool slow = next > 0.5 * gap;
     gap = next;
     if (slow) break;
+  }
+  // Continuation for a ring only: a ring left open loses its topology (Lk, Tw, Wr) and its
+  // contact geometry; a box-held rod closed at linear order is brought onto its box by the
+  // run's projections (docs/thermal.md, "Closure in a run").
+  const auto ref_twist = ClosureProjector::defect(ref_holonomy, RigidMotion{});
+  const bool ring = V3(ref_twist[0], ref_twist[1], ref_twist[2]).norm() < 1e-6 &&
+                    V3(ref_twist[3], ref_twist[4], ref_twist[5]).norm() < 1e-6 * std::max(1.0, L);
+  if (gap > 1e-9 && ring) {
+    e = e_linear;
+    const Continuation c = close_by_continuation(closure, y, e, ref_holonomy, tol);
+    rep.closure_stages = c.stages;
+    it += c.sweeps;
+    gap = c.gap;
+    apply(trial);
   }
   if (gap <= 1e-9) {
     rep.closure_exact = true;
@@ -176,11 +254,9 @@ ThermalSampleReport add_thermal_sample(std::vector<double>& y, double L, const M
     gam[i] = std::sqrt(kT / (mf.rho_at(i) * h)) * V3(z[0], z[1], z[2]);
     om[i] = sd * Ichol[per_point ? i : 0].matrixU().solve(V3(z[3], z[4], z[5]));
   }
-  const auto hol_twist = ClosureProjector::defect(ref_holonomy, RigidMotion{});
-  const V3 hol_rot(hol_twist[0], hol_twist[1], hol_twist[2]),
-      hol_tr(hol_twist[3], hol_twist[4], hol_twist[5]);
-  const double scale = std::max(1.0, L);
-  const bool closed = hol_rot.norm() < 1e-6 && hol_tr.norm() < 1e-6 * scale;
+  const V3 hol_rot(ref_twist[0], ref_twist[1], ref_twist[2]),
+      hol_tr(ref_twist[3], ref_twist[4], ref_twist[5]);
+  const bool closed = ring;
   std::vector<V3> axes;
   if (closed) {
     axes = {V3::UnitX(), V3::UnitY(), V3::UnitZ()};
@@ -232,10 +308,14 @@ ThermalSampleReport add_thermal_sample(std::vector<double>& y, double L, const M
     }
   rep.momentum_constraints = m;
   rep.note = "Boltzmann sample at kT = " + num(kT) + " (seed " + std::to_string(seed) + "): closure " +
-             (rep.closure_exact ? "exact to " + num(rep.closure_residual) + " after " +
-                                      std::to_string(rep.closure_iterations) + " Newton steps"
-                                : "at linear order only (nonlinear gap " + num(rep.closure_residual) +
-                                      ": kT too large for the linearisation)") +
+             (rep.closure_exact
+                  ? "exact to " + num(rep.closure_residual) + " after " +
+                        std::to_string(rep.closure_iterations) + " Newton steps" +
+                        (rep.closure_stages > 0 ? " (continuation in the sample's amplitude, stages: " +
+                                                      std::to_string(rep.closure_stages) + ")"
+                                                : std::string())
+                  : "at linear order only (nonlinear gap " + num(rep.closure_residual) +
+                        ": kT too large for the linearisation)") +
              "; zero linear momentum and angular momentum " +
              (closed ? "(closed ring: all three components)" : "about the axis");
   return rep;

@@ -55,3 +55,27 @@ def test_dna_rod_bad_inputs(tmp_path, capsys):
     assert "no build.json" in capsys.readouterr().err
     assert main(["dna-rod", "--sequence", "ACGTACGTAC", "--params", "olsen", "-o", str(tmp_path / "y")]) == 2
     assert "not 'paper', 'olson1998' or an existing per-step file" in capsys.readouterr().err
+
+
+def test_dna_rod_coarse_segments(tmp_path, capsys):
+    """--bp-per-point 10: 100 bp on 10 grid points, the material of mdbridge/rod/material/coarse.py, one
+    whole turn dropped per segment and said so; a closed rest state of the coarse rod."""
+    from mdbridge.rod.material.coarse import coarse_material
+    from mdbridge.rod.material.parameter_sets import step_material
+    seq = "ACGTTGCAAGTCCGATGCATGGATCCAGTCAGTTACGATCGGCTAGCATG" * 2       # 100 bp
+    out = tmp_path / "rod"
+    assert main(["dna-rod", "--sequence", seq, "--params", "olson1998", "--bp-per-point", "10",
+                 "-o", str(out)]) == 0
+    cm, turns = coarse_material(rod_material(step_material(seq, "olson1998")), 10)
+    info = json.loads((out / "rest.json").read_text())
+    assert info["points"] == 10 and info["bp_per_point"] == 10 and info["turns_dropped"] == 10 == turns.sum()
+    assert info["n_bp"] == 100 and info["closure_rotation_rad"] < 1e-9
+    with h5py.File(out / "material.h5") as f:
+        assert f["K"].shape == (10, 6, 6) and f.attrs["bp_per_point"] == 10
+        assert np.linalg.eigvalsh(f["K"][()])[:, 0].min() > 0
+    assert tomllib.loads((out / "scene.toml").read_text())["rod"]["points"] == 10
+    assert main(["dna-rod", "--sequence", seq, "--bp-per-point", "30", "-o", str(tmp_path / "x")]) == 2
+    assert "--bp-per-point 30: must divide the 100 bp" in capsys.readouterr().err
+    assert main(["dna-rod", "--sequence", seq, "--bp-per-point", "10", "--points-per-bp", "2",
+                 "-o", str(tmp_path / "y")]) == 2
+    assert "give one" in capsys.readouterr().err

@@ -12,7 +12,11 @@ check has a control that must fail:
   sampling error (control: without the projection the box shrinks and the tension is lost);
 * a closed, twisted, intrinsically circular DNA ring at 300 K stays closed with its linking
   number an integer, constant over 1000 time units (control: without the projection it opens
-  within 50).
+  within 50);
+* the Boltzmann sample of a kilobase ring (1 and 10.5 kbp, 10 bp per point; a coil far beyond the
+  chord steps' reach) is closed by continuation, and the overdamped run keeps it closed: Lk an
+  integer, Tw + Wr = Lk (control: without the run's projections it opens); the closed sample keeps
+  equipartition (control: 330 K).
 """
 import math
 
@@ -195,3 +199,68 @@ def test_a_sample_closed_only_at_linear_order_is_put_on_the_initial_box(seed):
     assert np.abs(held[2:] - rest[0]).max() < 1e-4 * L      # ... and held on it from t = 5
     free, _ = periods(False)
     assert abs(free[0] - rest[0]) > 0.05 * L                 # control: the sample's own box
+
+
+def kilobase_ring(bp, seed, temperature_K=300.0, fields=("internal", "centerline", "directors"), steps=1,
+                  extra=()):
+    """workflows/scenes/dna10k_water.toml (10 bp per point, intrinsically circular, untwisted:
+    Lk0 = 0) at BP base pairs through its --set keys, STEPS Brownian steps of 100 ps, a frame each."""
+    from pathlib import Path
+    import os
+    root = Path(os.environ.get("DNAROD_ROOT", Path(__file__).resolve().parents[2]))
+    length = bp * UNITS.rise_A / UNITS.ell_A
+    dt = 106.20514551
+    return run_scene(root / "workflows/scenes/dna10k_water.toml",
+                     set=[f"rod.length={length}", f"rod.points={bp // 10}",
+                          f"rod.Omega0=[0.0, {2 * math.pi / length!r}, 0.0]", f"thermal.seed={seed}",
+                          f"thermal.temperature_K={temperature_K}", f"output.t_end={steps * dt!r}",
+                          f"output.frames={steps + 1}",
+                          "output.fields=[" + ", ".join(f'"{f}"' for f in fields) + "]", *extra])
+
+
+def ring_gaps(run):
+    """|r_last - r_first| per frame over the grid spacing (1 for a closed ring)."""
+    h = run.s[1] - run.s[0]
+    return np.linalg.norm(run.centerline[:, -1] - run.centerline[:, 0], axis=1) / h
+
+
+@pytest.mark.parametrize("bp", [1000, 10500])
+def test_a_sampled_kilobase_ring_closes_with_an_integer_linking_number(bp):
+    """A ring of 7-71 persistence lengths: its Boltzmann sample is a coil far from the rest
+    circle, beyond the chord steps' linearisation, and is closed by continuation in the sample's
+    amplitude (rodcore/src/thermal.cpp); the Brownian run keeps it closed (Newton projections,
+    rodcore/src/simulation.cpp). Sampled and after each of 3 steps: closed (the last point one
+    spacing from the first), Lk an integer (the ribbon's linking, counted) and Tw + Wr = Lk (twist
+    from the directors, writhe from the centreline) to the discrete twist's second-order error
+    (0.03 at 10.5 kbp). Control: without the run's projections (keep_closure = false) the
+    10.5-kbp ring opens in the first step."""
+    run = kilobase_ring(bp, seed=1, steps=3)
+    note = run.summary["thermal_note"]
+    assert "closure exact" in note and "continuation" in note, note
+    top = rod_topology(run)
+    assert top["closed"]
+    Lk = np.array(top["Lk"])
+    assert np.all(Lk == np.round(Lk))
+    assert np.abs(Lk - np.array(top["Tw"]) - np.array(top["Wr"])).max() < 0.05, top
+    assert abs(top["Wr"][0]) > 0.01                     # a coil in space, not the planar rest circle
+    assert np.abs(ring_gaps(run) - 1).max() < 0.5, ring_gaps(run)
+    if bp == 10500:
+        free = kilobase_ring(bp, seed=1, steps=1, extra=["thermal.keep_closure=false"])
+        assert ring_gaps(free)[1] > 5, ring_gaps(free)
+
+
+def test_a_sampled_ten_kilobase_ring_keeps_equipartition():
+    """The continuation changes the linear sample by long-wave corrections only: the closed
+    10.5-kbp sample's elastic energy is (6 N - 6) kT / 2 (Boltzmann less the six closure
+    constraints) within 4 standard errors (sqrt(3 N) kT per sample), over 3 seeds; control: the
+    same rings against the equipartition of 330 K."""
+    kT = UNITS.kT_to_rod(300.0)
+    E, dof = [], []
+    for seed in (1, 2, 3):
+        run = kilobase_ring(10500, seed, fields=("internal", "energy"))
+        E.append(run.energy[0])
+        dof.append(6 * len(run.s) - 6)
+    ratio = sum(E) / (sum(dof) * kT / 2)
+    se = math.sqrt(2 / sum(dof))
+    assert abs(ratio - 1) < 4 * se, (ratio, se)
+    assert abs(ratio * 300 / 330 - 1) > 4 * se      # control: 330 K

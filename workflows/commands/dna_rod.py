@@ -13,7 +13,8 @@ HELP = "a sequence-dependent DNA rod: per-step file, grid material, closed pre-s
 DESCRIPTION = """\
 Make the rod of a given DNA: its per-step shape and stiffness from a parameter
 set, mapped exactly onto the rod (mdbridge.rod.material.steps_to_rod), put on a
-grid of N = points-per-bp x n_bp points, and its closed, pre-stressed
+grid of N = points-per-bp x n_bp points (or n_bp / bp-per-point coarse
+segments), and its closed, pre-stressed
 equilibrium (frame at L = frame at 0, end-to-end = the box length along the
 helix axis), which is the t = 0 state of the scene. Writes into DIR:
 
@@ -48,6 +49,10 @@ def add_arguments(p):
                         "B-DNA templates (sequence-dependent, no counterions); not for a step file")
     p.add_argument("--points-per-bp", type=validate.integer(min=1), default=1, metavar="M",
                    help="grid points per base pair (1)")
+    p.add_argument("--bp-per-point", type=validate.integer(min=1), default=1, metavar="M",
+                   help="coarse segments: one grid point per M base pairs, the material composed by series "
+                        "compliance along the intrinsic shape (docs/dna-rod.md, 'Coarse segments'; M divides "
+                        "n_bp; 1)")
     p.add_argument("--interpolation", default="trig", choices=("trig", "smooth", "step"),
                    help="per-step values -> grid (docs/scenes.md; default trig)")
     p.add_argument("--space", default="spectral", choices=("spectral", "fd4"),
@@ -91,12 +96,16 @@ def run(args):
         raise InputError(f"{len(seq)} bp x --points-per-bp {args.points_per_bp} = "
                          f"{args.points_per_bp * len(seq)} grid points; the {args.space} solver needs at least "
                          f"{n_min}: give more base pairs or --points-per-bp")
+    if args.bp_per_point > 1 and (len(seq) % args.bp_per_point or len(seq) // args.bp_per_point < n_min):
+        raise InputError(f"--bp-per-point {args.bp_per_point}: must divide the {len(seq)} bp into at least "
+                         f"{n_min} segments (the {args.space} solver's fewest grid points)")
     validate.output_folder(args.output)
     from mdbridge.rod.material.dna_rod import DnaRodRequest, dna_rod
     req = DnaRodRequest(
         sequence=seq, output=args.output, params=args.params, mass=args.mass,
-        points_per_bp=args.points_per_bp, interpolation=args.interpolation, space=args.space,
-        rest=args.rest, shape=args.shape, box_A=args.box_A, kick=args.kick, t_end_ps=args.t_end_ps)
+        points_per_bp=args.points_per_bp, bp_per_point=args.bp_per_point, interpolation=args.interpolation,
+        space=args.space, rest=args.rest, shape=args.shape, box_A=args.box_A, kick=args.kick,
+        t_end_ps=args.t_end_ps)
     info = dna_rod(req, log=lambda text: print(text, file=sys.stderr))
     print(f"dna-rod: rest state tension {info['tension_pN']:.2f} pN, torque {info['torque_pN_nm']:.3f} pN nm, "
           f"statics residual {info['statics_residual']:.2e}, closure {info['closure_rotation_rad']:.2e} rad / "

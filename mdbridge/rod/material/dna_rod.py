@@ -26,6 +26,7 @@ class DnaRodRequest:
     params: str = "olson1998"          # paper | olson1998 | a per-step file STEPS.h5
     mass: str = "paper"                # paper | atoms
     points_per_bp: int = 1
+    bp_per_point: int = 1              # > 1: coarse segments of that many base pairs (coarse.py)
     interpolation: str = "trig"        # trig | smooth | step
     space: str = "spectral"            # spectral | fd4
     rest: str = "closed"               # closed | equilibrium
@@ -51,6 +52,7 @@ def dna_rod(req: DnaRodRequest, log=None) -> dict:
     """Write REQ.output/steps.h5, material.h5, rest.h5, scene.toml and rest.json; returns
     rest.json's content. log(text), if given, hears the stages."""
     from mdbridge.rod.material.closed_rest import closed_rest_state, tension_torque_physical
+    from mdbridge.rod.material.coarse import coarse_material
     from mdbridge.rod.material.gridfile import grid_scene, write_grid_material, write_initial_file
     from mdbridge.rod.material.parameter_sets import step_material
     from mdbridge.rod.material.stepfile import write_steps
@@ -58,12 +60,15 @@ def dna_rod(req: DnaRodRequest, log=None) -> dict:
     from mdbridge.rod.scene import write_scene
     u = Units.paper()
     seq = req.sequence
-    if req.points_per_bp < 1:
-        raise InputError(f"--points-per-bp {req.points_per_bp}: must be >= 1")
+    if req.points_per_bp < 1 or req.bp_per_point < 1:
+        raise InputError(f"--points-per-bp {req.points_per_bp}, --bp-per-point {req.bp_per_point}: must be >= 1")
+    if req.points_per_bp > 1 and req.bp_per_point > 1:
+        raise InputError(f"--points-per-bp {req.points_per_bp} and --bp-per-point {req.bp_per_point}: give one")
     out = Path(req.output)
     out.mkdir(parents=True, exist_ok=True)
     sm = step_material(seq, req.params, closed=True, mass=req.mass)
     rm = rod_material(sm, units=u)
+    rm, turns = coarse_material(rm, req.bp_per_point)
     N = req.points_per_bp * rm.n_bp
     g = grid_material(rm, N, req.interpolation, shape=req.shape)
     L = rm.length
@@ -75,23 +80,25 @@ def dna_rod(req: DnaRodRequest, log=None) -> dict:
         # a per-step file (e.g. `dnarod coarse-grain`'s) carries its own rise: the box is n_bp
         # of its mean rise, so that its rod closes without a hand-set --box-A (3.44 A against
         # the default 3.38 compresses a coarse-grained 21-bp rod until the shooting fails)
-        box = u.length_to_rod(rm.n_bp * float(np.mean(sm.step_params[:, 2])))
+        box = u.length_to_rod(len(seq) * float(np.mean(sm.step_params[:, 2])))
     if log:
-        log(f"dna-rod: {rm.n_bp} bp, {req.params}, N = {N}; closed rest state ...")
+        log(f"dna-rod: {len(seq)} bp, {req.params}, N = {N}; closed rest state ...")
     rest = closed_rest_state(g, L, box_length=box, space=req.space, mode=req.rest)
     write_steps(out / "steps.h5", sm)
     write_grid_material(out / "material.h5", g, source=sm.source,
-                        attrs={"sequence": seq, "interpolation": req.interpolation, "h_A": rm.h_A})
+                        attrs={"sequence": seq, "interpolation": req.interpolation, "h_A": rm.h_A,
+                               "bp_per_point": req.bp_per_point, "turns_dropped": int(turns.sum())})
     gamma = _kicked_gamma(rest, g, L, req.kick, u) if req.kick else None
     write_initial_file(out / "rest.h5", g["s"], rest.Gamma, rest.Omega, gamma=gamma)
     write_scene(out / "scene.toml", grid_scene(L, N, "material.h5", "rest.h5", space=req.space,
                                                t_end_ps=req.t_end_ps, units=u),
-                comment=f"{rm.n_bp}-bp DNA, sequence {seq}\nparameters: {sm.source}\n"
+                comment=f"{len(seq)}-bp DNA, sequence {seq}\nparameters: {sm.source}\n"
                 f"t = 0: the closed, pre-stressed rest state" + (f", kicked with A_v = {req.kick} A/ps"
                                                                     if req.kick else "")
                 + "\nwritten by `dnarod dna-rod` (docs/scenes.md, 'Sequence-dependent DNA')")
     T_pN, M_pNnm = tension_torque_physical(rest, u)
-    info = {"sequence": seq, "params": req.params, "source": sm.source, "n_bp": rm.n_bp, "points": N,
+    info = {"sequence": seq, "params": req.params, "source": sm.source, "n_bp": len(seq), "points": N,
+            "bp_per_point": req.bp_per_point, "turns_dropped": int(turns.sum()),
             "length": L, "box_length": box, "h_A": rm.h_A, "interpolation": req.interpolation, "shape": req.shape,
             "space": req.space, "rest": req.rest, "tension": rest.tension, "torque": rest.torque, "tension_pN": T_pN,
             "torque_pN_nm": M_pNnm, "statics_residual": rest.statics_residual,

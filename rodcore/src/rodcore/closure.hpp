@@ -79,8 +79,12 @@ class ClosureProjector {
   // then `steps` chord-Newton steps, each but the last checked by a sweep
   // (the gap left by the last one is second order in the gap it found and is
   // removed by the next call). Nothing is changed when the gap is below
-  // `tolerance`.
-  Result project(double* y, const RigidMotion& target, int steps = 1, double tolerance = 1e-13);
+  // `tolerance`. relinearise: Newton steps instead, each linearised at the
+  // state the last check swept, stopping once the gap is below `tolerance`
+  // (a long ring, whose defect per step moves its far end by lever arms of
+  // its own size, needs them: docs/thermal.md, "The overdamped rod").
+  Result project(double* y, const RigidMotion& target, int steps = 1, double tolerance = 1e-13,
+                 bool relinearise = false);
 
  private:
   struct Impl;

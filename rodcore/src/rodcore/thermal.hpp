@@ -29,6 +29,7 @@ double kinetic_kT(const double* y, std::size_t N, double h, const MaterialField&
 // What a sample did, for the run's notes and the tests.
 struct ThermalSampleReport {
   int closure_iterations = 0;     // Newton steps that made the holonomy exact (0: linear order only)
+  int closure_stages = 0;         // stages of the continuation in the amplitude (0: chord steps sufficed)
   double closure_residual = 0.0;  // |holonomy - the initial state's| after them (rad and length, max)
   bool closure_exact = false;     // residual at round-off (the nonlinear iteration converged)
   int momentum_constraints = 0;   // 3 + 1 (periodic straight or helical rod) or 3 + 3 (closed ring)
@@ -44,7 +45,10 @@ struct ThermalSampleReport {
 //            period) of y: the strain sample is conditioned on it, exactly
 //            for the linearised rod (projection in the metric K / h), then
 //            made exact for the nonlinear reconstruction by chord-Newton
-//            steps along the same six directions;
+//            steps along the same six directions, or, where those cannot
+//            converge (a ring many persistence lengths long), by continuation
+//            in the sample's amplitude with Newton steps re-linearised at each
+//            trial state (thermal.cpp, close_by_continuation);
 //   momenta  zero linear momentum, and zero angular momentum about the
 //            axis (all three components for a closed ring): the velocity
 //            sample is projected in the mass metric, with the frames of the
