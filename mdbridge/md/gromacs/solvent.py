@@ -199,8 +199,8 @@ def solvate(outdir: Path, gmx: str, dna: Gro, *, ff: ForceField, solvent: Solven
     run_gmx(gmx, ["genion", "-s", "ions.tpr", "-o", "ionised.gro", "-p", "topol.top", "-pname", ff.cation.molecule,
                   "-nname", ff.anion.molecule, "-np", str(ions["n_cation"]), "-nn", str(ions["n_anion"]),
                   "-seed", str(seed % (2**31 - 1) + 1)], d, stdin=f"{water.residue}\n", log_name="gmx_genion.log")
-    for p in ("ions.tpr", "ions_out.mdp", "ions.mdp"):
-        (d / p).unlink(missing_ok=True)
+    for p in ("ions.tpr", "ions_out.mdp", "ions.mdp", *(q.name for q in d.glob("#topol.top.*#"))):
+        (d / p).unlink(missing_ok=True)     # genion's backup of the topology it edited too
     out = read_gro(d / "ionised.gro")
     out.x[:n_dna] = dna.x
     rec["n_water"] = n_water - ions["n_cation"] - ions["n_anion"]
