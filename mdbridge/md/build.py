@@ -41,6 +41,7 @@ from .gromacs.gmx import find_gmx
 from .gromacs.inputs import build_inputs
 from .gromacs.mdp import MdSettings
 from .gromacs.pair_hold import PairHold
+from .gromacs.solvent import Solvent, check_medium, solvent_of
 from .gromacs.rod import (lab_rotation_to_axis, md_length_ps, md_scene, rod_for_md, rod_initial_from_run,
                           rotate_rod, scene_sequence)
 
@@ -78,6 +79,16 @@ class BuildRequest:
     margin_A: float = defaults.MARGIN_A
     gmx: str | None = None
     threads: int = defaults.BUILD_THREADS
+    solvent: str = defaults.SOLVENT
+    salt_mM: float = defaults.SALT_MM
+    axial_tension_pN: float | None = None
+
+    def medium(self) -> Solvent | None:
+        """The solvent (None: vacuum) with the choices that go with it, checked (before any work)."""
+        solvent = solvent_of(self.solvent, self.salt_mM, self.forcefield)
+        check_medium(solvent, axial_tension_pN=self.axial_tension_pN, thermostat=self.thermostat,
+                     axial_pressure=self.axial_pressure)
+        return solvent
 
     def dt(self) -> float:
         return self.dt_ps if self.dt_ps is not None else defaults.default_dt_ps(self.constraints)
@@ -94,7 +105,8 @@ class BuildRequest:
         return MdSettings(dt_ps=dt, constraints=self.constraints, thermostat=self.thermostat,
                           tau_t_ps=self.tau_t_ps, cutoffs=self.cutoffs, lincs_order=self.lincs_order,
                           lincs_iter=self.lincs_iter, temperature_K=self.temperature_K,
-                          nsteps=int(round(md_ps / dt)))
+                          nsteps=int(round(md_ps / dt)), solvated=self.medium() is not None,
+                          axial_tension_pN=self.axial_tension_pN)
 
 
 @dataclass
@@ -116,6 +128,7 @@ def build_md(req: BuildRequest, stages=None, md_rate=None, say=_say) -> tuple[di
     stages(stage, done, total, unit[, rate=]) while the rod run, the minimisation and the
     equilibration run, and has close() (workflows/progress.py Stages); MD_RATE is the rate
     shown for the MD stages. SAY reports each step (default: stderr)."""
+    solvent = req.medium()
     gmx = find_gmx(req.gmx)
     if req.ps is not None and req.ps < 0:
         raise InputError(f"--ps {req.ps}: must be >= 0")
@@ -133,7 +146,7 @@ def build_md(req: BuildRequest, stages=None, md_rate=None, say=_say) -> tuple[di
     seed = req.seed if req.seed is not None else secrets.randbelow(2**31)
     scene, dna = _dna(req, load_scene(req.scene), seed, say)
     run = _rod_run(req, rod_given, md_ps, scene, dna, u, stages, say)
-    rod, box, structure = _place(req, run, md_ps, dna, settings, u)
+    rod, box, structure = _place(req, run, md_ps, dna, settings, u, in_water=solvent is not None)
     built_links = check_structure_links(structure, where=f"{req.scene}: the duplex on the rod's t = 0 frames")
     say(f"box {np.round(box.box_A, 2).tolist()} A; pdb2gmx, junction check, velocities, grompp ...")
     progress = None if stages is None else (lambda stage, done, total, unit: stages(
@@ -145,7 +158,7 @@ def build_md(req: BuildRequest, stages=None, md_rate=None, say=_say) -> tuple[di
                         minimize=req.minimize, gmx=gmx, threads=req.threads,
                         protocol=protocol, equilibrate_ps=req.equilibrate_ps,
                         axial_pressure=req.axial_pressure, progress=progress,
-                        hold_pairs=PairHold() if req.hold_pairs else None,
+                        hold_pairs=PairHold() if req.hold_pairs else None, solvent=solvent,
                         meta={"scene": str(Path(req.scene).resolve()), "turns": dna.turns,
                               "rod_run": str(Path(req.rod).resolve()) if req.rod else "run by build-md",
                               "twist_deg": None if dna.turns is None else 360.0 * dna.turns / dna.bp,
@@ -199,13 +212,17 @@ def _rod_run(req: BuildRequest, rod_given: RodRun | None, md_ps: float, scene: d
     return run
 
 
-def _place(req: BuildRequest, run: RodRun, md_ps: float, dna: _Dna, settings: MdSettings, u: Units):
+def _place(req: BuildRequest, run: RodRun, md_ps: float, dna: _Dna, settings: MdSettings, u: Units,
+           in_water: bool = False):
     """Stage 3: the rod at t = 0 on its base pairs (a sequence-dependent scene's closed shape
-    turned so that its helix axis is lab Y: the box is orthorhombic), the box sized from
-    the rod's excursion over the run, and the duplex built on the rod's frames (its backbone
-    closed: builder/backbone.py)."""
+    turned so that its helix axis is lab Y: the box is orthorhombic; in water every scene's
+    helix axis is turned onto lab Z, the axis that semi-isotropic pressure coupling keeps
+    apart), the box sized from the rod's excursion over the run, and the duplex built on the
+    rod's frames (its backbone closed: builder/backbone.py)."""
     rod, centerline = rod_initial_from_run(run, dna.bp, u)
-    if dna.n_bp_scene is not None:
+    if in_water:
+        rod, centerline = rotate_rod(rod, centerline, lab_rotation_to_axis(run, axis=2))
+    elif dna.n_bp_scene is not None:
         rod, centerline = rotate_rod(rod, centerline, lab_rotation_to_axis(run, axis=1))
     box = plan_box(centerline, rod.origins_A, rod.closure_length_A, rod_run_ps=md_ps,
                    cutoff_A=settings.cutoff_nm * ANGSTROM_PER_NM, margin_A=req.margin_A)

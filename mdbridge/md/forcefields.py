@@ -35,10 +35,17 @@ class Bond:
 
 @dataclass(frozen=True)
 class WaterModel:
-    """A water model of the force field (pdb2gmx -water NAME, NAME.itp in the folder)."""
+    """A water model of the force field (pdb2gmx -water NAME, NAME.itp in the folder);
+    coordinates: the equilibrated water box `gmx solvate -cs` fills a box with (in the
+    GROMACS top folder; spc216.gro serves every 3-site model)."""
     name: str
     residue: str = "SOL"
     atoms: tuple[str, ...] = ("OW", "HW1", "HW2")
+    coordinates: str = "spc216.gro"
+
+    @property
+    def itp(self) -> str:
+        return f"{self.name}.itp"
 
 
 @dataclass(frozen=True)
@@ -68,6 +75,7 @@ class ForceField:
     cation: Ion
     anion: Ion
     phosphate: tuple[str, ...] = ("P", "O1P", "O2P")   # dna.rtp names; [1:] are the non-bridging oxygens
+    ions_itp: str = "ions.itp"                 # the folder's file of the ions' moleculetypes
 
     @property
     def phosphate_oxygens(self) -> tuple[str, ...]:
@@ -127,6 +135,8 @@ AMBER99SB_ILDN = ForceField(
 
 REGISTRY: dict[str, ForceField] = {ff.name: ff for ff in (CHARMM27, AMBER99SB_ILDN)}
 NAMES: tuple[str, ...] = tuple(REGISTRY)
+#: every water model of a registered force field (build-md --solvent offers these and "vacuum")
+WATER_MODELS: tuple[str, ...] = tuple(dict.fromkeys(w for ff in REGISTRY.values() for w in ff.water_models))
 
 #: the force field whose names and geometry the builder's nucleotide templates carry
 BUILDER = CHARMM27

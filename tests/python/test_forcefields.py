@@ -95,6 +95,8 @@ def check(ff: ffs.ForceField, top: Path) -> None:
                 ("moleculetype", "atoms")]
         assert secs[0][0][0] == w.residue
         assert tuple(r[4] for r in secs[1][:len(w.atoms)]) == w.atoms and all(r[3] == w.residue for r in secs[1])
+        assert (top / w.coordinates).is_file(), f"{ff.name}: no water box {w.coordinates} for {w.name}"
+    assert (folder / ff.ions_itp).is_file()
     # ions: molecule, residue, atom name, type and charge as ions.itp has them
     mols = _molecules(folder / "ions.itp")
     for ion in (ff.cation, ff.anion):

@@ -38,6 +38,9 @@ Examples:
   dnarod dna-rod --random 21 --seed 1 --params olson1998 -o rod21 && dnarod build-md rod21/scene.toml -o md21s
   dnarod build-md workflows/scenes/dna21.toml -o md21 --temperature 0 --ps 5
   dnarod build-md workflows/scenes/dna158.toml -o md158n --electrostatics neutral-phosphates --minimize
+  dnarod build-md workflows/scenes/dna21.toml -o md21w --solvent tip3p --salt-mM 150 --minimize
+  dnarod build-md workflows/scenes/dna21.toml -o md21t --solvent tip3p --salt-mM 150 --minimize \
+      --thermostat --axial-tension-pN 30
 """
 
 
@@ -45,6 +48,7 @@ def add_arguments(p):
     from mdbridge.md.gromacs import defaults as d
     from mdbridge.md.gromacs.charges import ELECTROSTATICS
     from mdbridge.md.gromacs.mdp import CUTOFFS
+    from mdbridge.md.gromacs.solvent import SOLVENTS
     from mdbridge.md.gromacs.topology import FORCEFIELDS
     p.add_argument("scene", metavar="SCENE.toml", help="rod scene: [initial] kind = \"dna_planar\" (uniform "
                    "paper DNA), or a sequence-dependent scene of `dnarod dna-rod` (its DNA is built)")
@@ -99,6 +103,17 @@ def add_arguments(p):
                    help="keep the Watson-Crick pairs closed: flat-bottomed restraints on their H-bond "
                         "distances, no force below 3.3 A, no exclusions added (docs/md.md: the intact "
                         "duplex); the full-charge run without it is the paper's setting")
+    p.add_argument("--solvent", choices=SOLVENTS, default=d.SOLVENT,
+                   help="vacuum (the paper's setting, default) or a water model of the force field: water "
+                        "(gmx solvate), neutralising counterions and --salt-mM of salt (gmx genion, the force "
+                        "field's ions), PME; the helix axis on the box's z (docs/md.md, DNA in water)")
+    p.add_argument("--salt-mM", dest="salt_mM", type=validate.finite(min=0), default=d.SALT_MM, metavar="C",
+                   help="salt (the force field's Na+/Cl-) on top of the counterions, mM of the water's volume "
+                        f"({d.SALT_MM:g}; needs --solvent)")
+    p.add_argument("--axial-tension-pN", dest="axial_tension_pN", type=validate.finite(), default=None,
+                   metavar="T", help="hold the duplex at tension T (pN) in water: semi-isotropic C-rescale, 1 bar "
+                   "across and ref_p_z = 1 - 10 T / A_xy[nm^2] bar (needs --solvent and --thermostat; default: "
+                   "a fixed box)")
     p.add_argument("--minimize", action="store_true",
                    help="restrained steepest descent (base heavy atoms held) before velocities")
     p.add_argument("--margin", type=validate.finite(min=0), default=d.MARGIN_A,
@@ -131,7 +146,9 @@ def run(args):
         constraints=args.constraints, cutoffs=args.cutoffs, lincs_order=args.lincs_order,
         lincs_iter=args.lincs_iter, thermostat=args.thermostat, tau_t_ps=args.tau_t_ps,
         protocol=args.protocol, equilibrate_ps=args.equilibrate_ps, axial_pressure=args.axial_pressure,
-        hold_pairs=args.hold_pairs, minimize=args.minimize, margin_A=args.margin, gmx=args.gmx, threads=args.threads)
+        hold_pairs=args.hold_pairs, minimize=args.minimize, margin_A=args.margin, gmx=args.gmx, threads=args.threads,
+        solvent=args.solvent, salt_mM=args.salt_mM, axial_tension_pN=args.axial_tension_pN)
+    request.medium()    # the solvent's choices, before any work (exit 2)
     # built beside DIR and moved in on success: a failed rebuild leaves DIR's build intact
     with written_on_success(args.output, last="build.json", stale=("build.json", "md.done", "checks.json")) as tmp:
         request.output = str(tmp)

@@ -125,6 +125,10 @@ def md_matched(traj, universe, md_dir: Path, scene: dict, units: Units | None = 
     try:
         if gmx is None:
             raise InputError("gmx not on PATH")
+        if (Path(md_dir) / "build.json").is_file() and \
+                json.loads((Path(md_dir) / "build.json").read_text()).get("solvent"):
+            # the vacuum formula below would read the water's pressure as a tension
+            raise InputError("a run in water: its tension is mdbridge/md/gromacs/tension.py tension_series's")
         t, P = md_pressure_axis(Path(md_dir), ax, gmx)
         out.update(tension_summary(md_tension_pN(P, area)))
         out["tension_source"] = (f"F = -<P_{'xyz'[ax] * 2}> x A (box cross-section {area:.4g} A^2), "

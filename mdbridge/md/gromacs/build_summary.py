@@ -28,6 +28,18 @@ from mdbridge.md.gromacs import defaults
 FRAMES_LIMIT = {"max_origin_A": 0.1, "max_angle_deg": 1.0}
 
 
+def _solvent_line(w: dict, md: dict) -> str:
+    """In water: what surrounds the DNA and the checks of solvent_checks.py."""
+    c = w["checks"]
+    tension = ("fixed box" if md.get("axial_tension_pN") is None else
+               f"axial tension {md['axial_tension_pN']:g} pN (semi-isotropic C-rescale)")
+    return (f"in water: {w['n_water']} {w['model']}, {w['ions']['n_cation']} {w['cation']} + {w['ions']['n_anion']} "
+            f"{w['anion']} ({c['ion_counts']['salt_realised_mM']:.0f} mM salt in {c['ion_counts']['water_volume_nm3']:.0f}"
+            f" nm^3 of water), {w['n_atoms']} atoms, total charge {c['total_charge']['total_charge_e']:+.3f} e, "
+            f"{w['n_water_removed_inside_duplex']} waters removed from the duplex, none left within 2.5 A of a base "
+            f"ring; the DNA's topology is the vacuum build's, its atoms first; PME, {tension}")
+
+
 def summary_lines(info: dict, built_links_A, temperature_K: float) -> list[str]:
     """The lines of build-md's summary from build.json's content (INFO) and the O3'-P
     lengths of the duplex as built (backbone.check_structure_links); a DnarodError when
@@ -36,6 +48,8 @@ def summary_lines(info: dict, built_links_A, temperature_K: float) -> list[str]:
     n_terms = sum(r["junction_total"] for r in info["junctions"])
     lines.append(f"{info['n_atoms']} atoms, charge {info['total_charge_e']:+g} e; {n_terms} junction terms "
                  "verified (each strand's junction carries exactly an interior step's bonded terms)")
+    if info.get("solvent"):
+        lines.append(_solvent_line(info["solvent"], info["md_settings"]))
     d = np.asarray(built_links_A, dtype=float)
     lo, hi = LINK_RANGE_A
     js = info["junction_O3P_t0_A"]

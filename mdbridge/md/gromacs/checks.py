@@ -148,12 +148,17 @@ class DuplexFrameChecks(AnalysisBase):
     hbond_distance_A (T, m), every Watson-Crick H-bond's distance (mdbridge/md/integrity.py
     hbond_atoms); `pair_distance_A` is its N1-N3 slot (T, n_bp)."""
 
-    def __init__(self, universe, n_bp: int, axis: int):
+    def __init__(self, universe, n_bp: int, axis: int, n_dna_atoms: int | None = None):
         super().__init__(UniverseFrames(universe))
         self.universe, self.n_bp, self.axis = universe, n_bp, axis
-        self._resid = universe.atoms.resids
-        self._names = list(universe.atoms.names)
-        residue = {int(r.resid): r for r in universe.residues}
+        # the duplex's atoms (the first ones; in water the solvent follows and fills the box)
+        self._dna = slice(0, n_dna_atoms)
+        dna = universe.atoms[self._dna]
+        self._resid = dna.resids
+        self._names = list(dna.names)
+        # the DNA's residues only: a GRO file's residue numbers wrap at 100000, so in a large
+        # water box solvent residues take the DNA's numbers again
+        residue = {int(r.resid): r for r in dna.residues}
         self.pairs = [(residue[i], residue[j]) for i, j in base_pairs(n_bp)]
         self._hb = hbond_atoms(self.pairs)
 
@@ -166,9 +171,9 @@ class DuplexFrameChecks(AnalysisBase):
         u, r, k = self.universe, self.results, self._frame_index
         x = u.atoms.positions.astype(float)
         box = u.dimensions[:3].astype(float)
-        r.side_image_A[k] = min_side_image_distance(x, box, self.axis)
+        r.side_image_A[k] = min_side_image_distance(x[self._dna], box, self.axis)
         r.hbond_distance_A[k] = pair_distances(self._hb[0].positions, self._hb[1].positions, u.dimensions)
-        r.links.append(o3p_links(x / NM, self._resid, self._names, self.n_bp, box / NM))
+        r.links.append(o3p_links(x[self._dna] / NM, self._resid, self._names, self.n_bp, box / NM))
 
     def _conclude(self):
         self.results.pair_distance_A = self.results.hbond_distance_A[:, n1_n3_columns(self._hb[2], self._hb[3])]
@@ -196,7 +201,8 @@ def write_checks(directory: Path, *, gmx: str) -> dict:
     n = int(build["n_bp"])
     axis = int(build["box"]["axis"])
     u = mda.Universe(str(d / "conf.gro"), str(d / "md.xtc"))
-    per_frame = DuplexFrameChecks(u, n, axis).run()
+    # build.json "n_atoms" counts the DNA's atoms (in water, the first ones of conf.gro)
+    per_frame = DuplexFrameChecks(u, n, axis, int(build["n_atoms"]) if build.get("solvent") else None).run()
     times, links, side = per_frame.times_ps, per_frame.results.links, per_frame.results.side_image_A
     dist = per_frame.results.pair_distance_A
     junction = {}
@@ -231,6 +237,11 @@ def write_checks(directory: Path, *, gmx: str) -> dict:
         # which start every number of this run comes from (equilibrate.py)
         "protocol": build.get("protocol", "paper"),
         "equilibration": build.get("equilibration"),
+        # in water: the build's checks of the solvent (solvent_checks.py) and the pressure setting
+        "solvent": None if not build.get("solvent") else {
+            "model": build["solvent"]["model"], "salt_mM": build["solvent"]["salt_mM"],
+            "axial_tension_pN": build["md_settings"].get("axial_tension_pN"),
+            "build_checks": build["solvent"].get("checks")},
         "side_image": {"min_distance_A": float(min(side)), "cutoff_A": cutoff_A,
                        "ok": bool(min(side) > cutoff_A),
                        "per_frame_A": [float(x) for x in side]},

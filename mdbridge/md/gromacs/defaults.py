@@ -31,6 +31,14 @@ COMMAND_CUTOFFS = "smooth"           # build-md: potential and force vanish at t
 TAU_T_PS = 1.0                       # v-rescale coupling time when a thermostat is asked for
 OUTPUT_PS = 1.0                      # coordinates and energies every OUTPUT_PS
 
+# water (build-md --solvent; solvent.py, mdp.py)
+SOLVENT = "vacuum"                   # the paper's setting
+SALT_MM = 0.0                        # salt on top of the neutralising counterions, mM
+PME_FOURIER_SPACING_NM = 0.12        # GROMACS's default grid spacing
+LATERAL_PRESSURE_BAR = 1.0           # across the helix axis (and along it at zero tension)
+WATER_COMPRESSIBILITY_PER_BAR = 4.5e-5   # the barostat's time scale only: C-rescale samples the right ensemble
+TAU_P_PS = 2.0                       # C-rescale coupling time
+
 # the build (build-md)
 MD_PS = 600.0                        # the MD length the box is sized for (the paper's run)
 EQUILIBRATE_PS = 20.0                # the v-rescale stage of the "equilibrated" protocol

@@ -4,14 +4,17 @@ Order matters and is the reason for this module:
 1. the builder's whole (unwrapped) duplex, moved into the box planned from the rod;
 2. pdb2gmx with ring closure (topology.py), then the junction check (junction.py):
    a build whose strands are not closed exactly like an interior step stops here;
-3. electrostatics variant (charges.py), base restraints (posres.py) and, if asked, the
-   Watson-Crick pairs held closed (pair_hold.py);
+3. electrostatics variant (charges.py), base restraints (posres.py): the DNA's topology,
+   the same in vacuum and in water; then, in water, the solvent and ions after the DNA
+   (solvent.py), and, if asked, the Watson-Crick pairs held closed (pair_hold.py);
 4. optional restrained minimisation (em.mdp), unwrapped against the input;
 5. velocities LAST, on the final coordinates: thermal + rod rigid-body field;
-6. a grompp run on md.mdp proves the inputs are accepted before anyone waits on them.
+6. a grompp run on md.mdp proves the inputs are accepted before anyone waits on them;
+   in water its run input also gives the checks of solvent_checks.py.
 """
 from __future__ import annotations
 
+import dataclasses
 import json
 import platform
 import warnings
@@ -34,6 +37,9 @@ from .equilibrate import check_protocol, equilibrate
 from .mdp import MdSettings, render_em, render_md, read_mdp_value
 from .pair_hold import PairHold, add_pair_hold
 from .rod import RodInitial
+from .solvent import Solvent, check_medium, solvate
+from .solvent_checks import (dna_first_check, file_digests, ion_count_check, total_charge_check,
+                             water_in_duplex_check)
 from .topology import parse_itp, run_pdb2gmx, write_pdb2gmx_input
 from .tpr_dump import dump_tpr
 from .velocities import (base_pair_of_residue, kinetic_temperature, rigid_body_velocities,
@@ -101,7 +107,7 @@ def build_inputs(outdir: Path, structure, rod: RodInitial, box: BoxPlan, *, sequ
                  threads: int = 1, protocol: str = "paper", equilibrate_ps: float = defaults.EQUILIBRATE_PS,
                  axial_pressure: bool = False, meta: dict | None = None, progress=None,
                  description: str = "periodic duplex", lb_nm: float | None = None,
-                 hold_pairs: PairHold | None = None) -> dict:
+                 hold_pairs: PairHold | None = None, solvent: Solvent | None = None) -> dict:
     """Write every MD input into OUTDIR and return the content of build.json.
     gmx: as find_gmx (the given path, else $DNAROD_GMX, else the project's build, else PATH).
 
@@ -112,34 +118,37 @@ def build_inputs(outdir: Path, structure, rod: RodInitial, box: BoxPlan, *, sequ
     minimisation ("minimisation", steps) and the equilibration ("equilibration", ps) run
     (workflows/progress.py, Stages, draws it).
     hold_pairs: flat-bottomed restraints keep the Watson-Crick pairs closed (pair_hold.py);
-    they act in the minimisation, the equilibration and the run alike."""
+    they act in the minimisation, the equilibration and the run alike.
+    solvent: water and ions around the duplex (solvent.py), PME; settings.axial_tension_pN
+    then holds the duplex at that tension (the helix axis must be the box's z)."""
     gmx = find_gmx(gmx)
     outdir = Path(outdir)
     outdir.mkdir(parents=True, exist_ok=True)
     for stale in ("build.json", "md.done", "checks.json"):
         (outdir / stale).unlink(missing_ok=True)
-    settings = settings or MdSettings()
+    md = _medium_settings(settings or MdSettings(), solvent, box, axial_pressure)
     _check_choices(protocol, temperature_K, equilibrate_ps, axial_pressure, len(sequence), rod.n_bp)
     n = rod.n_bp
     shift = np.asarray(box.shift_A, float)
     box_nm = np.asarray(box.box_A, float) / NM
 
     top = _topology(outdir, gmx, structure, shift, box_nm, forcefield, electrostatics, lb_nm)     # 1-3
+    g, masses, water = _solvate(outdir, gmx, top, box_nm, md, forcefield, solvent, seed)
     held = None if hold_pairs is None else add_pair_hold(outdir / "topol.top", top.mols, n, hold_pairs)
-    g = top.gro
-    (outdir / "em.mdp").write_text(render_em(settings))
-    (outdir / "md.mdp").write_text(render_md(settings))
-    x_nm, em = g.x.copy(), None
-    if minimize:                                                                            # 4
-        x_nm, em = _minimise(outdir, gmx, g, box_nm, n, threads, progress)
+    (outdir / "em.mdp").write_text(render_em(md))
+    (outdir / "md.mdp").write_text(render_md(md))
+    x_nm, em = _minimise(outdir, gmx, g, box_nm, n, threads, progress) if minimize else (g.x.copy(), None)  # 4
     x_nm, box_nm, v_th, eq = _thermal_velocities(                                           # 5
-        outdir, gmx, settings, top, x_nm, box_nm, protocol=protocol, temperature_K=temperature_K, seed=seed,
-        equilibrate_ps=equilibrate_ps, axis=box.axis, axial_pressure=axial_pressure, threads=threads,
+        outdir, gmx, md, g, masses, x_nm, box_nm, protocol=protocol, temperature_K=temperature_K,
+        seed=seed, equilibrate_ps=equilibrate_ps, axis=box.axis, axial_pressure=axial_pressure, threads=threads,
         progress=progress)
-    v_rod = _write_conf(outdir, g, x_nm, v_th, box_nm, rod, shift,
-                        f"dnarod {description} {n} bp, {forcefield}, T={temperature_K} K, seed={seed}")
-    contact, frames_t0, links = _t0_checks(outdir, top, x_nm, box_nm, rod, shift, box.box_A)
-    junction_run_input = _grompp_check(outdir, gmx)                                        # 6
+    v_rod = _write_conf(outdir, g, x_nm, v_th, box_nm, rod, shift, top.gro.n_atoms,
+                        f"dnarod {description} {n} bp, {forcefield}, "
+                        f"{'vacuum' if solvent is None else solvent.model}, T={temperature_K} K, seed={seed}")
+    contact, frames_t0, links = _t0_checks(outdir, top, x_nm[:top.gro.n_atoms], box_nm, rod, shift, box.box_A)
+    junction_run_input, charge = _grompp_check(outdir, gmx, [m.name for m in top.mols])      # 6
+    if water is not None:
+        water["checks"] = _solvent_checks(outdir, top, water, charge, forcefield)
 
     info = {
         "sequence": sequence, "n_bp": n, "seed": seed, "temperature_K": temperature_K,
@@ -147,16 +156,17 @@ def build_inputs(outdir: Path, structure, rod: RodInitial, box: BoxPlan, *, sequ
         "pair_hold": held,
         "electrostatics_doc": charges.__doc__.strip(),
         **_charge_record(top),
+        "solvent": water,
         "units": Units.paper().as_dict(),
         "box": box.as_dict(), "box_nm": box_nm.tolist(),
-        "md_settings": settings.as_dict(),
+        "md_settings": md.as_dict(),
         "junctions": top.junctions,
         "junction_run_input": junction_run_input,
         "junction_O3P_t0_A": {s: {"junction": float(d["junction_A"]), "interior_min": float(d["interior_A"].min()),
                                   "interior_max": float(d["interior_A"].max())} for s, d in links.items()},
         "frames_t0_vs_rod": frames_t0,
         "closest_nonbonded_contact": contact,
-        "velocities": _velocity_record(top.masses, v_th, v_rod, temperature_K, equilibrated=eq is not None),
+        "velocities": _velocity_record(masses, v_th, v_rod, temperature_K, equilibrated=eq is not None),
         "minimization": em,
         "protocol": protocol,
         "protocol_doc": PROTOCOL_DOC,
@@ -254,13 +264,12 @@ def _minimise(outdir: Path, gmx, g: Gro, box_nm, n_bp: int, threads: int, progre
     return x_em, em
 
 
-def _thermal_velocities(outdir: Path, gmx, settings, top: _Topology, x_nm, box_nm, *, protocol,
+def _thermal_velocities(outdir: Path, gmx, settings, g: Gro, masses, x_nm, box_nm, *, protocol,
                         temperature_K, seed, equilibrate_ps, axis, axial_pressure, threads, progress):
     """Step 5a, the thermal part of the velocities: fresh Maxwell-Boltzmann ones (protocol
     "paper"), or those at the end of a thermostatted stage (protocol "equilibrated", which
     also moves the atoms and, with the axial barostat, the box). Returns (x_nm, box_nm,
     v_thermal, the equilibration's build.json record or None)."""
-    g, masses = top.gro, top.masses
     if protocol != "equilibrated":
         return x_nm, box_nm, thermal_velocities(masses, temperature_K, seed), None
     write_gro(outdir / "eq_in.gro", Gro("dnarod: before equilibration", g.resid, g.resname,
@@ -279,13 +288,15 @@ def _thermal_velocities(outdir: Path, gmx, settings, top: _Topology, x_nm, box_n
     return x_nm, box_nm, g_eq.v, eq
 
 
-def _write_conf(outdir: Path, g: Gro, x_nm, v_th, box_nm, rod: RodInitial, shift, title: str):
+def _write_conf(outdir: Path, g: Gro, x_nm, v_th, box_nm, rod: RodInitial, shift, n_dna: int, title: str):
     """Step 5b, velocities LAST on the final coordinates: thermal + for every atom of base
-    pair i the rod cross-section's rigid-body velocity; writes conf.gro and
-    velocities_rod.npy and returns the rod part."""
-    bp = base_pair_of_residue(g.resid, rod.n_bp)
-    v_rod = rigid_body_velocities(x_nm * NM, bp, rod.origins_A + shift, rod.gamma_lab_A_ps,
-                                  rod.omega_lab_rad_ps)
+    pair i the rod cross-section's rigid-body velocity (the first N_DNA atoms; water and
+    ions get none: the rod's motion is the DNA's); writes conf.gro and velocities_rod.npy
+    and returns the rod part."""
+    bp = base_pair_of_residue(g.resid[:n_dna], rod.n_bp)
+    v_rod = np.zeros_like(x_nm)
+    v_rod[:n_dna] = rigid_body_velocities(x_nm[:n_dna] * NM, bp, rod.origins_A + shift, rod.gamma_lab_A_ps,
+                                          rod.omega_lab_rad_ps)
     write_gro(outdir / "conf.gro", Gro(title, g.resid, g.resname, g.name, x_nm, v_th + v_rod, box_nm))
     np.save(outdir / "velocities_rod.npy", v_rod)
     return v_rod
@@ -307,15 +318,19 @@ def _t0_checks(outdir: Path, top: _Topology, x_nm, box_nm, rod: RodInitial, shif
     return contact, frames_t0, links
 
 
-def _grompp_check(outdir: Path, gmx) -> list[dict]:
+def _grompp_check(outdir: Path, gmx, dna_molecules: list[str]) -> tuple[list[dict], dict]:
     """Step 6: grompp proves the inputs are accepted, and the run input it makes shows the
     ligation junction equal, in everything mdrun computes, to the interior steps with the
-    same bases (junction.py junction_parameters; its outputs are not kept)."""
+    same bases (junction.py junction_parameters, on the DNA's molecules; its outputs are not
+    kept). Returns that report and the run input's total charge (solvent_checks.py)."""
     run_gmx(gmx, ["grompp", "-f", "md.mdp", "-c", "conf.gro", "-p", "topol.top", "-o",
                   "grompp_check.tpr", "-po", "grompp_check.mdp", "-maxwarn", "0"], outdir,
             log_name="gmx_grompp_check.log")
     try:
-        report = junction_parameters(dump_tpr(gmx, outdir / "grompp_check.tpr"))
+        dump = dump_tpr(gmx, outdir / "grompp_check.tpr")
+        dump.moltypes = [m for m in dump.moltypes if m.name in dna_molecules]
+        report = junction_parameters(dump)
+        charge = total_charge_check(outdir / "grompp_check.tpr")
     finally:
         for p in ("grompp_check.tpr", "grompp_check.mdp"):
             (outdir / p).unlink(missing_ok=True)
@@ -323,7 +338,76 @@ def _grompp_check(outdir: Path, gmx) -> list[dict]:
     if bad:
         raise DnarodError(f"{outdir}: the ligation junction differs from interior steps with the same "
                           f"bases in the run input: {json.dumps(bad)}")
-    return report
+    return report, charge
+
+
+def _medium_settings(settings: MdSettings, solvent: Solvent | None, box: BoxPlan, axial_pressure: bool):
+    """The settings in the build's medium: PME in water; an axial tension (solvent.py
+    check_medium) needs the helix on the box's z (semi-isotropic coupling keeps x and y
+    together) and gets the box's cross-section for its reference pressure."""
+    check_medium(solvent, axial_tension_pN=settings.axial_tension_pN, thermostat=settings.thermostat,
+                 axial_pressure=axial_pressure)
+    if solvent is None:
+        return dataclasses.replace(settings, solvated=False)
+    if settings.axial_tension_pN is None:
+        return dataclasses.replace(settings, solvated=True)
+    if box.axis != 2:
+        raise InputError(f"--axial-tension-pN: the helix axis must be the box's z (semi-isotropic pressure "
+                         f"coupling), it is {'xyz'[box.axis] if box.axis is not None else 'none'}")
+    area = float(box.box_A[0] * box.box_A[1]) / NM ** 2
+    return dataclasses.replace(settings, solvated=True, lateral_area_nm2=area)
+
+
+def _solvate(outdir: Path, gmx, top: _Topology, box_nm, settings: MdSettings, forcefield: str,
+             solvent: Solvent | None, seed: int) -> tuple[Gro, np.ndarray, dict | None]:
+    """Step 3b: water and ions after the DNA (solvent.py); returns the solvated structure,
+    every atom's mass (from a run input grompp makes of it) and build.json's "solvent"
+    record, with the digests of the DNA's .itp files as the vacuum build has them. In
+    vacuum: the DNA, its masses and None."""
+    if solvent is None:
+        return top.gro, top.masses, None
+    import MDAnalysis as mda
+    from ..forcefields import forcefield as registered
+    ff = registered(forcefield)
+    digests = file_digests(top.itps)
+    charge = float(sum(m.charge.sum() for m in top.mols))
+    vacuum = render_md(dataclasses.replace(settings, solvated=False, axial_tension_pN=None))
+    dna = dataclasses.replace(top.gro, box=np.asarray(box_nm, float))   # the planned box, not pdb2gmx's
+    g, rec = solvate(outdir, gmx, dna, ff=ff, solvent=solvent, charge_e=charge, ions_mdp=vacuum, seed=seed)
+    write_gro(outdir / "solvated_ions.gro", g)
+    (outdir / "masses.mdp").write_text(vacuum)
+    run_gmx(gmx, ["grompp", "-f", "masses.mdp", "-c", "solvated_ions.gro", "-p", "topol.top", "-o", "masses.tpr",
+                  "-po", "masses_out.mdp", "-maxwarn", "0"], outdir, log_name="gmx_grompp_masses.log")
+    with warnings.catch_warnings():     # a .tpr read for its topology only: no coordinates wanted
+        warnings.simplefilter("ignore", UserWarning)
+        masses = np.asarray(mda.Universe(str(outdir / "masses.tpr")).atoms.masses, float)
+    for p in ("masses.tpr", "masses_out.mdp", "masses.mdp"):
+        (outdir / p).unlink(missing_ok=True)
+    rec["dna_itp_sha256"] = digests
+    rec["n_atoms"] = int(g.n_atoms)
+    return g, masses, rec
+
+
+def _solvent_checks(outdir: Path, top: _Topology, water: dict, charge: dict, forcefield: str) -> dict:
+    """build.json "solvent.checks" (solvent_checks.py) on the final conf.gro and run input."""
+    from ..forcefields import forcefield as registered
+    ff = registered(forcefield)
+    conf = read_gro(outdir / "conf.gro")
+    w = ff.water(water["model"])
+    checks: dict = {
+        "total_charge": charge,
+        "ion_counts": ion_count_check(conf, water, cation=ff.cation.residue, anion=ff.anion.residue,
+                                      salt_mM=water["salt_mM"]),
+        "water_in_duplex": water_in_duplex_check(conf, w.residue),
+        "dna_topology": dna_first_check(outdir / "topol.top", conf, top.gro, [m.name for m in top.mols],
+                                        water["dna_itp_sha256"], {w.residue, ff.cation.molecule, ff.anion.molecule},
+                                        {w.residue, ff.cation.residue, ff.anion.residue}),
+    }
+    checks["ok"] = all(c["ok"] for c in checks.values())
+    if not checks["ok"]:
+        raise DnarodError(f"{outdir}: a check of the solvated build failed: "
+                          + json.dumps({k: v for k, v in checks.items() if k != "ok" and not v["ok"]})[:3000])
+    return checks
 
 
 def _charge_record(top: _Topology) -> dict:

@@ -5,6 +5,7 @@ cut off at 10 A, NVE, strands ligated across the periodic boundary. Choices
 that the paper leaves open are explained where they are made."""
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import asdict, dataclass
 
@@ -34,6 +35,15 @@ class MdSettings:
     # True: the ligated duplex, bonded to its own periodic image; False: a molecule closed
     # in space (a minicircle) in a box large enough that it never meets its images
     periodic_molecules: bool = True
+    # water and ions around the duplex (solvent.py): PME electrostatics instead of the cut-off
+    # Coulomb of the paper's vacuum; the vdW treatment stays the `cutoffs` one
+    solvated: bool = False
+    # None: a fixed box. A tension (pN) along the helix axis (box z): semi-isotropic C-rescale
+    # at 1 bar across and ref_p_z = 1 - 10 T / A (tension.py ref_p_axis_bar), A the box's
+    # cross-section at the build (lateral_area_nm2)
+    axial_tension_pN: float | None = None
+    lateral_area_nm2: float = 0.0
+    tau_p_ps: float = defaults.TAU_P_PS
 
     def steps_per(self, ps: float) -> int:
         return max(1, int(round(ps / self.dt_ps)))
@@ -51,7 +61,22 @@ def rlist_nm(s: MdSettings) -> float:
     return SMOOTH_RLIST_NM if s.cutoffs == "smooth" else s.cutoff_nm + 0.1
 
 
+def _pme_lines(s: MdSettings, vdw: list[str]) -> list[str]:
+    return [
+        "; water and counterions: the system is neutral, so long-range electrostatics by PME",
+        "coulombtype             = PME",
+        f"rcoulomb                = {s.cutoff_nm}",
+        f"epsilon-r               = {s.epsilon_r}",
+        f"fourierspacing          = {defaults.PME_FOURIER_SPACING_NM}",
+        "pme-order               = 4",
+        "ewald-rtol              = 1e-5",
+    ] + vdw
+
+
 def _cutoff_lines(s: MdSettings) -> list[str]:
+    if s.solvated and s.cutoffs in CUTOFFS:
+        return _pme_lines(s, [ln for ln in _cutoff_lines(dataclasses.replace(s, solvated=False))
+                              if ln.startswith(("vdw", "rvdw"))])
     if s.cutoffs == "paper":
         return [
             "; plain cut-off Coulomb (paper: 10 A cut-off, no long-range electrostatics).",
@@ -82,8 +107,9 @@ def _cutoff_lines(s: MdSettings) -> list[str]:
 
 
 def _common(s: MdSettings) -> list[str]:
+    medium = "water and ions" if s.solvated else "vacuum"
     return [
-        "; vacuum, periodic in x, y, z; the strands are bonded to their own periodic image"
+        f"; {medium}, periodic in x, y, z; the strands are bonded to their own periodic image"
         if s.periodic_molecules else
         "; vacuum, periodic in x, y, z; the ring is closed in space and the box keeps its images out of reach",
         "pbc                     = xyz",
@@ -134,8 +160,28 @@ def render_md(s: MdSettings) -> str:
                   f"tau-t                   = {s.tau_t_ps}", f"ref-t                   = {s.temperature_K}"]
     else:
         lines += ["tcoupl                  = no"]
-    lines += ["pcoupl                  = no"]
+    lines += pressure_lines(s)
     return "\n".join(lines) + "\n"
+
+
+def pressure_lines(s: MdSettings) -> list[str]:
+    """A fixed box, or the axial tension's barostat: semi-isotropic C-rescale (GROMACS >= 2021;
+    it samples the isothermal-isobaric ensemble and its box fluctuations, which carry the
+    q = 0 stretch; Berendsen suppresses them; anisotropic C-rescale is not in GROMACS 2022,
+    hence the helix on z), 1 bar across, ref_p_z from the tension (tension.py)."""
+    if s.axial_tension_pN is None:
+        return ["pcoupl                  = no"]
+    from .tension import ref_p_axis_bar
+    p_z = ref_p_axis_bar(s.axial_tension_pN, s.lateral_area_nm2)
+    return [
+        f"; axial tension {s.axial_tension_pN:g} pN: P_zz = P_xy - T / A_xy with A_xy = {s.lateral_area_nm2:.4f} nm^2",
+        "pcoupl                  = C-rescale",
+        "pcoupltype              = semiisotropic",
+        f"tau-p                   = {s.tau_p_ps}",
+        f"compressibility         = {defaults.WATER_COMPRESSIBILITY_PER_BAR} {defaults.WATER_COMPRESSIBILITY_PER_BAR}",
+        f"ref-p                   = {defaults.LATERAL_PRESSURE_BAR} {p_z:.6f}",
+        "refcoord-scaling        = com",
+    ]
 
 
 def render_em(s: MdSettings, *, posres_define: str = "-DPOSRES_BASES", nsteps: int = 5000,

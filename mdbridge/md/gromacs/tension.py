@@ -1,16 +1,23 @@
 """Axial tension of the periodic, ligated duplex from a GROMACS energy file, and a box
 stretched along the helix axis (for measuring the tension at another length).
 
-Tension: F(t) = -P_aa(t) A(t), P_aa the pressure-tensor component along the helix axis
-(box axis a, the axis of `build.json: box.axis`) and A the box cross-section normal to it,
-both per energy frame (so a run with the axis-only barostat is measured too). The
-conversion and the sign are `md_tension_pN`'s (below): F > 0 is
-tension (the duplex pulls the box faces together, a negative axial pressure), in pN;
-1 bar over 1 nm^2 is 0.1 pN. In vacuum P_aa holds the kinetic term of the atoms too, so
-F is the thermodynamic force -dA_free/dL of the periodic duplex at box length L (what the
-barostat of `equilibrate.py` brings to zero). The error of its time mean is the blocking
-standard error (`mdbridge.stats.block_sem`). Validated against the box's own zero-tension length
-and the coarse-grained stretch modulus in docs/md.md ("Tension: validation on 21 bp")."""
+Tension, one formula per setting (`md_tension_pN`, the one home):
+- vacuum: F(t) = -P_aa(t) A(t), P_aa the pressure-tensor component along the helix axis
+  (box axis a, the axis of `build.json: box.axis`) and A the box cross-section normal to it,
+  both per energy frame (so a run with the axis-only barostat is measured too). In vacuum
+  P_aa holds the kinetic term of the atoms too, so F is the thermodynamic force -dA_free/dL
+  of the periodic duplex at box length L (what the barostat of `equilibrate.py` brings to
+  zero);
+- in water (build.json "solvent" set): F(t) = (P_perp(t) - P_aa(t)) A(t), P_perp the mean of
+  the two components across the axis: the water's own pressure acts on every face alike and
+  only the excess stress along the axis is the duplex's (the vacuum formula would read the
+  1 bar of the water as ~2.5 pN on a 25-nm^2 box).
+F > 0 is tension (the duplex pulls the box faces together, a negative axial pressure), in
+pN; 1 bar over 1 nm^2 is 0.1 pN. The barostat that holds a tension T (mdp.py
+pressure_lines) targets the same formula: P_aa = P_perp - T / A (`ref_p_axis_bar`).
+The error of its time mean is the blocking standard error (`mdbridge.stats.block_sem`).
+Validated (vacuum) against the box's own zero-tension length and the coarse-grained stretch
+modulus in docs/md.md ("Tension: validation on 21 bp")."""
 from __future__ import annotations
 
 import json
@@ -29,9 +36,29 @@ NM2_TO_A2 = 100.0
 BAR_A2_TO_PN = 1e5 * 1e-20 * 1e12   # 1 bar x 1 A^2 in pN (= 1e-3)
 
 
-def md_tension_pN(P_axis_bar, area_A2) -> np.ndarray:
-    """F = -P_axis A [pN] (P in bar, A in A^2); F > 0 is tension."""
-    return -np.asarray(P_axis_bar, float) * float(area_A2) * BAR_A2_TO_PN
+PN_PER_NM2_IN_BAR = 10.0            # 1 pN / nm^2 = 1e-12 N / 1e-18 m^2 = 1e6 Pa = 10 bar
+
+
+def md_tension_pN(P_axis_bar, area_A2, P_perp_bar=None) -> np.ndarray:
+    """F = (P_perp - P_axis) A [pN] (P in bar, A in A^2); F > 0 is tension. P_perp None (the
+    vacuum setting): F = -P_axis A. Arrays broadcast (per-frame areas too)."""
+    P = np.asarray(P_axis_bar, float)
+    excess = -P if P_perp_bar is None else np.asarray(P_perp_bar, float) - P
+    return excess * np.asarray(area_A2, float) * BAR_A2_TO_PN
+
+
+def ref_p_axis_bar(tension_pN: float, area_nm2: float, p_perp_bar: float = 1.0) -> float:
+    """The barostat's reference pressure along the axis that holds TENSION_PN on a box of
+    cross-section AREA_NM2 at P_PERP_BAR across: P_perp - T / A, in bar (10 bar per pN/nm^2)."""
+    if not (np.isfinite(tension_pN) and area_nm2 > 0):
+        raise InputError(f"axial tension {tension_pN} pN on a cross-section of {area_nm2} nm^2: need a finite "
+                         "tension and an area > 0")
+    return float(p_perp_bar - PN_PER_NM2_IN_BAR * tension_pN / area_nm2)
+
+
+def solvated(build: dict) -> bool:
+    """Whether a build (build.json's content) is in water: the tension's formula depends on it."""
+    return bool(build.get("solvent"))
 
 
 def tension_series(directory: Path, gmx: str, *, edr: str = "md.edr", axis: int | None = None,
@@ -40,11 +67,12 @@ def tension_series(directory: Path, gmx: str, *, edr: str = "md.edr", axis: int 
     "axis"} from DIR/EDR (axis from DIR/build.json unless given). A fixed box writes no
     Box-* terms: its edges are then DIR/BOX_FROM's (the run's start)."""
     d = Path(directory)
+    bj = d / "build.json"
+    build = json.loads(bj.read_text()) if bj.is_file() else {}
     if axis is None:
-        bj = d / "build.json"
-        if not bj.is_file():
+        if not build:
             raise InputError(f"{bj}: missing; give the helix axis (0, 1, 2) instead")
-        axis = int(json.loads(bj.read_text())["box"]["axis"])
+        axis = int(build["box"]["axis"])
     if not (d / edr).is_file():
         raise InputError(f"{d / edr}: missing; the tension needs the run's energy file")
     e = read_energies(d, gmx, edr=edr)
@@ -62,8 +90,17 @@ def tension_series(directory: Path, gmx: str, *, edr: str = "md.edr", axis: int 
     across = [k for k in range(3) if k != axis]
     area = e[f"Box-{xyz[across[0]]}"] * e[f"Box-{xyz[across[1]]}"]
     P = e[name]
-    F = np.array([md_tension_pN([p], a * NM2_TO_A2)[0] for p, a in zip(P, area)])
-    return {"time": e["time"], "tension_pN": F, "pressure_bar": P,
+    P_perp = None
+    if solvated(build):
+        lateral = [f"Pres-{xyz[k] * 2}" for k in across]
+        missing = [n for n in lateral if n not in e]
+        if missing:
+            raise InputError(f"{d / edr}: no {', '.join(missing)} in the energy file (the tension in water needs "
+                             "the pressure across the axis)")
+        P_perp = 0.5 * (e[lateral[0]] + e[lateral[1]])
+    F = md_tension_pN(P, area * NM2_TO_A2, P_perp)
+    return {"time": e["time"], "tension_pN": F, "pressure_bar": P, "pressure_perp_bar": P_perp,
+            "formula": "vacuum: F = -P_aa A" if P_perp is None else "water: F = (P_perp - P_aa) A",
             "length_nm": e[f"Box-{xyz[axis]}"], "area_nm2": area, "axis": axis}
 
 
