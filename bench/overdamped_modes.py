@@ -178,8 +178,10 @@ def water_case(out, seed: int = 1, h5=None) -> None:
             omega0 = math.sqrt(Gamma / t)                                          # tau = Gamma / omega0^2
             rows[f"{kind} {n}"] = {"truth_ps": t, "Gamma_per_ps": Gamma, "omega0_per_ps": omega0,
                                    "overdamped": bool(Gamma > 2 * omega0)}
-    write_json(out / "run.json", {"what": "the reported case of docs/modes.md, 'Overdamped modes' (bench/"
-                                          "overdamped_modes.py --water-case)", "scene": water_scene(seed),
+    import datetime
+    write_json(out / "run.json", {"what": "the reported case of docs/modes.md, 'Overdamped modes'",
+                                  "date": datetime.date.today().isoformat(),
+                                  "command": f"bench/overdamped_modes.py --water-case {out}", "scene": water_scene(seed),
                                   "friction_translational": attrs["thermal.friction_translational"],
                                   "friction_rotational": attrs["thermal.friction_rotational"],
                                   "tau_ps": tau_ps, "modes": rows})

@@ -115,9 +115,9 @@ def relaxation_time(x: np.ndarray, dt_ps: float) -> dict:
     per_series = max(1, fine // run)
     nb = M * per_series
     rho_min = float(np.min(C[:W + 1]) / C[0])
-    out = {"tau_ps": tau, "tau_err_ps": None, "window_ps": W * dt_ps, "record_ps": record, "rho_min": rho_min,
-           "relaxations_in_record": record / tau if tau > 0 else None, "blocks": nb, "resolved": True,
-           "reason": None}
+    out: dict = {"tau_ps": tau, "tau_err_ps": None, "window_ps": W * dt_ps, "record_ps": record,
+                 "rho_min": rho_min, "relaxations_in_record": record / tau if tau > 0 else None, "blocks": nb,
+                 "resolved": True, "reason": None}
     if nb >= 2 and W < N // 2:
         S, cnt = _block_products(x, W, fine)
         group = np.minimum(np.arange(fine) // run, per_series - 1)
