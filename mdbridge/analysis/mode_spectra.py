@@ -11,8 +11,8 @@ a mode that
   * holds fewer than MIN_PERIODS periods in the record,
   * has no peak: the fit runs to its overdamped bound (gamma = omega), out of the band of
     the periodogram's peak, or its peak stands less than MIN_PEAK_TO_FLOOR above the floor,
-  * has no resolved peak: the data at the fitted peak do not stand PEAK_Z standard errors
-    above the data below it (unresolved_peak): a fit on an overdamped mode's flat spectrum,
+  * has no resolved peak: the data at the fitted peak stand no higher above the level below
+    it than noise reaches (unresolved_peak): a fit on an overdamped mode's flat spectrum,
   * is not stationary: the frequencies fitted to the two halves of the record differ by more
     than STATIONARY_Z of their combined error (tested when each half holds MIN_PERIODS).
     A line (an undamped mode, taken as a sinusoid: spectrum.line_fit) is not: its halves'
@@ -71,7 +71,6 @@ SMOOTH_FRACTION = 0.1      # log_smooth: +-10 % in frequency
 BACKGROUND_QUANTILE = 0.25  # common_background: the lowest quarter of the modes at each frequency
 SPIKE_FALSE = 0.01         # noise_peak: the chance that noise alone passes on a band
 OFF_BRANCH_MIN = 2         # off_branch: lower modes above a mode's frequency that refuse it
-PEAK_Z = 2.0               # unresolved_peak: the peak over the power below it, in its standard errors
 NPZ_FORMAT = 1
 
 
@@ -435,64 +434,69 @@ def refusal(fit, record_ps):
     return None
 
 
-def peak_z(fit, x) -> tuple[float | None, float]:
-    """(z, lambda_p): how many standard errors the pooled series x's (M, N) net power at the
-    fitted oscillator's peak stands above its net power below the peak, on the fit's band
-    (unresolved_peak), and the peak's frequency [rad/ps]; z None when the band holds no
-    frequency below the peak."""
+def peak_excess(fit, x) -> tuple[float | None, float, float]:
+    """(r, threshold, lambda_p) of the resolved-peak test (unresolved_peak): r, the pooled
+    periodogram of the series x (M, N) summed over the peak's bins over what a flat spectrum at
+    the level below the peak would put there; threshold, what noise alone exceeds with chance
+    SPIKE_FALSE anywhere on the band; lambda_p [rad/ps], the fitted oscillator's power maximum.
+    r is None when the band holds no frequency below the peak."""
+    from scipy.stats import gamma
     j = band_indices(fit.n_samples, fit.dt_ps, fit.band_per_ps)
     lam = frequencies_per_ps(fit.n_samples, fit.dt_ps)[j]
-    F = expected_periodogram(fit.n_samples, fit.dt_ps, fit.omega_per_ps, fit.damping_per_ps)[j]
-    a, b = np.asarray(fit.variance, float), np.asarray(fit.floor, float)
-    E = a[:, None] * F[None, :] + b[:, None]
-    net = periodogram(x)[:, j] - b[:, None]
+    I = periodogram(x)[:, j]
+    b = np.asarray(fit.floor, float)[:, None] * np.ones((1, len(j)))
     if fit.background is not None and fit.background_amplitude is not None:
-        bg = np.asarray(fit.background_amplitude, float)[:, None] * np.asarray(fit.background, float)[None, :]
-        E = E + bg
-        net = net - bg
+        b = b + np.asarray(fit.background_amplitude, float)[:, None] * np.asarray(fit.background, float)[None, :]
     w, g = fit.omega_per_ps, fit.damping_per_ps
-    lam_p = math.sqrt(max(w * w - g * g, 0.0))     # the oscillator's power peaks there
+    lam_p = math.sqrt(max(w * w - g * g, 0.0))
     at = np.flatnonzero(np.abs(lam - lam_p) <= g)
     if len(at) == 0:
         at = np.array([int(np.argmin(np.abs(lam - lam_p)))])
-    below = np.flatnonzero(lam < lam[at[0]] - 1e-12)
-    below = below[lam[below] < lam_p - g] if len(below) else below
+    below = np.flatnonzero(lam < min(lam[at[0]], lam_p - g) - 1e-12)
     if len(below) == 0:
-        return None, lam_p
-
-    def mean_and_err(cols):
-        return float(net[:, cols].mean()), float(np.sqrt(np.sum(E[:, cols] ** 2)) / E[:, cols].size)
-
-    (p, pe), (q, qe) = mean_and_err(at), mean_and_err(below)
-    return (p - q) / math.hypot(pe, qe), lam_p
+        return None, math.nan, lam_p
+    net = I[:, below] - b[:, below]
+    # the level below the peak, taken high by one standard error (each bin exponential about
+    # its mean): a level known from a few bins does not make a peak
+    q = float(net.mean()) + float(np.sqrt(np.sum(I[:, below] ** 2)) / I[:, below].size)
+    flat = float(np.sum(b[:, at] + max(q, 0.0)))
+    r = float(np.sum(I[:, at])) / max(flat, 1e-300)
+    n = I[:, at].size
+    places = max(1, len(j) // len(at))
+    return r, float(gamma.ppf(1.0 - SPIKE_FALSE / places, n, scale=1.0 / n)), lam_p
 
 
 def unresolved_peak(fit, x) -> str | None:
     """Why the fitted oscillator's peak is not one of the data (None when it is): a peak is a
     maximum, so the power of the pooled series x (M, N) at the fit's peak must stand above the
-    power below it, on the fit's band, with what is not the mode (each series' floor and
-    common background, as fitted) taken off both.
+    power below it, on the fit's band.
 
     The peak: the bins within the fitted damping gamma of the oscillator's power maximum
     lambda_p = (omega^2 - gamma^2)^1/2 (at least the nearest bin); below it: the band's bins
-    under lambda_p - gamma. Each periodogram bin is exponential about its expected value E
-    (the fit's: oscillator + floor + background), so the mean over series and bins of the net
-    power has the standard error (sum E^2)^1/2 / count, and the peak is resolved when the mean
-    at the peak exceeds the mean below by PEAK_Z of their combined errors. A damped harmonic
-    mode's spectrum has a maximum above zero frequency only when Gamma^2 < 2 omega0^2 (Q >
-    1/sqrt 2), and it stands out only when the record resolves the rise below it: an
-    overdamped mode (Gamma > 2 omega0), flat up to omega0^2 / Gamma, has none, and a fit placed
-    on it (on a few low bins of noise, or on the shape of a background the other modes set) is
-    refused here (docs/modes.md, "Overdamped modes")."""
+    under lambda_p - gamma. The hypothesis of no peak: the spectrum at the peak's bins is no
+    higher than below it, i.e. the fitted floor and common background there plus the net
+    power (less floor and background) of the bins below, taken at its mean plus one standard
+    error. Under it the summed periodogram of the n = M x bins at the peak, over its expected
+    value, is Gamma-distributed (shape n, mean 1); the peak is resolved when it exceeds the
+    quantile 1 - SPIKE_FALSE / P of that distribution, P the number of places on the band the
+    peak could have been (band bins / peak bins): the fit chose its place, so the highest
+    place that noise reaches is the bar (as noise_peak). A damped harmonic mode's spectrum has
+    a maximum above zero frequency only when Gamma^2 < 2 omega0^2 (Q > 1/sqrt 2), and it
+    stands out only when the record resolves the rise below it: an overdamped mode (Gamma > 2
+    omega0), flat up to omega0^2 / Gamma, has none, and a fit placed on it (on a few low bins
+    of noise, a spike, or the shape of a background the other modes set) is refused here
+    (docs/modes.md, "Overdamped modes"). A line passes by its own test (spectrum.line_fit)."""
     if fit is None:
         return "no peak"
-    z, lam_p = peak_z(fit, x)
-    if z is None:
+    if fit.line is not None:
+        return None
+    r, bar, lam_p = peak_excess(fit, x)
+    if r is None:
         return (f"no resolved peak (the fitted peak at {lam_p:.3g} rad/ps has no frequencies below it on the "
                 "band: the record does not show its rise)")
-    if z < PEAK_Z:
-        return (f"no resolved peak (the power at the fitted peak, {lam_p:.3g} rad/ps, stands {z:.2g} standard "
-                f"errors above the power below it, < {PEAK_Z:g})")
+    if r < bar:
+        return (f"no resolved peak (the power at the fitted peak, {lam_p:.3g} rad/ps, is {r:.3g} x what a "
+                f"spectrum flat from below it gives there; noise alone reaches {bar:.3g} x)")
     return None
 
 

@@ -10,7 +10,7 @@ without a resolved peak, and a relaxation time instead, against independent trut
   a 42-bp rod at 0.03 K): every overdamped axial mode's mean tau is zeta / k of the rod's own
   friction and stiffness within 3 errors, its stated / RMS error within 0.7-1.4; the controls
   (the wrong friction; the white-noise error) fail for every mode. One new realisation, run
-  here, agrees with zeta / k within 3.5 of its stated errors at every overdamped axial mode;
+  here, agrees with zeta / k within 4 of its stated errors at every overdamped axial mode;
 * the reported case (results/modes_water: the paper's 158-bp rod at 300 K in water, 2 ns):
   every stretch mode n <= 4 and every twist mode is overdamped by the scene's frictions
   (Gamma > 2 omega0) and gets no frequency; the rule without the resolved-peak test (the
@@ -130,8 +130,10 @@ def test_a_new_realisation_agrees_with_zeta_over_k(tmp_path):
         if key.startswith("twist"):
             assert r["omega"] is None, (key, r)
     assert len(z) >= 3, rows
-    assert max(abs(v) for v in z) < 3.5, z
-    assert max(abs(v) for v in zc) > 3.5, zc                                   # control
+    # a jackknife error of ~16 blocks fluctuates with the estimate: |z| > 3 in 2.5 % of exact
+    # overdamped series of this record (docs/modes.md), so 4 for each mode of one seed
+    assert max(abs(v) for v in z) < 4, z
+    assert max(abs(v) for v in zc) > 4, zc                                     # control
 
 
 def test_reported_case_stretch_and_twist_in_water_get_no_frequency():
