@@ -14,7 +14,8 @@ D3 k^2 and z_about), so its integrated autocorrelation time is
 
 from the file's own `material.C`, `material.D`, `thermal.friction_*` and `rod.length`.
 
-Per mode over the realisations: how often it is overdamped, the mean of tau / truth with its
+Per mode over the realisations: how often it is overdamped (checked when in at least SETTLED
+of them), the mean of tau / truth with its
 error from the scatter between seeds, and the calibration ratio stated / RMS =
 sqrt(mean stated^2) / sqrt(mean (tau - truth)^2) (pass 0.7-1.4, the band of
 bench/mode_spectrum_calibration.py). Two controls must fail: the truth with the wrong
@@ -41,6 +42,7 @@ BP, TURNS = 42, 4
 TEMPERATURE_K = 0.03
 DT, FRAME, FRAMES = 0.1, 1.0, 4001      # tau: a 3.77-ns record of 0.94-ps frames
 LOW, HIGH = 0.7, 1.4
+SETTLED = 0.9          # a mode is checked when it is overdamped in at least this fraction of the seeds
 
 
 def scene(seed: int) -> dict:
@@ -120,6 +122,9 @@ def summary(rows: list, key: str) -> dict:
     od = [g for g in got if g["regime"] == "overdamped"]
     if t is None or len(od) < 3:
         return out
+    # a mode resolved in only part of the seeds sits at the resolution threshold, where the
+    # records that pass are those whose tau came out short (docs/modes.md): reported, not checked
+    out["near_threshold"] = len(od) < SETTLED * len(got)
     tau = np.array([g["tau"] for g in od])
     err = np.array([g["tau_err"] for g in od])
     naive = np.array([g["naive_err"] for g in od])
@@ -181,7 +186,8 @@ def water_case(out, seed: int = 1, h5=None) -> None:
     import datetime
     write_json(out / "run.json", {"what": "the reported case of docs/modes.md, 'Overdamped modes'",
                                   "date": datetime.date.today().isoformat(),
-                                  "command": f"bench/overdamped_modes.py --water-case {out}", "scene": water_scene(seed),
+                                  "command": f"bench/overdamped_modes.py --water-case {out}",
+                                  "scene": water_scene(seed),
                                   "friction_translational": attrs["thermal.friction_translational"],
                                   "friction_rotational": attrs["thermal.friction_rotational"],
                                   "tau_ps": tau_ps, "modes": rows})
@@ -227,11 +233,13 @@ def main(argv=None):
                      f"{c['control_error']['stated_over_rms']:.2f}")
         print(line, flush=True)
     from dna_models.units import Units
-    checked = [c for c in cases if "tau_mean_ps" in c]
+    checked = [c for c in cases if "tau_mean_ps" in c and not c["near_threshold"]]
     res = {"what": "calibration of dnarod modes' relaxation times of overdamped modes on the thermal rod in water "
                    "(bench/overdamped_modes.py)",
            "scene": scene(a.seed), "seeds": [a.seed, a.seed + a.realisations - 1], "realisations": a.realisations,
            "record_ps": Units.paper().time_to_ps(FRAME * FRAMES), "pass_band": [LOW, HIGH], "cases": cases,
+           "checked": [c["mode"] for c in checked],
+           "near_threshold": [c["mode"] for c in cases if c.get("near_threshold")],
            "all_pass": all(c["pass"] for c in checked),
            "friction_control_fails": all(not c["control_friction"]["pass"] for c in checked),
            "error_control_fails": all(not c["control_error"]["pass"] for c in checked),

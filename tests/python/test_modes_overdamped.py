@@ -86,9 +86,10 @@ def table():
 
 def test_committed_calibration_in_water_and_its_controls_fail(table):
     assert table["realisations"] >= 12
-    checked = [c for c in table["cases"] if "tau_mean_ps" in c]
-    # the twist modes and stretch n = 1 of the 42-bp rod are overdamped in water
-    assert {c["mode"] for c in checked} >= {"twist 2", "twist 3", "stretch 1"}, [c["mode"] for c in checked]
+    checked = [c for c in table["cases"] if c["mode"] in table["checked"]]
+    # the twist modes and stretch n = 1 of the 42-bp rod are overdamped in water; stretch
+    # n = 2, 3 are near critical (Q 0.57, 0.84), with no peak a record can show
+    assert {c["mode"] for c in checked} >= {"twist 3", "stretch 1", "stretch 2", "stretch 3"}, table["checked"]
     for c in checked:
         assert c["pass"] and abs(c["z_mean"]) < 3 and 0.7 <= c["stated_over_rms"] <= 1.4, c
         assert not c["control_friction"]["pass"] and abs(c["control_friction"]["z_mean"]) > 3, c
