@@ -449,10 +449,14 @@ def peak_excess(fit, x) -> tuple[float | None, float, float]:
         b = b + np.asarray(fit.background_amplitude, float)[:, None] * np.asarray(fit.background, float)[None, :]
     w, g = fit.omega_per_ps, fit.damping_per_ps
     lam_p = math.sqrt(max(w * w - g * g, 0.0))
-    at = np.flatnonzero(np.abs(lam - lam_p) <= g)
+    # the peak's half-width: its damping, and at least the resolution at which _band places a
+    # peak (log_smooth's +-SMOOTH_FRACTION): a narrow mode whose frequency wanders spreads its
+    # power over that much, and a spike of noise one bin wide is diluted in it
+    h = max(g, SMOOTH_FRACTION * lam_p)
+    at = np.flatnonzero(np.abs(lam - lam_p) <= h)
     if len(at) == 0:
         at = np.array([int(np.argmin(np.abs(lam - lam_p)))])
-    below = np.flatnonzero(lam < min(lam[at[0]], lam_p - g) - 1e-12)
+    below = np.flatnonzero(lam < min(lam[at[0]], lam_p - h) - 1e-12)
     if len(below) == 0:
         return None, math.nan, lam_p
     net = I[:, below] - b[:, below]
