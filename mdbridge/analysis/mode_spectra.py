@@ -11,6 +11,8 @@ a mode that
   * holds fewer than MIN_PERIODS periods in the record,
   * has no peak: the fit runs to its overdamped bound (gamma = omega), out of the band of
     the periodogram's peak, or its peak stands less than MIN_PEAK_TO_FLOOR above the floor,
+  * has no resolved peak: the data at the fitted peak stand no higher above the level below
+    it than noise reaches (unresolved_peak): a fit on an overdamped mode's flat spectrum,
   * is not stationary: the frequencies fitted to the two halves of the record differ by more
     than STATIONARY_Z of their combined error (tested when each half holds MIN_PERIODS).
     A line (an undamped mode, taken as a sinusoid: spectrum.line_fit) is not: its halves'
@@ -24,7 +26,9 @@ a mode that
     rise for bend and stretch, the mean twist density for twist): a deterministic run (a
     kicked rod) leaves the modes it does not excite at round-off, where a fit means nothing.
 A refused mode keeps its entry with null frequency and damping (and null variance when it
-is not stationary: the static variance of a drifting record means nothing).
+is not stationary: the static variance of a drifting record means nothing), and its regime
+(regime_of): overdamped, with the relaxation time of its series
+(mdbridge/analysis/relaxation.py), or unresolved.
 
 Errors. The frequency's and damping's are the fit's (observed information; calibrated on
 synthetic oscillators by bench/mode_spectrum_calibration.py). With two or more
@@ -54,6 +58,7 @@ from mdbridge.analysis.modes import AMPLITUDE_UNIT, KINDS, VARIANCE_UNIT
 from mdbridge.analysis.spectrum import (band_indices, expected_periodogram, fit_oscillator, frequencies_per_ps,
                                         line_fit, periodogram, GAMMA_OVER_OMEGA_MAX, LINE_RESIDUAL,
                                         NOT_LINE_MIN_GAMMA_T)
+from mdbridge.analysis.relaxation import relaxation_time
 from mdbridge.stats import block_sem
 
 MIN_PERIODS = 3.0
@@ -429,6 +434,76 @@ def refusal(fit, record_ps):
     return None
 
 
+def peak_excess(fit, x) -> tuple[float | None, float, float]:
+    """(r, threshold, lambda_p) of the resolved-peak test (unresolved_peak): r, the pooled
+    periodogram of the series x (M, N) summed over the peak's bins over what a flat spectrum at
+    the level below the peak would put there; threshold, what noise alone exceeds with chance
+    SPIKE_FALSE anywhere on the band; lambda_p [rad/ps], the fitted oscillator's power maximum.
+    r is None when the band holds no frequency below the peak."""
+    from scipy.stats import gamma
+    j = band_indices(fit.n_samples, fit.dt_ps, fit.band_per_ps)
+    lam = frequencies_per_ps(fit.n_samples, fit.dt_ps)[j]
+    I = periodogram(x)[:, j]
+    b = np.asarray(fit.floor, float)[:, None] * np.ones((1, len(j)))
+    if fit.background is not None and fit.background_amplitude is not None:
+        b = b + np.asarray(fit.background_amplitude, float)[:, None] * np.asarray(fit.background, float)[None, :]
+    w, g = fit.omega_per_ps, fit.damping_per_ps
+    lam_p = math.sqrt(max(w * w - g * g, 0.0))
+    # the peak's half-width: its damping, and at least the resolution at which _band places a
+    # peak (log_smooth's +-SMOOTH_FRACTION): a narrow mode whose frequency wanders spreads its
+    # power over that much, and a spike of noise one bin wide is diluted in it
+    h = max(g, SMOOTH_FRACTION * lam_p)
+    at = np.flatnonzero(np.abs(lam - lam_p) <= h)
+    if len(at) == 0:
+        at = np.array([int(np.argmin(np.abs(lam - lam_p)))])
+    below = np.flatnonzero(lam < min(lam[at[0]], lam_p - h) - 1e-12)
+    if len(below) == 0:
+        return None, math.nan, lam_p
+    net = I[:, below] - b[:, below]
+    # the level below the peak, taken high by one standard error (each bin exponential about
+    # its mean): a level known from a few bins does not make a peak
+    q = float(net.mean()) + float(np.sqrt(np.sum(I[:, below] ** 2)) / I[:, below].size)
+    flat = float(np.sum(b[:, at] + max(q, 0.0)))
+    r = float(np.sum(I[:, at])) / max(flat, 1e-300)
+    n = I[:, at].size
+    places = max(1, len(j) // len(at))
+    return r, float(gamma.ppf(1.0 - SPIKE_FALSE / places, n, scale=1.0 / n)), lam_p
+
+
+def unresolved_peak(fit, x) -> str | None:
+    """Why the fitted oscillator's peak is not one of the data (None when it is): a peak is a
+    maximum, so the power of the pooled series x (M, N) at the fit's peak must stand above the
+    power below it, on the fit's band.
+
+    The peak: the bins within the fitted damping gamma of the oscillator's power maximum
+    lambda_p = (omega^2 - gamma^2)^1/2 (at least the nearest bin); below it: the band's bins
+    under lambda_p - gamma. The hypothesis of no peak: the spectrum at the peak's bins is no
+    higher than below it, i.e. the fitted floor and common background there plus the net
+    power (less floor and background) of the bins below, taken at its mean plus one standard
+    error. Under it the summed periodogram of the n = M x bins at the peak, over its expected
+    value, is Gamma-distributed (shape n, mean 1); the peak is resolved when it exceeds the
+    quantile 1 - SPIKE_FALSE / P of that distribution, P the number of places on the band the
+    peak could have been (band bins / peak bins): the fit chose its place, so the highest
+    place that noise reaches is the bar (as noise_peak). A damped harmonic mode's spectrum has
+    a maximum above zero frequency only when Gamma^2 < 2 omega0^2 (Q > 1/sqrt 2), and it
+    stands out only when the record resolves the rise below it: an overdamped mode (Gamma > 2
+    omega0), flat up to omega0^2 / Gamma, has none, and a fit placed on it (on a few low bins
+    of noise, a spike, or the shape of a background the other modes set) is refused here
+    (docs/modes.md, "Overdamped modes"). A line passes by its own test (spectrum.line_fit)."""
+    if fit is None:
+        return "no peak"
+    if fit.line is not None:
+        return None
+    r, bar, lam_p = peak_excess(fit, x)
+    if r is None:
+        return (f"no resolved peak (the fitted peak at {lam_p:.3g} rad/ps has no frequencies below it on the "
+                "band: the record does not show its rise)")
+    if r < bar:
+        return (f"no resolved peak (the power at the fitted peak, {lam_p:.3g} rad/ps, is {r:.3g} x what a "
+                f"spectrum flat from below it gives there; noise alone reaches {bar:.3g} x)")
+    return None
+
+
 def _variance(series, kind, i_mode, n_frames):
     """<|c_n - <c_n>|^2> per direction, averaged over directions and realisations, with the
     error of that mean (blocking, per realisation)."""
@@ -528,7 +603,7 @@ def _kind_entries(series: list[ModeSeries], kind: str, n_frames: int, length_A: 
     var = [_variance(series, kind, i, n_frames) for i in modes]
     no_signal = [math.sqrt(v) < ROUND_OFF * scale for v, _ in var]
     fits = fit_kind(xs, dt, errors, skip=no_signal)
-    reasons = off_branch(fits, [why or refusal(f, record_ps) for f, why in fits])
+    reasons = off_branch(fits, [why or refusal(f, record_ps) or unresolved_peak(f, x) for (f, why), x in zip(fits, xs)])
     passed = [r is None for r in reasons]
     halves = [fit_kind([pooled_series(series, kind, i, n_frames, part) for i in modes], dt, errors,
                        skip=no_signal, wanted=passed)
@@ -547,8 +622,32 @@ def _kind_entries(series: list[ModeSeries], kind: str, n_frames: int, length_A: 
         if reason is None:
             _measured(e, fit, [hf[i] for hf in halves], h2 * dt,
                       None if seeds is None else [f[i] for f in seeds], record_ps)
+        e.update(regime_of(e, xs[i], dt, no_signal[i]))
         entries.append(e)
     return entries
+
+
+def regime_of(e: dict, x, dt: float, no_signal: bool) -> dict:
+    """The mode's regime and, when it has no frequency, its relaxation time (docs/modes.md,
+    "Overdamped modes"):
+      oscillating  a frequency (every refusal above passed, the peak resolved: unresolved_peak);
+      overdamped   no frequency, and the integrated autocorrelation time of its pooled series
+                   x (M, N) resolved (mdbridge/analysis/relaxation.py): Gamma / omega0^2,
+                   zeta / k of the mode;
+      unresolved   neither: no signal, not stationary, or a relaxation time the record does
+                   not resolve (`relaxation.reason` says why)."""
+    out: dict = {"regime": "oscillating", "relaxation_time_ps": None, "relaxation_time_err_ps": None}
+    if e["reason"] is None:
+        return out
+    out["regime"] = "unresolved"
+    if no_signal or e["reason"].startswith("not stationary"):
+        return out
+    r = relaxation_time(x, dt)
+    out["relaxation"] = {k: r[k] for k in ("tau_ps", "tau_err_ps", "window_ps", "relaxations_in_record",
+                                           "rho_min", "blocks", "reason")}
+    if r["resolved"]:
+        out.update(regime="overdamped", relaxation_time_ps=r["tau_ps"], relaxation_time_err_ps=r["tau_err_ps"])
+    return out
 
 
 def mode_table(series: list[ModeSeries], errors: str = "hessian") -> dict:

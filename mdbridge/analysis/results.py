@@ -27,7 +27,9 @@ def _order() -> Any:
 @dataclass
 class Mode(JsonRecord):
     """One Fourier mode of one kind (bend, twist, stretch): its frequency, damping and
-    variance with errors, or the reason it is refused (the numbers then None)."""
+    variance with errors, or the reason it is refused (the numbers then None); its regime
+    (oscillating, overdamped, unresolved) and, for an overdamped mode, its relaxation time
+    (docs/modes.md, "Overdamped modes"). Files written before the regimes lack those keys."""
     kind: str
     n: int
     k_per_A: Any = ABSENT
@@ -55,13 +57,22 @@ class Mode(JsonRecord):
     undamped: Any = ABSENT
     halves: Any = ABSENT
     seeds: Any = ABSENT
+    regime: Any = ABSENT
+    relaxation_time_ps: Any = ABSENT
+    relaxation_time_err_ps: Any = ABSENT
+    relaxation: Any = ABSENT
     extra: dict = _extra()
     order: tuple = _order()
 
     @property
     def measured(self) -> bool:
-        """A number, not a refusal."""
+        """A frequency, not a refusal."""
         return self.reason is None
+
+    @property
+    def overdamped(self) -> bool:
+        """No frequency, and a relaxation time."""
+        return self.regime == "overdamped"
 
 
 @dataclass
@@ -85,8 +96,12 @@ class ModeTable(JsonRecord):
     NESTED = {"modes": Mode}
 
     def measured(self, kind: str | None = None) -> list[Mode]:
-        """The modes with a number (of KIND if given)."""
+        """The modes with a frequency (of KIND if given)."""
         return [m for m in self.modes if m.measured and (kind is None or m.kind == kind)]
+
+    def overdamped(self, kind: str | None = None) -> list[Mode]:
+        """The modes with a relaxation time instead (of KIND if given)."""
+        return [m for m in self.modes if m.overdamped and (kind is None or m.kind == kind)]
 
 
 @dataclass

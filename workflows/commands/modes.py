@@ -22,7 +22,10 @@ frequency omega and damping rate gamma (half the power peak's full width) of the
 oscillator's exact discrete-time spectrum fitted by Whittle likelihood, pooled over
 quadratures, directions and realisations, with calibrated errors. A mode is refused, with
 the reason and null numbers, when the record holds fewer than 3 of its periods, when it
-has no peak, or when the two halves of the record disagree (not stationary).
+has no peak or its peak does not stand above the power below it, or when the two halves
+of the record disagree (not stationary). Each mode's regime: oscillating (a frequency),
+overdamped (no frequency; its relaxation time, the integral of its autocorrelation,
+Gamma / omega0^2 = friction / stiffness, with an error from blocks) or unresolved.
 
 Each PATH is one realisation (a seed), all of one duplex:
   a rod output file (rodsim run of a DNA scene: base pairs and units from the file),
@@ -70,7 +73,10 @@ def run(args):
             print(f"modes: {r['source']}: {100 * of['mean']:.1f} % of base pairs open (N1-N3 > 3.5 A) over the "
                   f"frames read")
     counts = ", ".join(f"{kind} {len(table.measured(kind))}" for kind in ("bend", "twist", "stretch"))
-    print(f"modes: {len(table.measured())} of {len(table.modes)} modes measured ({counts}); "
+    slow = ", ".join(f"{kind} {len(table.overdamped(kind))}" for kind in ("bend", "twist", "stretch"))
+    rest = len(table.modes) - len(table.measured()) - len(table.overdamped())
+    print(f"modes: {len(table.measured())} of {len(table.modes)} modes oscillating, with a frequency ({counts}); "
+          f"{len(table.overdamped())} overdamped, with a relaxation time instead ({slow}); {rest} unresolved; "
           f"wrote {out}/modes.json, mode_series.npz, spectra.png, dispersion.png")
     return 0
 
