@@ -192,7 +192,7 @@ def test_the_segments_so_far_as_the_docs_say():
         out = subprocess.run([find_gmx(None), "dump", "-cp", str(INTACT / "run" / seed / "md.part.cpt")],
                              capture_output=True, text=True, check=True).stdout
         t_cpt = float(next(ln.split("=")[1] for ln in out.splitlines() if ln.startswith("t =")))
-        assert t0 < t_cpt <= t1
+        assert t0 < t_cpt <= t1 + 0.5          # within the segment, or at its last frame
         ends.append(t1)
         cpts.append(t_cpt)
     assert (f"segments 1-{len(segs)} of both seeds, 0 to {ends[0]:.0f} ps (seed 1) and {ends[1]:.0f} ps (seed 2)"
