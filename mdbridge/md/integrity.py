@@ -139,22 +139,28 @@ def junction_pairs(n_bp: int) -> list[int]:
     return [n_bp - 2, n_bp - 1, 0, 1]
 
 
+def _beyond(values, times_ps, cutoff: float, discard_ps: float, what: str):
+    """(times, above (T, n) bool, per site fraction after discard_ps) of a (T, n) record."""
+    v = np.asarray(values, float)
+    t = np.asarray(times_ps, float)
+    if v.ndim != 2 or v.shape[0] != t.size or t.size == 0:
+        raise InputError(f"{what}: values {v.shape} do not match {t.size} frame times")
+    above = v > cutoff
+    keep = t >= t[0] + discard_ps
+    if not keep.any():
+        raise InputError(f"{what}: --discard-ps {discard_ps} leaves no frame of {t[0]:g}-{t[-1]:g} ps")
+    return t, above, keep
+
+
 def integrity_summary(distance_A, times_ps, discard_ps: float = 0.0,
                       cutoff_A: float = INTACT_CUTOFF_A) -> dict:
     """The open fraction of N1-N3 distances (T, n_bp) at times_ps: over time, per pair (after
     discard_ps) and at the junction against the interior (the record of checks.json's
     `integrity` and of results' integrity.json)."""
-    d = np.asarray(distance_A, float)
-    t = np.asarray(times_ps, float)
-    if d.ndim != 2 or d.shape[0] != t.size or t.size == 0:
-        raise InputError(f"integrity: distances {d.shape} do not match {t.size} frame times")
-    open_ = d > cutoff_A
-    keep = t >= t[0] + discard_ps
-    if not keep.any():
-        raise InputError(f"integrity: --discard-ps {discard_ps} leaves no frame of {t[0]:g}-{t[-1]:g} ps")
+    t, open_, keep = _beyond(distance_A, times_ps, cutoff_A, discard_ps, "integrity")
     per_pair = open_[keep].mean(axis=0)
-    jp = junction_pairs(d.shape[1])
-    interior = np.setdiff1d(np.arange(d.shape[1]), jp)
+    jp = junction_pairs(open_.shape[1])
+    interior = np.setdiff1d(np.arange(open_.shape[1]), jp)
     return {"criterion": f"open: N1(purine)-N3(pyrimidine) > {cutoff_A} A, minimum image",
             "discard_ps": float(discard_ps), "times_ps": t.tolist(),
             "open_fraction_time": open_.mean(axis=1).tolist(),
@@ -169,14 +175,7 @@ def stacking_summary(rise_A, times_ps, discard_ps: float = 0.0, cutoff_A: float 
     """The unstacked fraction of step rises (T, n_steps) at times_ps (rise > cutoff_A): over
     time, per step (after discard_ps) and overall; the steps that are unstacked in more than
     half of the kept frames are listed (0-based, step i joins pairs i and i + 1)."""
-    r = np.asarray(rise_A, float)
-    t = np.asarray(times_ps, float)
-    if r.ndim != 2 or r.shape[0] != t.size or t.size == 0:
-        raise InputError(f"stacking: rises {r.shape} do not match {t.size} frame times")
-    un = r > cutoff_A
-    keep = t >= t[0] + discard_ps
-    if not keep.any():
-        raise InputError(f"stacking: --discard-ps {discard_ps} leaves no frame of {t[0]:g}-{t[-1]:g} ps")
+    t, un, keep = _beyond(rise_A, times_ps, cutoff_A, discard_ps, "stacking")
     per_step = un[keep].mean(axis=0)
     return {"criterion": f"unstacked: 3DNA rise > {cutoff_A} A", "discard_ps": float(discard_ps),
             "unstacked_fraction": float(un[keep].mean()),
