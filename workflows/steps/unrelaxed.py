@@ -60,7 +60,7 @@ def predict_unrelaxed(cg_dir, steps_files, modes_json, tension_json, out, n_boot
         if md is None or n not in relaxed[kind]:
             continue
         w_rel = relaxed[kind][n][0]
-        row = {"kind": kind, "n": n, "md_omega0_per_ps": md, "md_omega0_err_per_ps": md_err,
+        row: dict = {"kind": kind, "n": n, "md_omega0_per_ps": md, "md_omega0_err_per_ps": md_err,
                "relaxed_omega_per_ps": w_rel, "z_relaxed": z_score(md, md_err, w_rel, 0.0)}
         try:
             res = unrelaxed_mode(kind, n, q, keep, True, dt, material_of,
@@ -69,9 +69,7 @@ def predict_unrelaxed(cg_dir, steps_files, modes_json, tension_json, out, n_boot
         except InputError as err:      # K'(omega) of a short record need not be positive definite
             rows.append({**row, "unrelaxed_omega_per_ps": None, "reason": str(err)})
             continue
-        rows.append({"kind": kind, "n": n, "md_omega0_per_ps": md, "md_omega0_err_per_ps": md_err,
-                     "relaxed_omega_per_ps": w_rel, "z_relaxed": z_score(md, md_err, w_rel, 0.0),
-                     "unrelaxed_omega_per_ps": res["omega_per_ps"],
+        rows.append({**row, "unrelaxed_omega_per_ps": res["omega_per_ps"],
                      "z_unrelaxed": z_score(md, md_err, res["omega_per_ps"], 0.0),
                      "converged": res["converged"], "iterations": res["iterations"],
                      "left_out_wavenumber": res["left_out_wavenumber"], "max_lag_frames": res["max_lag_frames"]})
