@@ -76,7 +76,8 @@ def _universe(d: Path, src: dict):
 
 def reduce_steps(md_dir, out, stride: int = STEPS_STRIDE) -> dict:
     """OUT/steps.npz: the segment's step parameters (shift, slide, rise [A], tilt, roll,
-    twist [deg], 3DNA's branch), the periodic closing step last, every STRIDE-th frame, and
+    twist [deg], 3DNA's branch), the periodic closing step last, every STRIDE-th frame (on
+    the grid of multiples of STRIDE frame times), and
     what the coarse-graining reads from the atoms besides (mdbridge/coarsegrain/reader.py
     mass_inertia): each base pair's mass and inertia averaged over INERTIA_FRAMES frames, and
     the pairs' residue labels."""
@@ -86,7 +87,11 @@ def reduce_steps(md_dir, out, stride: int = STEPS_STRIDE) -> dict:
     d, out = Path(md_dir), Path(out)
     build = json.loads((d / "build.json").read_text())
     u = _universe(d, _sources(d))
-    frames = np.arange(0, len(u.trajectory), stride)
+    # the frames on one grid for every segment (times that are multiples of STRIDE frames), so
+    # that the joined record is evenly spaced whatever time a segment starts at
+    t_all = np.array([ts.time for ts in u.trajectory])
+    period = stride * float(np.median(np.diff(t_all))) if len(t_all) > 1 else 1.0
+    frames = np.flatnonzero(np.abs(t_all / period - np.round(t_all / period)) < 1e-3)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         bpf = BasePairFrames(u, pairs=base_pairs(int(build["n_bp"]))).run(frames=frames)
