@@ -24,12 +24,13 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import re
 import resource
 import subprocess
 import sys
 import time
 from pathlib import Path
+
+from mdbridge.md.gromacs.run import ns_per_day
 
 REPO = Path(__file__).resolve().parents[1]
 SCENES = {21: REPO / "workflows/scenes/dna21.toml", 158: REPO / "workflows/scenes/dna158.toml"}
@@ -56,12 +57,6 @@ def set_key(mdp: str, key: str, value) -> str:
     return "\n".join(out) + "\n"
 
 
-def performance(log: Path) -> float | None:
-    """ns/day of mdrun's log ("Performance:  ns/day  hour/ns" and the numbers under it)."""
-    m = re.search(r"^Performance:\s+(\S+)", log.read_text(), re.M)
-    return float(m.group(1)) if m else None
-
-
 def atoms(build: dict) -> dict:
     w = build["solvent"]
     return {"total": w["n_atoms"], "dna": build["n_atoms"], "water_molecules": w["n_water"],
@@ -84,7 +79,7 @@ def one(n_bp: int, a, work: Path) -> dict:
     timed([a.gmx, "grompp", "-f", "speed_md.mdp", "-c", "conf.gro", "-p", "topol.top", "-o", "speed_md.tpr",
            "-po", "speed_md_out.mdp"], d)
     run = timed([a.gmx, "mdrun", "-deffnm", "speed_md", "-nt", str(a.threads), "-resethway", "-noconfout"], d)
-    ns_day = performance(d / "speed_md.log")
+    ns_day = ns_per_day((d / "speed_md.log").read_text())
     rec["md"] = {"steps": a.steps, "dt_ps": 0.002, "threads": a.threads, **run, "ns_per_day": ns_day,
                  "core_hours_per_ns": None if not ns_day else round(24.0 * a.threads / ns_day, 2)}
     rec["uptime"] = os.getloadavg()

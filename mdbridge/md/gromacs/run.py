@@ -151,6 +151,12 @@ def _checkpoint_step(d: Path) -> int | None:
     return int(steps[-1]) if steps else None
 
 
+def ns_per_day(log_text: str) -> float | None:
+    """ns/day from an mdrun log's last "Performance:" line (ns/day, then hour/ns), None without one."""
+    m = re.findall(r"Performance:\s+(\S+)\s+(\S+)", log_text)
+    return float(m[-1][0]) if m else None
+
+
 def run_md(directory: Path, *, ps: float | None = None, steps: int | None = None,
            gmx: str | None = None, threads: int | None = None, output_ps: float | None = None,
            checks: bool = True, checkpoint_min: float = CHECKPOINT_MIN, reprod: bool = False,
@@ -186,9 +192,8 @@ def run_md(directory: Path, *, ps: float | None = None, steps: int | None = None
     for f in STATE:
         (d / f).unlink(missing_ok=True)
     log = (d / "md.log").read_text() if (d / "md.log").exists() else ""
-    m = re.findall(r"Performance:\s+(\S+)\s+(\S+)", log)
     record: dict = {"steps": steps, "dt_ps": dt, "length_ps": steps * dt, "wall_s": round(wall, 2),
-                    "ns_per_day": float(m[-1][0]) if m else None, "threads": threads,
+                    "ns_per_day": ns_per_day(log), "threads": threads,
                     "resumed_from_checkpoint": resume, "checkpoint_min": checkpoint_min,
                     "reprod": reprod,
                     "gmx": {"path": gmx_path, "version": gmx_version(gmx_path)}}
