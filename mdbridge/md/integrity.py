@@ -140,7 +140,7 @@ def junction_pairs(n_bp: int) -> list[int]:
 
 
 def _beyond(values, times_ps, cutoff: float, discard_ps: float, what: str):
-    """(times, above (T, n) bool, per site fraction after discard_ps) of a (T, n) record."""
+    """(times (T,), above cutoff (T, n) bool, the frames kept after discard_ps (T,) bool) of a (T, n) record."""
     v = np.asarray(values, float)
     t = np.asarray(times_ps, float)
     if v.ndim != 2 or v.shape[0] != t.size or t.size == 0:
