@@ -184,20 +184,24 @@ def _stiffness_of(reps: dict, m: int | None):
     return m * b["stiffness"], m * b["stiffness_boot"], m
 
 
+def with_stiffness(reps: dict, F, mean=None, m: int = 0, units: Units | None = None) -> dict:
+    """uniform_material of read_replicas' dict with the per-step stiffness F: its mean shape
+    (or MEAN), the pairs' mean mass and inertia and its temperature."""
+    return uniform_material(reps["by_m"][1]["mean"] if mean is None else mean, F, float(reps["temperature_K"]),
+                            float(np.mean(reps["mass_amu"])), np.mean(reps["inertia_amu_A2"], axis=0), m, units)
+
+
 def materials(reps: dict, m: int | None = None, n_replicas: int | None = None, units: Units | None = None):
     """(central material, [replicate materials]) from read_replicas' dict: the rod's
     K(q -> 0) (m None), or the m-step compliance average as per-step equivalent."""
     F, Fb, tag = _stiffness_of(reps, m)
     b1 = reps["by_m"][1]
-    mass = float(np.mean(reps["mass_amu"]))
-    inertia = np.mean(reps["inertia_amu_A2"], axis=0)
-    T = float(reps["temperature_K"])
-    central = uniform_material(b1["mean"], F, T, mass, inertia, tag, units)
+    central = with_stiffness(reps, F, m=tag, units=units)
     n = len(b1["mean_boot"]) if n_replicas is None else min(int(n_replicas), len(b1["mean_boot"]))
     out: list[dict | None] = []
     for i in range(n):       # replicate i: the same resampled frames for every quantity (estimator.py)
         try:
-            out.append(uniform_material(b1["mean_boot"][i], Fb[i], T, mass, inertia, tag, units))
+            out.append(with_stiffness(reps, Fb[i], b1["mean_boot"][i], tag, units))
         except InputError:       # a replicate whose stiffness is not positive definite
             out.append(None)
     return central, out

@@ -28,15 +28,13 @@ def predict_unrelaxed(cg_dir, steps_files, modes_json, tension_json, out, n_boot
     """OUT.json (module doc)."""
     from mdbridge.analysis.dispersion_prediction import Duplex, frequencies, md_natural_frequency, z_score
     from mdbridge.analysis.unrelaxed_prediction import unrelaxed_mode
-    from mdbridge.coarsegrain.cgrod import materials, read_replicas, uniform_material
+    from mdbridge.coarsegrain.cgrod import materials, read_replicas, with_stiffness
     from mdbridge.md.segments import read_steps
     from mdbridge.rod.linear import UniformMaterial
     cg_dir = Path(cg_dir)
     reps = read_replicas(cg_dir / "replicas.h5")
     params = json.loads((cg_dir / "params.json").read_text())
     central, _ = materials(reps, None, 0)
-    mean = reps["by_m"][1]["mean"]
-    mass, inertia = float(np.mean(reps["mass_amu"])), np.mean(reps["inertia_amu_A2"], axis=0)
     T_K = float(reps["temperature_K"])
     r = read_steps(steps_files)
     q = r["q"][int(params["discarded_frames"]):]
@@ -51,7 +49,7 @@ def predict_unrelaxed(cg_dir, steps_files, modes_json, tension_json, out, n_boot
     relaxed = frequencies(UniformMaterial.from_dict(central), duplex, T_pN)
 
     def material_of(F):
-        return UniformMaterial.from_dict(uniform_material(mean, F, T_K, mass, inertia, m=0))
+        return UniformMaterial.from_dict(with_stiffness(reps, F))
 
     rows = []
     for e in table["modes"]:
