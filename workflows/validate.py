@@ -3,7 +3,9 @@
 option, the path or value, and what is allowed.
 
   outputs  writable, and not an existing file of the other kind (a folder where a file is
-           written, a file where a folder is). A missing parent folder is created, like
+           written, a file where a folder is). An output folder that holds another command's
+           output (its marker file, OUTPUT_MARKERS) is refused: the two would mix, and a
+           rebuild replaces the files it writes (workflows/staging.py). A missing parent folder is created, like
            `mkdir -p`, the same for every command; the folders made are removed again if the
            command then fails and they are still empty (remove_made_folders, called by
            workflows/cli.py). Writability is tried, not inferred from permission bits:
@@ -23,6 +25,18 @@ import tempfile
 from pathlib import Path
 
 from dna_models.errors import InputError
+
+# The file that marks each folder command's output: written by every run of it, by no other
+# command. A folder holding one is that command's; the same command may write into it again.
+OUTPUT_MARKERS = {
+    "build-md": "build.json",
+    "coarse-grain": "params.json",
+    "compare": "results.json",
+    "dna-rod": "rest.json",
+    "minicircle": "minicircle.json",
+    "modes": "modes.json",
+    "topology": "topology.json",
+}
 
 # folders this process made for outputs, deepest last (remove_made_folders)
 _made: list[Path] = []
@@ -87,13 +101,22 @@ def output_file(path, option: str | None = "-o") -> Path:
     return p
 
 
-def output_folder(path, option: str | None = "-o") -> Path:
-    """An output folder: not an existing file; made (with missing parents) and writable."""
+def output_folder(path, option: str | None = "-o", command: str | None = None) -> Path:
+    """An output folder: not an existing file; made (with missing parents) and writable. With
+    COMMAND (a key of OUTPUT_MARKERS), a folder holding another command's output is refused."""
     p = Path(path)
     what = _name(option, path)
     if os.path.lexists(p) and not p.is_dir():
         raise InputError(f"{what}: is an existing file, and the command writes a folder: give a folder "
                          "name (a new one, or a folder to write into)")
+    if command is not None and p.is_dir():
+        if command not in OUTPUT_MARKERS:
+            raise ValueError(f"output_folder: {command!r} is not a key of OUTPUT_MARKERS")
+        for other, marker in OUTPUT_MARKERS.items():
+            if other != command and (p / marker).is_file():
+                raise InputError(f"{what}: holds the output of `dnarod {other}` ({p / marker}); `dnarod "
+                                 f"{command}` would mix its files with it: give a new folder, or one of "
+                                 f"`dnarod {command}`'s own")
     _make_folder(p, what)
     _probe(p, what)
     return p

@@ -187,6 +187,49 @@ def _snapshot(folder: Path) -> dict:
     return {p.name: p.read_bytes() for p in sorted(folder.iterdir()) if p.is_file()}
 
 
+
+# --- a different existing output is refused up front -------------------------------------
+
+def test_every_folder_command_is_in_the_marker_registry():
+    # every command that checks an output folder names itself, with a marker of its own
+    import re
+    from dnarod import validate
+    calls = {}
+    for f in (ROOT / "workflows" / "commands").glob("*.py"):
+        for cmd in re.findall(r"output_folder\([^)]*\)", f.read_text()):
+            calls[f.name] = cmd
+    # paper-figures writes only files named after its figures (fig1.png, fig1.json, ...), which
+    # no other command writes, so it neither mixes with nor is recognised by another output
+    calls.pop("paper_figures.py")
+    assert calls and all("command=" in c for c in calls.values()), calls
+    named = {re.search(r'command="([a-z-]+)"', c).group(1) for c in calls.values()}
+    assert named == set(validate.OUTPUT_MARKERS)
+    assert len(set(validate.OUTPUT_MARKERS.values())) == len(validate.OUTPUT_MARKERS)
+
+
+@pytest.mark.parametrize("cmd", ["modes", "topology", "dna-rod"])
+def test_a_folder_of_another_command_s_output_is_refused(dnarod, rod21, build21, cmd, tmp_path):
+    # a folder holding build-md's build.json: refused before any work, the build untouched
+    args = {"modes": [rod21], "topology": [rod21], "dna-rod": ["--random", "8", "--seed", "1", "--params", "paper"]}
+    before = _snapshot(build21)
+    refused(dnarod, cmd, *args[cmd], "-o", build21, names=[f"-o {build21}", "dnarod build-md", "build.json"])
+    assert _snapshot(build21) == before
+    # control: the same command may write into its own earlier output (run twice)
+    for _ in range(2):
+        p = run(dnarod, cmd, *args[cmd], "-o", tmp_path / "own")
+        assert p.returncode == 0, p.stderr[-2000:]
+    from dnarod.validate import OUTPUT_MARKERS
+    assert (tmp_path / "own" / OUTPUT_MARKERS[cmd]).is_file()   # the command writes its marker
+
+
+def test_build_md_into_another_command_s_output_is_refused(dnarod, rod21, tmp_path):
+    p = run(dnarod, "topology", rod21, "-o", tmp_path / "top")
+    assert p.returncode == 0, p.stderr[-2000:]
+    before = _snapshot(tmp_path / "top")
+    refused(dnarod, "build-md", SCENES / "dna21.toml", "--ps", "5", "-o", tmp_path / "top",
+            names=["dnarod topology", "topology.json"])
+    assert _snapshot(tmp_path / "top") == before and not (tmp_path / "top.building").exists()
+
 def test_a_refused_rebuild_leaves_the_build(dnarod, build21):
     before = _snapshot(build21)
     refused(dnarod, "build-md", SCENES / "dna21.toml", "--temperature", "-5", "-o", build21, names=["--temperature"])

@@ -138,7 +138,7 @@ def run(args):
         validate.input_file(args.scene, None, "TOML")
     if args.rod and os.path.exists(args.rod):
         validate.input_file(args.rod, "--rod")
-    validate.output_folder(args.output)
+    validate.output_folder(args.output, command="build-md")
     request = BuildRequest(
         scene=args.scene, output=args.output, temperature_K=args.temperature, seed=args.seed,
         sequence=args.sequence, bp=args.bp, turns=args.turns, rod=args.rod, ps=args.ps,

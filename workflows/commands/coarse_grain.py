@@ -160,7 +160,7 @@ def _check_inputs(args) -> None:
         validate.input_file(args.pairs, "--pairs", "text")
     if args.edr and Path(args.edr).exists():   # a missing one: the energy reader's message
         validate.input_file(args.edr, "--edr")
-    validate.output_folder(args.output)
+    validate.output_folder(args.output, command="coarse-grain")
 
 
 def run(args):

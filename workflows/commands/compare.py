@@ -225,7 +225,7 @@ def run(args) -> int:
     load(cfg)  # every key checked before anything runs (workflows/config/schema.yaml)
     if args.cores < 1:
         raise InputError(f"--cores {args.cores}: must be at least 1")
-    out = validate.output_folder(args.output).resolve()
+    out = validate.output_folder(args.output, command="compare").resolve()
     bin_dir = os.environ.get("DNAROD_BIN_DIR") or str(ROOT / "build" / "bin")
     cmd = [sys.executable, "-m", "snakemake", "-s", str(ROOT / "workflows" / "Snakefile"),
            "--configfile", str(cfg.resolve()), "--config", f"bin_dir={bin_dir}", f"python={sys.executable}",

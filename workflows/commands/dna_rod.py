@@ -99,7 +99,7 @@ def run(args):
     if args.bp_per_point > 1 and (len(seq) % args.bp_per_point or len(seq) // args.bp_per_point < n_min):
         raise InputError(f"--bp-per-point {args.bp_per_point}: must divide the {len(seq)} bp into at least "
                          f"{n_min} segments (the {args.space} solver's fewest grid points)")
-    validate.output_folder(args.output)
+    validate.output_folder(args.output, command="dna-rod")
     from mdbridge.rod.material.dna_rod import DnaRodRequest, dna_rod
     req = DnaRodRequest(
         sequence=seq, output=args.output, params=args.params, mass=args.mass,

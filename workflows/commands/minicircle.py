@@ -170,7 +170,7 @@ def run(args):
     sm = step_material(seq, args.params, closed=True)
 
     from dnarod import validate
-    out = validate.output_folder(args.output)
+    out = validate.output_folder(args.output, command="minicircle")
     rm = rod_material(sm, units=u)
     g = grid_material(rm, ppb * rm.n_bp, "trig")
     print(f"minicircle: {rm.n_bp} bp ({seq_source}), {args.params}, {ppb} point(s) per bp; closing the ring ...",

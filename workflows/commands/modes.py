@@ -63,7 +63,7 @@ def run(args):
     from dnarod.progress import Stages
 
     from dnarod import validate
-    out = validate.output_folder(args.output)
+    out = validate.output_folder(args.output, command="modes")
     with Stages("modes") as stages:
         table = mode_spectra(args.paths, out, args.discard_ps, args.until_ps, progress=stages)
     _warn(table)

@@ -67,7 +67,7 @@ def run(args):
     points = WRITHE_POINTS if args.writhe_points is None else args.writhe_points
     from dnarod import validate
     inputs = _inputs(args.paths, args.writhe_points)
-    out = validate.output_folder(args.output)
+    out = validate.output_folder(args.output, command="topology")
     results, bad = {}, []
     for path, kind, run_ in inputs:
         r = rod_topology(run_, points) if kind == "rod" else md_topology(path)
