@@ -15,6 +15,17 @@ the material, so mode n's own body-frame wavenumber is left out of the q -> 0 fi
 refitted (timescale.Coordinates(..., leave_out=k)).
 
 The lag window of J*: MAX_LAG_PERIODS periods of the mode, at most a quarter of the record.
+
+The rod's error: the same map, stiffness -> omega, applied to each block-bootstrap replica of
+J*(omega_n) (timescale.dynamic_compliance_q0's J_boot); its spread is the error of omega_n.
+
+The damping (the loss part): with K* = K' + i K'' (J* = J' - i J'', K'' >= 0 for a material
+that dissipates), a mode's squared frequency becomes complex, omega^2 = w(K')^2 + i Delta,
+Delta = d w^2 / d eps of K' + eps K'' at eps = 0 (to first order in K''). An oscillator
+x'' + 2 gamma x' + omega0^2 x has the same Im omega^2 = 2 gamma omega, so the mode's amplitude
+decay rate is gamma = Delta / (2 omega) (`loss_damping`; the MD's `damping_per_ps`, dnarod
+modes). It is a prediction only where K'' comes from coordinates that are not the mode: with
+the own wavenumber left out, or the material of another seed.
 """
 from __future__ import annotations
 
@@ -27,6 +38,7 @@ from dna_models.errors import InputError
 MAX_ITERATIONS = 10
 TOLERANCE = 0.01
 MAX_LAG_PERIODS = 8.0
+LOSS_STEP = 0.01          # eps of the central difference in loss_damping (Delta is linear to ~eps^2)
 
 
 def left_out_wavenumber(kind: str, n: int, turns: int) -> int:
@@ -44,8 +56,35 @@ def storage_stiffness(coords, dt_ps: float, omega_per_ps: float, n_boot: int, se
     from mdbridge.coarsegrain.timescale import dynamic_compliance_q0
     lag = max_lag_frames(omega_per_ps, dt_ps, coords.T)
     d = dynamic_compliance_q0(coords, dt_ps, [omega_per_ps], lag, n_boot=n_boot, seed=seed)
-    return {"K_storage": d["K"][0].real, "J": d["J"][0], "J_storage_err": d["J_storage_err"][0],
-            "J_loss_err": d["J_loss_err"][0], "max_lag_frames": lag}
+    return {"K_storage": d["K"][0].real, "K_loss": d["K"][0].imag, "J": d["J"][0],
+            "J_storage_err": d["J_storage_err"][0], "J_loss_err": d["J_loss_err"][0],
+            "J_boot": d["J_boot"][0], "max_lag_frames": lag}
+
+
+def loss_damping(K_storage, K_loss, omega_per_ps: float, material_of, frequency_of) -> float:
+    """gamma [1/ps] that the loss stiffness K'' gives a mode of frequency omega (module doc):
+    Delta = d w^2 / d eps of K' + eps K'' by a central difference, gamma = Delta / (2 omega)."""
+    K_storage, K_loss = np.asarray(K_storage, float), np.asarray(K_loss, float)
+    w_plus = frequency_of(material_of(K_storage + LOSS_STEP * K_loss))
+    w_minus = frequency_of(material_of(K_storage - LOSS_STEP * K_loss))
+    return float((w_plus ** 2 - w_minus ** 2) / (2.0 * LOSS_STEP) / (2.0 * omega_per_ps))
+
+
+def _replica_spread(J_boot, omega: float, material_of, frequency_of) -> dict:
+    """The errors of omega and gamma from the block-bootstrap replicas of J* (module doc);
+    a replica whose K' is not positive definite (a short record) counts as failed."""
+    ws, gs, failed = [], [], 0
+    for J in J_boot:
+        K = np.linalg.inv(J)
+        try:
+            ws.append(float(frequency_of(material_of(K.real))))
+            gs.append(loss_damping(K.real, K.imag, omega, material_of, frequency_of))
+        except (InputError, np.linalg.LinAlgError, ValueError, KeyError):   # KeyError: the mode is gone
+            failed += 1
+    ok = len(ws) >= max(10, 0.8 * len(J_boot))
+    return {"omega_err_per_ps": float(np.std(ws, ddof=1)) if ok else None,
+            "gamma_err_per_ps": float(np.std(gs, ddof=1)) if ok else None,
+            "replicas": len(J_boot), "replicas_failed": failed}
 
 
 def unrelaxed_mode(kind: str, n: int, q, keep, closed: bool, dt_ps: float, material_of, frequency_of,
@@ -69,7 +108,11 @@ def unrelaxed_mode(kind: str, n: int, q, keep, closed: bool, dt_ps: float, mater
         omega = new
         if converged:
             break
-    return {"kind": kind, "n": int(n), "omega_per_ps": omega, "converged": bool(converged),
-            "iterations": len(path) - 1, "omega_path_per_ps": path, "left_out_wavenumber": k,
-            "K_storage": s["K_storage"].tolist(), "J_storage_err": np.asarray(s["J_storage_err"]).tolist(),
-            "max_lag_frames": s["max_lag_frames"]}
+    gamma = loss_damping(s["K_storage"], s["K_loss"], omega, material_of, frequency_of)
+    err = _replica_spread(s["J_boot"], omega, material_of, frequency_of)
+    return {"kind": kind, "n": int(n), "omega_per_ps": omega, "omega_err_per_ps": err["omega_err_per_ps"],
+            "gamma_per_ps": gamma, "gamma_err_per_ps": err["gamma_err_per_ps"],
+            "bootstrap": {"replicas": err["replicas"], "failed": err["replicas_failed"]},
+            "converged": bool(converged), "iterations": len(path) - 1, "omega_path_per_ps": path,
+            "left_out_wavenumber": k, "K_storage": s["K_storage"].tolist(), "K_loss": s["K_loss"].tolist(),
+            "J_storage_err": np.asarray(s["J_storage_err"]).tolist(), "max_lag_frames": s["max_lag_frames"]}

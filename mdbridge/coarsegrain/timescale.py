@@ -338,7 +338,7 @@ def dynamic_compliance_q0(coords: Coordinates, dt_ps: float, omegas_per_ps, max_
         raise InputError(f"maximum lag {max_lag} frames: allowed 1 to {T // 2 - 1} for {T} frames")
     b = block_length(float(np.max(integrated_time(coords.y))), T - max_lag)
     rng = np.random.default_rng(seed)
-    out, re_err, im_err = [], [], []
+    out, re_err, im_err, boot = [], [], [], []
     d = y - y.mean(axis=0)
     for om in np.atleast_1d(omegas_per_ps):
         g = _filtered(d, lag_kernel(dt_ps, float(om), max_lag), float(om)).reshape(-1, K, 12)
@@ -349,9 +349,11 @@ def dynamic_compliance_q0(coords: Coordinates, dt_ps: float, omegas_per_ps, max_
         out.append(J.mean(axis=0))
         re_err.append(spread(bs[:, :36]).reshape(6, 6))
         im_err.append(spread(bs[:, 36:]).reshape(6, 6))
+        boot.append((bs[:, :36] + 1j * bs[:, 36:]).reshape(-1, 6, 6))
     J = np.array(out)
     return {"omega_per_ps": np.atleast_1d(np.asarray(omegas_per_ps, float)), "J": J,
             "J_storage_err": np.array(re_err), "J_loss_err": np.array(im_err),
+            "J_boot": np.array(boot),      # (omegas, n_boot, 6, 6): each block-bootstrap replica's J*
             "K": np.linalg.inv(J), "block_frames": b, "max_lag_frames": max_lag}
 
 

@@ -8,8 +8,10 @@ CG_DIR: a `dnarod coarse-grain` of a run's steps files STEPS.npz (its replicas.h
 K(q -> 0), the mean shape, mass and inertia; its params.json the frames it discarded).
 MODES.json and TENSION.json: the MD whose modes are predicted, the coarse-grained one's own
 or another seed's (the cross-validation). Per mode that MD resolves: the relaxed rod's
-omega, the self-consistent unrelaxed one, the MD's omega0, and z of each against the MD
-with the MD's error (the rod's own error is not propagated yet: the z overstate).
+omega (its error from the coarse-graining's bootstrap replicas of K(q -> 0)), the
+self-consistent unrelaxed one (its error from the replicas of J*), the MD's omega0, and z of
+each against the MD with both errors; and the damping gamma that the loss part of J* gives
+(mdbridge/analysis/unrelaxed_prediction.py) against the MD's fitted `damping_per_ps`.
 """
 from __future__ import annotations
 
@@ -34,7 +36,7 @@ def predict_unrelaxed(cg_dir, steps_files, modes_json, tension_json, out, n_boot
     cg_dir = Path(cg_dir)
     reps = read_replicas(cg_dir / "replicas.h5")
     params = json.loads((cg_dir / "params.json").read_text())
-    central, _ = materials(reps, None, 0)
+    central, replicas = materials(reps, None)
     T_K = float(reps["temperature_K"])
     r = read_steps(steps_files)
     q = r["q"][int(params["discarded_frames"]):]
@@ -47,6 +49,11 @@ def predict_unrelaxed(cg_dir, steps_files, modes_json, tension_json, out, n_boot
     if duplex.n_bp != len(r["sequence"]):
         raise InputError(f"{modes_json}: {duplex.n_bp} bp; the coarse-grained steps are of {len(r['sequence'])}")
     relaxed = frequencies(UniformMaterial.from_dict(central), duplex, T_pN)
+    relaxed_reps = [frequencies(UniformMaterial.from_dict(m), duplex, T_pN) for m in replicas if m is not None]
+
+    def relaxed_err(kind, n):
+        w = [f[kind][n][0] for f in relaxed_reps if n in f[kind]]
+        return float(np.std(w, ddof=1)) if len(w) >= 10 else None
 
     def material_of(F):
         return UniformMaterial.from_dict(with_stiffness(reps, F))
@@ -57,9 +64,11 @@ def predict_unrelaxed(cg_dir, steps_files, modes_json, tension_json, out, n_boot
         md, md_err = md_natural_frequency(e)
         if md is None or n not in relaxed[kind]:
             continue
-        w_rel = relaxed[kind][n][0]
+        w_rel, w_rel_err = relaxed[kind][n][0], relaxed_err(kind, n)
         row: dict = {"kind": kind, "n": n, "md_omega0_per_ps": md, "md_omega0_err_per_ps": md_err,
-               "relaxed_omega_per_ps": w_rel, "z_relaxed": z_score(md, md_err, w_rel, 0.0)}
+                     "md_gamma_per_ps": e.get("damping_per_ps"), "md_gamma_err_per_ps": e.get("damping_err_per_ps"),
+                     "relaxed_omega_per_ps": w_rel, "relaxed_omega_err_per_ps": w_rel_err,
+                     "z_relaxed": z_score(md, md_err, w_rel, w_rel_err)}
         try:
             res = unrelaxed_mode(kind, n, q, keep, True, dt, material_of,
                                  lambda mat, kind=kind, n=n: frequencies(mat, duplex, T_pN, n_max=n)[kind][n][0],
@@ -68,7 +77,11 @@ def predict_unrelaxed(cg_dir, steps_files, modes_json, tension_json, out, n_boot
             rows.append({**row, "unrelaxed_omega_per_ps": None, "reason": str(err)})
             continue
         rows.append({**row, "unrelaxed_omega_per_ps": res["omega_per_ps"],
-                     "z_unrelaxed": z_score(md, md_err, res["omega_per_ps"], 0.0),
+                     "unrelaxed_omega_err_per_ps": res["omega_err_per_ps"],
+                     "z_unrelaxed": z_score(md, md_err, res["omega_per_ps"], res["omega_err_per_ps"]),
+                     "gamma_per_ps": res["gamma_per_ps"], "gamma_err_per_ps": res["gamma_err_per_ps"],
+                     "z_gamma": z_score(row["md_gamma_per_ps"], row["md_gamma_err_per_ps"], res["gamma_per_ps"],
+                                        res["gamma_err_per_ps"]),
                      "converged": res["converged"], "iterations": res["iterations"],
                      "left_out_wavenumber": res["left_out_wavenumber"], "max_lag_frames": res["max_lag_frames"]})
     rec = {"cg": str(cg_dir), "steps": [str(f) for f in steps_files], "modes": str(modes_json),
@@ -77,8 +90,12 @@ def predict_unrelaxed(cg_dir, steps_files, modes_json, tension_json, out, n_boot
            "frames": int(len(q)), "frame_ps": dt, "rows": rows,
            "definition": "per mode the MD resolves: the coarse-grained rod's omega with the relaxed K(q -> 0), and "
                          "with the storage stiffness Re J*(omega)^-1 at its own omega, self-consistent (mdbridge/"
-                         "analysis/unrelaxed_prediction.py); the MD's omega0 (dnarod modes); z with the MD's error "
-                         "only; the rod at the MD's virial tension, the coarse-graining's mean shape, mass and inertia"}
+                         "analysis/unrelaxed_prediction.py), each with its bootstrap error; the MD's omega0 (dnarod "
+                         "modes); z with both errors; gamma, the amplitude decay rate the loss part of J* gives, "
+                         "against the MD's damping_per_ps; the rod at the MD's virial tension, the coarse-graining's "
+                         "mean shape, mass and inertia",
+           "stiffness": {"relaxed": "K(q -> 0) of the whole record (replicas.h5)",
+                         "unrelaxed": "Re J*(omega_n)^-1 of the q -> 0 coordinates at each mode's own omega"}}
     write_json(out, rec)
     return rec
 
