@@ -23,7 +23,7 @@ The damping (the loss part): with K* = K' + i K'' (J* = J' - i J'', K'' >= 0 for
 that dissipates), a mode's squared frequency becomes complex, omega^2 = w(K')^2 + i Delta,
 Delta = d w^2 / d eps of K' + eps K'' at eps = 0 (to first order in K''). An oscillator
 x'' + 2 gamma x' + omega0^2 x has the same Im omega^2 = 2 gamma omega, so the mode's amplitude
-decay rate is gamma = Delta / (2 omega) (`loss_damping`; the MD's `damping_per_ps`, dnarod
+decay rate is gamma = Delta / (2 omega) (mdbridge/coarsegrain/damping.py `mode_decay_rate`; the MD's `damping_per_ps`, dnarod
 modes). It is a prediction only where K'' comes from coordinates that are not the mode: with
 the own wavenumber left out, or the material of another seed.
 """
@@ -34,11 +34,11 @@ import math
 import numpy as np
 
 from dna_models.errors import InputError
+from mdbridge.coarsegrain.damping import mode_decay_rate
 
 MAX_ITERATIONS = 10
 TOLERANCE = 0.01
 MAX_LAG_PERIODS = 8.0
-LOSS_STEP = 0.01          # eps of the central difference in loss_damping (Delta is linear to ~eps^2)
 
 
 def left_out_wavenumber(kind: str, n: int, turns: int) -> int:
@@ -61,15 +61,6 @@ def storage_stiffness(coords, dt_ps: float, omega_per_ps: float, n_boot: int, se
             "J_boot": d["J_boot"][0], "max_lag_frames": lag}
 
 
-def loss_damping(K_storage, K_loss, omega_per_ps: float, material_of, frequency_of) -> float:
-    """gamma [1/ps] that the loss stiffness K'' gives a mode of frequency omega (module doc):
-    Delta = d w^2 / d eps of K' + eps K'' by a central difference, gamma = Delta / (2 omega)."""
-    K_storage, K_loss = np.asarray(K_storage, float), np.asarray(K_loss, float)
-    w_plus = frequency_of(material_of(K_storage + LOSS_STEP * K_loss))
-    w_minus = frequency_of(material_of(K_storage - LOSS_STEP * K_loss))
-    return float((w_plus ** 2 - w_minus ** 2) / (2.0 * LOSS_STEP) / (2.0 * omega_per_ps))
-
-
 def _replica_spread(J_boot, omega: float, material_of, frequency_of) -> dict:
     """The errors of omega and gamma from the block-bootstrap replicas of J* (module doc);
     a replica whose K' is not positive definite (a short record) counts as failed."""
@@ -78,7 +69,7 @@ def _replica_spread(J_boot, omega: float, material_of, frequency_of) -> dict:
         K = np.linalg.inv(J)
         try:
             ws.append(float(frequency_of(material_of(K.real))))
-            gs.append(loss_damping(K.real, K.imag, omega, material_of, frequency_of))
+            gs.append(mode_decay_rate(K.real, K.imag, omega, material_of, frequency_of))
         except (InputError, np.linalg.LinAlgError, ValueError, KeyError):   # KeyError: the mode is gone
             failed += 1
     ok = len(ws) >= max(10, 0.8 * len(J_boot))
@@ -108,7 +99,7 @@ def unrelaxed_mode(kind: str, n: int, q, keep, closed: bool, dt_ps: float, mater
         omega = new
         if converged:
             break
-    gamma = loss_damping(s["K_storage"], s["K_loss"], omega, material_of, frequency_of)
+    gamma = mode_decay_rate(s["K_storage"], s["K_loss"], omega, material_of, frequency_of)
     err = _replica_spread(s["J_boot"], omega, material_of, frequency_of)
     return {"kind": kind, "n": int(n), "omega_per_ps": omega, "omega_err_per_ps": err["omega_err_per_ps"],
             "gamma_per_ps": gamma, "gamma_err_per_ps": err["gamma_err_per_ps"],

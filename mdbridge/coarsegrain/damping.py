@@ -14,6 +14,11 @@ By fluctuation-dissipation J(t) is the equilibrium creep compliance of timescale
 small loss tangent tan(delta) = J'' / J' = K'' / K': its damping constant (x'' + gamma x' +
 omega_0^2 x = 0, amplitude decay gamma / 2) is gamma = omega_0 tan(delta(omega_0))
 (`predicted_gamma`); `mode_root` solves m omega^2 = K*(omega) exactly.
+
+A rod's mode on a 6x6 K* = K' + i K'' (`mode_decay_rate`): omega^2 = w(K')^2 + i Delta to
+first order, Delta = d w^2 / d eps of K' + eps K'' (a central difference), so the amplitude
+decays at Im(omega) = Delta / (2 omega): half the damping constant above, and the
+`damping_per_ps` of `dnarod modes` (x'' + 2 gamma x' + omega0^2 x = 0).
 """
 from __future__ import annotations
 
@@ -69,3 +74,15 @@ def mode_root(mass: float, J_u: float, J_r: float, tau_ps: float, omega0_per_ps:
         if abs(step) < 1e-13 * abs(w):
             break
     return w
+
+
+LOSS_STEP = 0.01          # eps of mode_decay_rate's central difference (Delta exact to ~eps^2)
+
+
+def mode_decay_rate(K_storage, K_loss, omega_per_ps: float, material_of, frequency_of) -> float:
+    """The amplitude decay rate [1/ps] that the loss stiffness K'' gives a mode of frequency
+    omega (module doc); material_of(K) is the rod of stiffness K, frequency_of(rod) the mode's w."""
+    K_storage, K_loss = np.asarray(K_storage, float), np.asarray(K_loss, float)
+    w_plus = frequency_of(material_of(K_storage + LOSS_STEP * K_loss))
+    w_minus = frequency_of(material_of(K_storage - LOSS_STEP * K_loss))
+    return float((w_plus ** 2 - w_minus ** 2) / (2.0 * LOSS_STEP) / (2.0 * omega_per_ps))

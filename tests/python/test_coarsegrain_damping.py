@@ -12,6 +12,7 @@ predicts no damping and must miss; the first-order gamma agrees with the exact r
 m omega^2 = K*(omega) to second order in the loss.
 """
 import numpy as np
+import pytest
 from scipy.signal import lfilter
 
 from mdbridge.coarsegrain.damping import fit_sls, mode_root, predicted_gamma, sls_dynamic
@@ -54,3 +55,19 @@ def test_standard_linear_solid_fit_and_its_damping():
     tan_delta = -Js.imag / Js.real
     assert abs(2 * w.imag / gamma_true - 1) < 2 * tan_delta, (2 * w.imag, gamma_true, tan_delta)
     assert abs(w.real / OMEGA - 1) < tan_delta ** 2
+
+
+def test_a_rod_mode_s_decay_rate_is_half_the_damping_constant():
+    # mode_decay_rate through a one-coordinate "rod" (w = sqrt(K / m)) on the same material:
+    # the amplitude decay rate Im(omega) of the exact root, half of gamma = omega tan(delta)
+    from mdbridge.coarsegrain.damping import mode_decay_rate
+    K = 1.0 / sls_dynamic(OMEGA, J_U, J_R, TAU)
+    m = K.real / OMEGA ** 2
+    rate = mode_decay_rate(np.array([[K.real]]), np.array([[K.imag]]), OMEGA, lambda k: k,
+                           lambda k: np.sqrt(k[0, 0] / m))
+    assert rate == pytest.approx(float(predicted_gamma(OMEGA, J_U, J_R, TAU)) / 2, rel=1e-6)
+    w = mode_root(m, J_U, J_R, TAU, OMEGA)
+    tan_delta = K.imag / K.real
+    assert abs(rate / w.imag - 1) < 2 * tan_delta
+    # control: the damping constant itself (twice the rate) is not the decay rate
+    assert abs(2 * rate / w.imag - 1) > 0.5

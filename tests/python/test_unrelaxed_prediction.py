@@ -21,7 +21,8 @@ import pytest
 
 from cg_truth import per_step
 from mdbridge.analysis.dispersion_prediction import Duplex, frequencies
-from mdbridge.analysis.unrelaxed_prediction import loss_damping, unrelaxed_mode
+from mdbridge.analysis.unrelaxed_prediction import unrelaxed_mode
+from mdbridge.coarsegrain.damping import mode_decay_rate
 from mdbridge.coarsegrain.cgrod import uniform_material
 from mdbridge.coarsegrain.synthetic import fast_slow_steps
 from mdbridge.rod.linear import UniformMaterial
@@ -64,7 +65,7 @@ def _truth(kind, n, mean, J_fast):
     for _ in range(30):                      # the fixed point with the closed-form J*
         w = f(material_of(np.linalg.inv(_J_star(w, J_fast, 2 * J_fast)).real))
     K = np.linalg.inv(_J_star(w, J_fast, 2 * J_fast))
-    return relaxed, w, loss_damping(K.real, K.imag, w, material_of, f)
+    return relaxed, w, mode_decay_rate(K.real, K.imag, w, material_of, f)
 
 
 @pytest.fixture(scope="module")
