@@ -16,8 +16,10 @@ refitted (timescale.Coordinates(..., leave_out=k)).
 
 The lag window of J*: MAX_LAG_PERIODS periods of the mode, at most a quarter of the record.
 
-The rod's error: the same map, stiffness -> omega, applied to each block-bootstrap replica of
-J*(omega_n) (timescale.dynamic_compliance_q0's J_boot); its spread is the error of omega_n.
+The rod's error: each block-bootstrap replica of J*(omega_n) (timescale.dynamic_compliance_q0's
+J_boot) mapped to omega_n and gamma_n, linearised: with G = d w^2 / dK at the estimate (one
+forward difference per element of the symmetric K, GRADIENT_STEP of its diagonal scale), a
+replica gives w^2 + <G, K'_rep - K'> and Delta_rep = <G, K''_rep>; their spreads are the errors.
 
 The damping (the loss part): with K* = K' + i K'' (J* = J' - i J'', K'' >= 0 for a material
 that dissipates), a mode's squared frequency becomes complex, omega^2 = w(K')^2 + i Delta,
@@ -39,6 +41,7 @@ from mdbridge.coarsegrain.damping import mode_decay_rate
 MAX_ITERATIONS = 10
 TOLERANCE = 0.01
 MAX_LAG_PERIODS = 8.0
+GRADIENT_STEP = 1e-4
 
 
 def left_out_wavenumber(kind: str, n: int, turns: int) -> int:
@@ -61,21 +64,31 @@ def storage_stiffness(coords, dt_ps: float, omega_per_ps: float, n_boot: int, se
             "J_boot": d["J_boot"][0], "max_lag_frames": lag}
 
 
-def _replica_spread(J_boot, omega: float, material_of, frequency_of) -> dict:
-    """The errors of omega and gamma from the block-bootstrap replicas of J* (module doc);
-    a replica whose K' is not positive definite (a short record) counts as failed."""
-    ws, gs, failed = [], [], 0
-    for J in J_boot:
-        K = np.linalg.inv(J)
-        try:
-            ws.append(float(frequency_of(material_of(K.real))))
-            gs.append(mode_decay_rate(K.real, K.imag, omega, material_of, frequency_of))
-        except (InputError, np.linalg.LinAlgError, ValueError, KeyError):   # KeyError: the mode is gone
-            failed += 1
-    ok = len(ws) >= max(10, 0.8 * len(J_boot))
-    return {"omega_err_per_ps": float(np.std(ws, ddof=1)) if ok else None,
-            "gamma_err_per_ps": float(np.std(gs, ddof=1)) if ok else None,
-            "replicas": len(J_boot), "replicas_failed": failed}
+def squared_frequency_gradient(K, material_of, frequency_of) -> np.ndarray:
+    """G = d w^2 / dK (6, 6, symmetric: dK_ij = dK_ji) of the mode frequency_of gives, at K."""
+    K = np.asarray(K, float)
+    w2 = float(frequency_of(material_of(K))) ** 2
+    scale = np.sqrt(np.outer(np.abs(np.diag(K)), np.abs(np.diag(K))))
+    G = np.zeros((6, 6))
+    for i in range(6):
+        for j in range(i, 6):
+            h = GRADIENT_STEP * scale[i, j]
+            E = np.zeros((6, 6))
+            E[i, j] = E[j, i] = h
+            g = (float(frequency_of(material_of(K + E))) ** 2 - w2) / h
+            G[i, j] = G[j, i] = g / (1.0 if i == j else 2.0)       # <G, E> = g h for both entries
+    return G
+
+
+def _replica_spread(J_boot, K_storage, omega: float, material_of, frequency_of) -> dict:
+    """The errors of omega and gamma from the block-bootstrap replicas of J* (module doc)."""
+    G = squared_frequency_gradient(K_storage, material_of, frequency_of)
+    K = np.linalg.inv(np.asarray(J_boot))
+    w2 = omega ** 2 + np.einsum("ij,rij->r", G, K.real - np.asarray(K_storage)[None])
+    ws = np.sqrt(np.clip(w2, 0.0, None))
+    gs = np.einsum("ij,rij->r", G, K.imag) / (2.0 * omega)
+    return {"omega_err_per_ps": float(np.std(ws, ddof=1)), "gamma_err_per_ps": float(np.std(gs, ddof=1)),
+            "replicas": len(J_boot), "replicas_failed": int(np.sum(w2 <= 0))}
 
 
 def unrelaxed_mode(kind: str, n: int, q, keep, closed: bool, dt_ps: float, material_of, frequency_of,
@@ -100,7 +113,7 @@ def unrelaxed_mode(kind: str, n: int, q, keep, closed: bool, dt_ps: float, mater
         if converged:
             break
     gamma = mode_decay_rate(s["K_storage"], s["K_loss"], omega, material_of, frequency_of)
-    err = _replica_spread(s["J_boot"], omega, material_of, frequency_of)
+    err = _replica_spread(s["J_boot"], s["K_storage"], omega, material_of, frequency_of)
     return {"kind": kind, "n": int(n), "omega_per_ps": omega, "omega_err_per_ps": err["omega_err_per_ps"],
             "gamma_per_ps": gamma, "gamma_err_per_ps": err["gamma_err_per_ps"],
             "bootstrap": {"replicas": err["replicas"], "failed": err["replicas_failed"]},
