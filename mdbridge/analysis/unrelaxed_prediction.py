@@ -25,9 +25,9 @@ The damping (the loss part): with K* = K' + i K'' (J* = J' - i J'', K'' >= 0 for
 that dissipates), a mode's squared frequency becomes complex, omega^2 = w(K')^2 + i Delta,
 Delta = d w^2 / d eps of K' + eps K'' at eps = 0 (to first order in K''). An oscillator
 x'' + 2 gamma x' + omega0^2 x has the same Im omega^2 = 2 gamma omega, so the mode's amplitude
-decay rate is gamma = Delta / (2 omega) (mdbridge/coarsegrain/damping.py `mode_decay_rate`; the MD's `damping_per_ps`, dnarod
-modes). It is a prediction only where K'' comes from coordinates that are not the mode: with
-the own wavenumber left out, or the material of another seed.
+decay rate is gamma = Delta / (2 omega) (mdbridge/coarsegrain/damping.py `mode_decay_rate`;
+the MD's `damping_per_ps`, dnarod modes). It is a prediction only where K'' comes from
+coordinates that are not the mode: with the own wavenumber left out, or another seed's material.
 """
 from __future__ import annotations
 

@@ -187,7 +187,6 @@ def _snapshot(folder: Path) -> dict:
     return {p.name: p.read_bytes() for p in sorted(folder.iterdir()) if p.is_file()}
 
 
-
 # --- a different existing output is refused up front -------------------------------------
 
 def test_every_folder_command_is_in_the_marker_registry():
@@ -229,6 +228,7 @@ def test_build_md_into_another_command_s_output_is_refused(dnarod, rod21, tmp_pa
     refused(dnarod, "build-md", SCENES / "dna21.toml", "--ps", "5", "-o", tmp_path / "top",
             names=["dnarod topology", "topology.json"])
     assert _snapshot(tmp_path / "top") == before and not (tmp_path / "top.building").exists()
+
 
 def test_a_refused_rebuild_leaves_the_build(dnarod, build21):
     before = _snapshot(build21)

@@ -109,7 +109,9 @@ def test_the_rod_s_errors_and_damping_cover_the_realisations(runs):
             z_g.append((r["gamma_per_ps"] - g) / r["gamma_err_per_ps"])
             z_elastic.append(g / r["gamma_err_per_ps"])
         bias_g.append(np.mean([r["gamma_per_ps"] for r in rs]) / g - 1)
-    rms = lambda z: float(np.sqrt(np.mean(np.square(z))))
+
+    def rms(z):
+        return float(np.sqrt(np.mean(np.square(z))))
     # omega's error covers the realisations; gamma's is biased and understated at bend n = 8
     # (docs/coarse-graining.md, "The damping": a gamma agrees within about 2.5 errors)
     assert 0.5 < rms(z_w) < 1.6, z_w
