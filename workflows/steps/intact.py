@@ -31,7 +31,8 @@ with A != B is the cross-validation.
 
 Over the seeds, into RESULTS: blocks_KIND.json (block errors pooled over the seeds),
 seeds.json (the tension-corrected seed differences; `differences_by_kind` with the block
-errors) and prediction.json (the reference seed's, the first).
+errors), prediction.json (the reference seed's, the first) and summary.json (`summarise`: the
+figures docs/intact.md and the README quote, each from one of these files).
 """
 from __future__ import annotations
 
@@ -173,6 +174,63 @@ def analyse(results, discard_ps: float | None = None, seeds=("seed1", "seed2"), 
     runs = {s: (results / s / "modes.json", results / s / "tension.json") for s in seeds}
     rec = seed_differences_step(runs, results / "seeds.json", blocks, results / "run" / seeds[0] / "build.json")
     shutil.copy(results / seeds[0] / "prediction.json", results / "prediction.json")
+    summarise(results, seeds)
+    return rec
+
+
+def _ratios(rows, md_key, rod_key, z_key=None) -> dict:
+    """Per kind: the modes n with both numbers, MD / rod (min, max, median) and z (min, max)."""
+    out = {}
+    for kind in KINDS:
+        rs = [r for r in rows if r["kind"] == kind and r.get(md_key) is not None and r.get(rod_key)]
+        if not rs:
+            continue
+        q = np.array([r[md_key] / r[rod_key] for r in rs])
+        rec = {"n": [int(r["n"]) for r in rs], "ratio": q.tolist(), "ratio_min": float(q.min()),
+               "ratio_max": float(q.max()), "ratio_median": float(np.median(q))}
+        if z_key:
+            z = np.array([r[z_key] for r in rs if r.get(z_key) is not None], float)
+            rec.update(z=z.tolist(), z_min=float(z.min()) if len(z) else None,
+                       z_max=float(z.max()) if len(z) else None,
+                       within_2=int(np.sum(np.abs(z) <= 2.0)), with_z=int(len(z)))
+        out[kind] = rec
+    return out
+
+
+def summarise(results, seeds=("seed1", "seed2")) -> dict:
+    """RESULTS/summary.json: per seed the record (discard, end, open and unstacked fractions,
+    tension) and the MD over the paper's rod as published and at the box (per kind); over the
+    seeds the pooled chi2; per pair of seeds A on B the coarse-grained rod's relaxed and
+    unrelaxed frequencies and dampings over the MD's, where those files exist."""
+    results = Path(results)
+
+    def load(name):
+        return json.loads((results / name).read_text())
+    rec: dict = {"discard_ps": load("discard.json")["discard_ps"], "seeds": {}}
+    for s in seeds:
+        g, t, p = load(f"{s}/integrity.json"), load(f"{s}/tension.json"), load(f"{s}/prediction.json")
+        times = np.load(results / s / "mode_series.npz")["r0_times_ps"]
+        rec["seeds"][s] = {
+            "end_ps": float(times[-1]), "open_fraction": g["open_fraction"],
+            "junction_open_fraction": g["junction_open_fraction"],
+            "unstacked_fraction": (g.get("stacking") or {}).get("unstacked_fraction"),
+            "tension_pN": t["tension_pN"], "tension_err_pN": t["tension_err_pN"],
+            "paper_rod": _ratios(p["rows"], "md_omega0_per_ps", "paper_rod_omega_per_ps", "z_paper_rod"),
+            "paper_rod_box": _ratios(p["rows"], "md_omega0_per_ps", "paper_rod_box_omega_per_ps", "z_paper_rod_box")}
+    d = load("seeds.json")
+    rec["seed_differences"] = {"errors": d["errors"], **d["differences_by_kind"][0]}
+    rec["cg"] = {}
+    for a in seeds:
+        for b in seeds:
+            f = results / f"unrelaxed_{a}_on_{b}.json"
+            if f.is_file():
+                rows = json.loads(f.read_text())["rows"]
+                rec["cg"][f"{a}_on_{b}"] = {
+                    "relaxed": _ratios(rows, "md_omega0_per_ps", "relaxed_omega_per_ps", "z_relaxed"),
+                    "unrelaxed": _ratios(rows, "md_omega0_per_ps", "unrelaxed_omega_per_ps", "z_unrelaxed"),
+                    "gamma": _ratios(rows, "md_gamma_per_ps", "gamma_per_ps", "z_gamma"),
+                    "refused": [f"{r['kind']} {r['n']}" for r in rows if r.get("unrelaxed_omega_per_ps") is None]}
+    write_json(results / "summary.json", rec)
     return rec
 
 
