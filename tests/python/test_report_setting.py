@@ -73,8 +73,11 @@ def test_report_names_each_setting_when_runs_differ(tmp_path):
     their runs, and no sentence claims one setting."""
     _folder(tmp_path, "Av0_seed1", build())
     _folder(tmp_path, "Av0_seed2", build(pair_hold={"k_kJ_mol_nm2": 1000.0}))
+    _folder(tmp_path, "Av5_seed1", build(solvent=WATER))            # not a run of this configuration
     res, page = _report(tmp_path, CFG)
-    assert {r["setting"] for r in res["md_setting"].values()} == {"full-charge vacuum", "held pairs, full-charge vacuum"}
+    assert set(res["md_setting"]) == {"md/Av0_seed1", "md/Av0_seed2"}
+    assert {r["setting"] for r in res["md_setting"].values()} == {"full-charge vacuum",
+                                                                   "held pairs, full-charge vacuum"}
     section = page[page.index('id="md-setting"'):page.index("</ul>", page.index('id="md-setting"'))]
     assert "one setting" not in section
     assert "<b>full-charge vacuum</b> (charmm27): md/Av0_seed1" in section
@@ -83,6 +86,13 @@ def test_report_names_each_setting_when_runs_differ(tmp_path):
     assert setting.of_run(res["md_setting"], {"kind": "md", "A_v_A_per_ps": 0.0, "seed": 2}) == \
         "held pairs, full-charge vacuum"
     assert setting.of_run(res["md_setting"], {"kind": "md", "A_v_A_per_ps": 1.0, "seed": 2}) == ""
+
+
+def test_stretched_boxes_of_the_dispersion_are_named(tmp_path):
+    _folder(tmp_path, "Av0_seed1", build())
+    _folder(tmp_path, "Av0_seed1_box1.015", build())
+    cfg = dict(CFG, seeds=[1], dispersion={"enabled": True, "box_scales": [1.015]})
+    assert set(setting.collect(cfg, tmp_path)) == {"md/Av0_seed1", "md/Av0_seed1_box1.015"}
 
 
 def test_no_md_no_setting(tmp_path):

@@ -87,7 +87,7 @@ def collect(cfg: dict, out: Path) -> dict:
     data["modulus"] = json.loads(fit.read_text()) if fit.is_file() else None
     for av in cfg.get("sweep", {}).get("A_v_A_per_ps", []) or []:
         data["sweep"][float(av)] = _load(out / "sweep" / f"Av{fmt_av(av)}" / "analysis")
-    data["md_setting"] = setting.collect(out) if cfg.get("md", {}).get("enabled", True) else {}
+    data["md_setting"] = setting.collect(cfg, out) if cfg.get("md", {}).get("enabled", True) else {}
     data["cgrod"] = prediction.collect(cfg, out)
     data["dispersion"] = dispersion.collect(cfg, out)
     data["prestrain"] = {}

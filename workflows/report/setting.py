@@ -41,12 +41,19 @@ def label(build: dict) -> str:
     return ", ".join([f"{water['model'].upper()} water", ions, hold] + extra)
 
 
-def collect(out: Path) -> dict:
-    """{run folder (md/...): {"setting", "forcefield"}} of every MD build under OUT."""
+def collect(cfg: dict, out: Path) -> dict:
+    """{run folder (md/...): {"setting", "forcefield"}} of the configuration's MD runs whose build
+    is under OUT: every (A_v, seed), and the stretched boxes of the dispersion (workflows/Snakefile)."""
+    folders = [f"md/Av{float(a):g}_seed{int(s)}" for a in cfg["A_v_A_per_ps"] for s in cfg["seeds"]]
+    disp = cfg.get("dispersion") or {}
+    if disp.get("enabled"):
+        folders += [f"md/Av0_seed{int(s)}_box{float(f):g}" for s in cfg["seeds"] for f in disp.get("box_scales") or []]
     runs = {}
-    for p in sorted((out / "md").glob("*/build.json")) if (out / "md").is_dir() else []:
-        b = json.loads(p.read_text())
-        runs[f"md/{p.parent.name}"] = {"setting": label(b), "forcefield": b.get("forcefield", "charmm27")}
+    for folder in folders:
+        p = out / folder / "build.json"
+        if p.is_file():
+            b = json.loads(p.read_text())
+            runs[folder] = {"setting": label(b), "forcefield": b.get("forcefield", "charmm27")}
     return runs
 
 
