@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import copy
 import difflib
+import math
 from pathlib import Path
 
 from dna_models.errors import InputError
@@ -38,6 +39,8 @@ def _key(path) -> str:
 
 def _allowed(node: dict) -> str:
     bits = []
+    if "enum" in node:
+        return "one of " + ", ".join(map(str, node["enum"]))
     t = node.get("type")
     if t:
         bits.append(" or ".join(t) if isinstance(t, list) else t)
@@ -95,7 +98,79 @@ def validate(data, source: str = "<config>") -> dict:
     if float(out["headline_A_v_A_per_ps"]) not in [float(a) for a in out["A_v_A_per_ps"]]:
         raise InputError(f"{source}: key 'headline_A_v_A_per_ps' = {out['headline_A_v_A_per_ps']!r}: must be one "
                          f"of A_v_A_per_ps {out['A_v_A_per_ps']}")
+    _check_medium(out, source)
     return out
+
+
+# build-md's options of the medium, each set by one key of md (md_build_args adds them)
+MEDIUM_OPTIONS = {"solvent": "--solvent", "salt_mM": "--salt-mM", "axial_tension_pN": "--axial-tension-pN"}
+
+
+def _label(a) -> str:
+    return f"{float(a):g}"      # the run-folder label of an A_v (workflows/report/report.py fmt_av)
+
+
+def medium_args(cfg: dict) -> str:
+    """build-md's options of md.solvent, md.salt_mM and md.axial_tension_pN; none in vacuum
+    (the default), so a vacuum configuration's builds are what they were before these keys."""
+    md = cfg["md"]
+    if md.get("solvent", "vacuum") == "vacuum":
+        return ""
+    args = [f"--solvent {md['solvent']}", f"--salt-mM {float(md.get('salt_mM', 0)):g}"]
+    if md.get("axial_tension_pN") is not None:
+        args.append(f"--axial-tension-pN {float(md['axial_tension_pN']):g}")
+    return " ".join(args)
+
+
+def md_build_args(cfg: dict, A_v) -> str:
+    """build-md's extra arguments of the runs at A_v: md.build_args, then md.build_args_per_A_v[A_v]
+    (a later option wins), then the medium's (`medium_args`); `{seed}` is left for the caller."""
+    md = cfg["md"]
+    per = {_label(k): str(v) for k, v in (md.get("build_args_per_A_v") or {}).items()}
+    return " ".join(a for a in (md.get("build_args", ""), per.get(_label(A_v), ""), medium_args(cfg)) if a)
+
+
+def _check_medium(cfg: dict, source: str) -> None:
+    """The medium's keys and what goes with them, before anything runs (build-md would refuse the
+    same at each build, in its options' names)."""
+    md = cfg["md"]
+    water = md["solvent"] != "vacuum"
+    others = [k for k in schema()["properties"]["md"]["properties"]["solvent"]["enum"] if k != "vacuum"]
+    own = {"md.build_args": md.get("build_args", "")}
+    own.update({f"md.build_args_per_A_v[{k}]": str(v) for k, v in (md.get("build_args_per_A_v") or {}).items()})
+    for key, text in own.items():
+        for name, opt in MEDIUM_OPTIONS.items():
+            if opt in text.split():
+                raise InputError(f"{source}: key '{key}' holds {opt}: set key 'md.{name}' instead (the medium has one "
+                                 "place in a configuration)")
+        if water and "--axial-pressure" in text.split():
+            raise InputError(f"{source}: key '{key}' holds --axial-pressure, the vacuum's zero-tension length; in "
+                             "water hold a tension with key 'md.axial_tension_pN' (0 for none)")
+    for name in ("salt_mM", "axial_tension_pN"):
+        v = md.get(name)
+        if v is not None and not math.isfinite(float(v)):
+            raise InputError(f"{source}: key 'md.{name}' = {v!r}: must be a finite number")
+    if md["salt_mM"] and not water:
+        raise InputError(f"{source}: key 'md.salt_mM' = {md['salt_mM']!r}: salt needs water; set key 'md.solvent' to "
+                         f"one of {', '.join(others)} (or md.salt_mM to 0)")
+    T = md.get("axial_tension_pN")
+    if T is None:
+        return
+    if not water:
+        raise InputError(f"{source}: key 'md.axial_tension_pN' = {T!r}: a tension is held by the water's barostat; "
+                         f"set key 'md.solvent' to one of {', '.join(others)} (or md.axial_tension_pN to null: a "
+                         "fixed box)")
+    if md.get("enabled", True):
+        bare = [a for a in cfg["A_v_A_per_ps"] if "--thermostat" not in md_build_args(cfg, a).split()]
+        if bare:
+            raise InputError(f"{source}: key 'md.axial_tension_pN' = {T!r} needs --thermostat in key 'md.build_args' "
+                             f"(or md.build_args_per_A_v of A_v = {', '.join(_label(a) for a in bare)}): the "
+                             "barostat draws its noise at the thermostat's temperature")
+    scales = (cfg.get("dispersion") or {}).get("box_scales") or []
+    if scales:
+        raise InputError(f"{source}: key 'dispersion.box_scales' = {scales!r}: a stretched box needs a fixed box, and "
+                         f"with md.axial_tension_pN = {T!r} the barostat sets the length; run one configuration "
+                         "per tension instead (or dispersion.box_scales: [])")
 
 
 def load(path) -> dict:

@@ -24,6 +24,7 @@ import json
 import math
 from pathlib import Path
 
+from dnarod.configuration import md_build_args
 from mdbridge.analysis.realisation_floor import between_realisation_floor
 from mdbridge.jsonio import write_json
 
@@ -42,7 +43,7 @@ def setting(cfg: dict) -> dict:
         return {float(k): v for k, v in (md.get(key) or {}).items()}.get(head)
     return {"scene": str(cfg.get("scene")), "A_v_A_per_ps": head,
             "md_run_ps": float(at_head("run_ps_per_A_v") or md.get("run_ps", float("nan"))),
-            "build_args": " ".join(filter(None, [md.get("build_args", ""), at_head("build_args_per_A_v")])),
+            "build_args": md_build_args(dict(cfg, md=md), head),     # with the medium's, if not vacuum
             "run_args": " ".join(filter(None, [md.get("run_args", ""), at_head("run_args_per_A_v")]))}
 
 

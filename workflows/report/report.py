@@ -20,7 +20,7 @@ import numpy as np
 
 from mdbridge.md.gromacs.checks import DRIFT_TARGET_KJ_MOL_NS_ATOM as DRIFT_TARGET
 from mdbridge.jsonio import write_json
-from dnarod.report import dispersion, prediction, realisations, verdict
+from dnarod.report import dispersion, prediction, realisations, setting, verdict
 from dnarod.report.values import mean_over_seeds, number
 from dnarod.report.prediction import CAPTION as PREDICTION_CAPTION
 
@@ -87,6 +87,7 @@ def collect(cfg: dict, out: Path) -> dict:
     data["modulus"] = json.loads(fit.read_text()) if fit.is_file() else None
     for av in cfg.get("sweep", {}).get("A_v_A_per_ps", []) or []:
         data["sweep"][float(av)] = _load(out / "sweep" / f"Av{fmt_av(av)}" / "analysis")
+    data["md_setting"] = setting.collect(cfg, out) if cfg.get("md", {}).get("enabled", True) else {}
     data["cgrod"] = prediction.collect(cfg, out)
     data["dispersion"] = dispersion.collect(cfg, out)
     data["prestrain"] = {}
@@ -111,6 +112,8 @@ DEFINITIONS = {
     "planarity": "RMS out-of-plane / RMS in-plane displacement over the run (0 = planar)",
     "md_bp_intact_fraction": "fraction of base pairs with N1-N3 < 3.5 A (minimum image), "
                              "last frame, mean over seeds",
+    "md_setting": "per MD run folder, the setting every number of that run is of (medium, charges, held "
+                  "pairs, tension) and its force field, from the run's build.json (workflows/report/setting.py)",
 }
 
 
@@ -185,6 +188,7 @@ def results_json(cfg: dict, data: dict) -> dict:
         "md_run_ps": float({float(k): v for k, v in (cfg["md"].get("run_ps_per_A_v") or {}).items()}
                            .get(head, cfg["md"]["run_ps"])) if md_runs else 0.0,
         "seeds": seeds,
+        "md_setting": data.get("md_setting", {}),
         "A_v_A_per_ps": [float(a) for a in cfg["A_v_A_per_ps"]],
         "paper": PAPER,
         "definitions": dict(DEFINITIONS),
@@ -375,7 +379,8 @@ def _wave_sections(table, matched_html, runs) -> str:
 {matched_html}
 <h2>All runs</h2>
 <table><tr><th>kind</th><th>A_v [A/ps]</th><th>seed</th><th>speed [A/ps]</th><th>check</th>
-<th>planarity</th><th>bp intact</th><th>energy drift [kJ/mol/ns/atom]</th><th>t_end [ps]</th></tr>{runs}</table>"""
+<th>planarity</th><th>bp intact</th><th>energy drift [kJ/mol/ns/atom]</th><th>t_end [ps]</th><th>MD setting</th></tr>
+{runs}</table>"""
 
 
 def _not_measured(items: str) -> str:
@@ -418,7 +423,8 @@ def write_html(cfg: dict, res: dict, figs: dict, path: Path):
         f"<td>{_f(j.get('bp_intact_fraction_final', ''))}</td>"
         f"<td>{_drift_html(j.get('energy_drift_kJ_mol_per_ns_per_atom')) if j['kind'] == 'md' else ''}</td>"
         f"<td>{_f(j['t_end_ps'])}"
-        f"{'' if j.get('complete', True) else ' (stopped: ' + html.escape(j.get('stopped', '')) + ')'}</td></tr>"
+        f"{'' if j.get('complete', True) else ' (stopped: ' + html.escape(j.get('stopped', '')) + ')'}</td>"
+        f"<td>{html.escape(setting.of_run(res.get('md_setting', {}), j)) if j['kind'] == 'md' else ''}</td></tr>"
         for j in res["runs"]["rod"] + res["runs"]["md"] + res["runs"]["sweep"])
     from dnarod.report.comparison import html_table
     matched_html = html_table(res["comparison"]) if res.get("comparison") else ""
@@ -445,6 +451,7 @@ def write_html(cfg: dict, res: dict, figs: dict, path: Path):
 table{{border-collapse:collapse}} img{{max-width:100%}} figcaption{{font-size:90%;color:#333}}</style></head><body>
 <h1>Rod vs all-atom MD: bend-shear wave on a periodic duplex</h1>
 <section id="verdict"><h2>What this run found</h2><p>{" ".join(verdict.opening(res, waves))}</p></section>
+{setting.html_section(res.get("md_setting", {}))}
 {lead_html}{disp_html}{note}
 {_wave_sections(table, matched_html, runs) if waves else
  "<p>No wave-speed analyses in this configuration (analysis.waves is false: no kicked run).</p>"}
