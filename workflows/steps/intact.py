@@ -69,9 +69,11 @@ def _observables(seed_dir: Path) -> dict:
     return obs
 
 
-def discard_from_relaxation(results: Path, seeds) -> dict:
+def discard_from_relaxation(results: Path, seeds, given_ps: float | None = None) -> dict:
     """RESULTS/discard.json: each seed's and observable's equilibration start (module doc) and
-    the discard T they give; the seeds must be joined (join_segments) without a discard."""
+    the discard T they give; the seeds must be joined (join_segments) without a discard. With
+    GIVEN_PS (--discard-ps) the starts are still written beside it, as the record of what the
+    rule found, and nothing is refused."""
     import math
     from mdbridge.coarsegrain.equilibration import equilibration_start
     per_seed: dict[str, dict] = {}
@@ -91,8 +93,10 @@ def discard_from_relaxation(results: Path, seeds) -> dict:
                    "independent frames, N / (2 tau_int) (Chodera 2016, J Chem Theory Comput 12:1799; candidates "
                    f"every {CANDIDATE_STEP_PS:g} ps up to half the record); the discard is the latest, "
                    "rounded up to 50 ps (workflows/steps/intact.py, mdbridge/coarsegrain/equilibration.py)"}
+    if given_ps is not None:
+        rec = {**rec, "discard_ps": float(given_ps), "rule_discard_ps": T, "given": "--discard-ps"}
     write_json(results / "discard.json", rec)
-    if T > MAX_DISCARD_PS:
+    if given_ps is None and T > MAX_DISCARD_PS:
         raise InputError(f"{results / 'discard.json'}: the run relaxes for {longest:g} ps, more than the "
                          f"{MAX_DISCARD_PS:g} ps the record can spare; see per_seed for the observable")
     return rec
@@ -138,7 +142,9 @@ def coarse_grain_seeds(results: Path, seeds, discard_ps: float) -> None:
         r = coarse_grain(CoarseGrainRequest(structure=str(results / "run" / s), output=str(results / s / "cg"),
                                             trajectories=[str(f) for f in steps[s]],
                                             discard=int(round(discard_ps / _frame_ps(steps[s][0]))),
-                                            window_ps=[DEFAULT_WINDOW_PS]))
+                                            window_ps=[DEFAULT_WINDOW_PS], m_max=1))
+        # m_max 1: the rod reads K(q -> 0) and the one-step moments only; the m >= 2 windows
+        # of a 3-ns record hold fewer than the 8 samples their inversion needs at slow steps
         write_json(results / s / "cg" / "cg.json", {"ok": True, "caveats": r.caveats})
     for a in seeds:
         for b in seeds:
@@ -158,10 +164,9 @@ def analyse(results, discard_ps: float | None = None, seeds=("seed1", "seed2"), 
     from dnarod.steps.dispersion import block_errors_step, seed_differences_step
     from dnarod.steps.segments import join_segments
     results = Path(results)
-    if discard_ps is None:
-        for seed in seeds:
-            join_segments(_segments(results / seed), results / seed, 0.0)
-        discard_ps = discard_from_relaxation(results, seeds)["discard_ps"]
+    for seed in seeds:
+        join_segments(_segments(results / seed), results / seed, 0.0)
+    discard_ps = discard_from_relaxation(results, seeds, discard_ps)["discard_ps"]
     for seed in seeds:
         analyse_seed(results, seed, discard_ps)
     series = {s: (results / s / "mode_series.npz", results / s / "modes.json") for s in seeds}
@@ -239,7 +244,8 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(prog="python3 -m dnarod.steps.intact", description=__doc__.splitlines()[0])
     ap.add_argument("results", help="the folder with seedS/segments/segNN and run/seedS/build.json")
     ap.add_argument("--discard-ps", type=float, default=None,
-                    help="the discarded start (default: from the run's relaxation, RESULTS/discard.json)")
+                    help="the discarded start (default: from the run's relaxation, RESULTS/discard.json, "
+                         "which records the rule's starts either way)")
     ap.add_argument("--seeds", nargs="+", default=["seed1", "seed2"])
     ap.add_argument("--kinds", nargs="+", default=list(KINDS), choices=KINDS)
     ap.add_argument("--coarse-grain", action="store_true",

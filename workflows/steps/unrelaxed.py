@@ -22,7 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
-from dna_models.errors import InputError
+from dna_models.errors import InputError, NumericalError
 from mdbridge.jsonio import write_json
 
 
@@ -49,7 +49,12 @@ def predict_unrelaxed(cg_dir, steps_files, modes_json, tension_json, out, n_boot
     if duplex.n_bp != len(r["sequence"]):
         raise InputError(f"{modes_json}: {duplex.n_bp} bp; the coarse-grained steps are of {len(r['sequence'])}")
     relaxed = frequencies(UniformMaterial.from_dict(central), duplex, T_pN)
-    relaxed_reps = [frequencies(UniformMaterial.from_dict(m), duplex, T_pN) for m in replicas if m is not None]
+    relaxed_reps = []
+    for m in replicas:
+        try:
+            relaxed_reps.append(frequencies(UniformMaterial.from_dict(m), duplex, T_pN))
+        except (InputError, NumericalError):   # a replica whose linear rod has no real modes
+            pass
 
     def relaxed_err(kind, n):
         w = [f[kind][n][0] for f in relaxed_reps if n in f[kind]]
@@ -73,7 +78,7 @@ def predict_unrelaxed(cg_dir, steps_files, modes_json, tension_json, out, n_boot
             res = unrelaxed_mode(kind, n, q, keep, True, dt, material_of,
                                  lambda mat, kind=kind, n=n: frequencies(mat, duplex, T_pN, n_max=n)[kind][n][0],
                                  w_rel, n_boot=n_boot)
-        except InputError as err:      # K'(omega) of a short record need not be positive definite
+        except (InputError, NumericalError) as err:   # K'(omega) of a finite record need not be a stable rod
             rows.append({**row, "unrelaxed_omega_per_ps": None, "reason": str(err)})
             continue
         rows.append({**row, "unrelaxed_omega_per_ps": res["omega_per_ps"],
