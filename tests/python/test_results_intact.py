@@ -142,17 +142,18 @@ def test_the_held_production_keeps_its_pairs():
 
 
 @pytest.mark.parametrize("seed", ["seed1", "seed2"])
-def test_the_committed_run_state_resumes(seed):
-    """What the next session resumes: the run input and checkpoint are the ones md.run.json
-    records (run-md continues only the same request, mdbridge/md/gromacs/run.py), built with
-    the pair hold, its junction equal to the interior in the run input."""
+def test_the_committed_run_state_is_the_finished_run(seed):
+    """The finished run's input and final checkpoint (md.tpr, md.cpt: a longer run goes on from
+    them) are the ones md.run.json records (mdbridge/md/gromacs/run.py), built with the pair
+    hold, its junction equal to the interior in the run input; md.done says 3.5 ns."""
     from mdbridge.md.gromacs.run import _request
     d = INTACT / "run" / seed
     rec = json.loads((d / "md.run.json").read_text())
     req = _request(d, (d / "md_run.mdp").read_text(), rec["gmx"], rec["steps"])
     assert req["inputs_sha256"] == rec["inputs_sha256"]
     assert rec["steps"] == 1750000                              # 3.5 ns at 2 fs
-    assert (d / "md.part.cpt").stat().st_size > 100000 and (d / "md.part.tpr").is_file()
+    assert (d / "md.cpt").stat().st_size > 100000 and (d / "md.tpr").is_file()
+    assert json.loads((d / "md.done").read_text())["length_ps"] == 3500.0
     build = json.loads((d / "build.json").read_text())
     assert build["pair_hold"]["n_restraints"] == 395 and build["electrostatics"] == "paper"
     assert [(r["ok"], r["interior_steps_compared"]) for r in build["junction_run_input"]] == [(True, 8), (True, 8)]
@@ -189,7 +190,7 @@ def test_the_segments_so_far_as_the_docs_say():
     for seed in ("seed1", "seed2"):
         segs = sorted((INTACT / seed / "segments").glob("seg[0-9][0-9]"))
         t0, t1 = json.loads((segs[-1] / "segment.json").read_text())["times_ps"]
-        out = subprocess.run([find_gmx(None), "dump", "-cp", str(INTACT / "run" / seed / "md.part.cpt")],
+        out = subprocess.run([find_gmx(None), "dump", "-cp", str(INTACT / "run" / seed / "md.cpt")],
                              capture_output=True, text=True, check=True).stdout
         t_cpt = float(next(ln.split("=")[1] for ln in out.splitlines() if ln.startswith("t =")))
         assert t0 < t_cpt <= t1 + 0.5          # within the segment, or at its last frame
