@@ -32,6 +32,7 @@ Configuration (YAML): workflows/config/default.yaml documents every key; each
 shipped file says at its top what it runs and what it costs. Shipped (workflows/config/):
   default.yaml          the main job (scripts/run.sh): 158 bp, A_v = 0 and 1 A/ps, a wave period of MD
   dispersion.yaml       158 bp unkicked, 5 ns at 300 K: the MD's mode spectra against the rods' (docs/dispersion.md)
+  dispersion_water.yaml the same in TIP3P water, 150 mM NaCl, at 20 pN: for a cluster (docs/workflow.md)
   headline.yaml         default.yaml restricted to A_v = 1 A/ps (the README's worked example)
   paper.yaml            the paper's MD: 600 ps for A_v = 0, 1, 5 A/ps, three seeds each
   prediction.yaml       default.yaml with an A_v = 0 run long enough for the coarse-grained prediction
