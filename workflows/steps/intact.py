@@ -166,16 +166,16 @@ def analyse(results, discard_ps: float | None = None, seeds=("seed1", "seed2"), 
     results = Path(results)
     for seed in seeds:
         join_segments(_segments(results / seed), results / seed, 0.0)
-    discard_ps = discard_from_relaxation(results, seeds, discard_ps)["discard_ps"]
+    T: float = discard_from_relaxation(results, seeds, discard_ps)["discard_ps"]
     for seed in seeds:
-        analyse_seed(results, seed, discard_ps)
+        analyse_seed(results, seed, T)
     series = {s: (results / s / "mode_series.npz", results / s / "modes.json") for s in seeds}
     blocks = []
     for kind in kinds:
         blocks.append(results / f"blocks_{kind}.json")
-        block_errors_step(series, blocks[-1], discard_ps, None, (kind,))
+        block_errors_step(series, blocks[-1], T, None, (kind,))
     if coarse_grain:
-        coarse_grain_seeds(results, seeds, discard_ps)
+        coarse_grain_seeds(results, seeds, T)
     runs = {s: (results / s / "modes.json", results / s / "tension.json") for s in seeds}
     rec = seed_differences_step(runs, results / "seeds.json", blocks, results / "run" / seeds[0] / "build.json")
     shutil.copy(results / seeds[0] / "prediction.json", results / "prediction.json")
