@@ -27,6 +27,7 @@ from pathlib import Path
 import numpy as np
 
 from dna_models.errors import InputError
+from dna_models.units import BOLTZMANN as BOLTZMANN_J_PER_K
 from mdbridge.stats import block_sem, sem_longest_blocks
 
 from .energy import read_energies
@@ -135,6 +136,41 @@ def mean_with_error(t, y, *, discard_ps: float = 0.0) -> dict:
             "sem_rule": "larger of the first blocking plateau and the longest blocks leaving 8",
             "halves": {"first": float(np.mean(y[:h])), "second": float(np.mean(y[h:])),
                        "difference": diff, "difference_se": se, "stationary": bool(abs(diff) < 3.0 * se)}}
+
+
+def isotension_stretch_modulus(t, length_nm, temperature_K: float, *, discard_ps: float = 0.0) -> dict:
+    """The stretch modulus of the whole periodic duplex from its box length L(t) in the
+    isotension ensemble that a semi-isotropic barostat samples (build-md --axial-tension-pN):
+    S = kT <L> / var L (pN), the q = 0 stretch stiffness, which no per-step analysis reaches.
+    The barostat's time constant sets how fast L moves, not its distribution. Errors: the
+    blocking errors of <L> and of the mean squared deviation (mean_with_error), propagated."""
+    t, L = np.asarray(t, float), np.asarray(length_nm, float)
+    keep = t >= t[0] + discard_ps
+    mean = mean_with_error(t, L, discard_ps=discard_ps)
+    dev2 = mean_with_error(t[keep], (L[keep] - L[keep].mean()) ** 2)
+    kT_pN_nm = BOLTZMANN_J_PER_K * temperature_K * 1e21
+    S = kT_pN_nm * mean["mean"] / dev2["mean"]
+    err = S * float(np.hypot(dev2["sem"] / dev2["mean"], mean["sem"] / mean["mean"]))
+    return {"S_pN": S, "S_err_pN": err, "length_nm": mean, "length_std_nm": float(np.sqrt(dev2["mean"])),
+            "temperature_K": temperature_K, "rule": "S = kT <L> / var L over the frames after the discard"}
+
+
+def force_extension(L0: dict, L1: dict, dT_pN: float, S0_pN: float, S0_err_pN: float) -> dict:
+    """The length gained between two set tensions, <L>(T1) - <L>(T0), against the one the
+    lower run's own stiffness predicts, <L>(T0) (T1 - T0) / S0 (L0, L1: mean_with_error of the
+    box length); and the force-extension modulus <L>(T0) (T1 - T0) / dL that it implies. The
+    barostat holds the same virial whatever the DNA does, so only this asks the DNA."""
+    predicted = L0["mean"] * dT_pN / S0_pN
+    measured = L1["mean"] - L0["mean"]
+    err = float(np.hypot(L0["sem"], L1["sem"]))
+    pred_err = predicted * S0_err_pN / S0_pN
+    S_fe = L0["mean"] * dT_pN / measured if measured > 0 else None
+    return {"delta_tension_pN": dT_pN, "delta_length_nm": measured, "delta_length_err_nm": err,
+            "predicted_nm": predicted, "predicted_err_nm": pred_err,
+            "S_force_extension_pN": S_fe,
+            "S_force_extension_err_pN": None if S_fe is None else S_fe * err / measured,
+            "consistent_2_sigma": bool(abs(measured - predicted) < 2.0 * float(np.hypot(err, pred_err))),
+            "resolved_from_zero_2_sigma": bool(measured > 2.0 * err)}
 
 
 def stretch_box(src: Path, dst: Path, factor: float, *, axis: int | None = None,
