@@ -1,7 +1,7 @@
 """ns/day and atom counts of the solvated periodic duplex (build-md --solvent) on this machine.
 
     python bench/water_speed.py [--systems 21 158] [--steps 5000] [--threads 2]
-                                [--work /tmp/water_speed] [--gmx gmx] [--out bench/results]
+                                [--work /tmp/water_speed] [--gmx GMX ...] [--out bench/results]
 
 For each system (21: workflows/scenes/dna21.toml, 2 turns; 158: workflows/scenes/dna158.toml),
 `dnarod build-md SCENE --solvent tip3p --salt-mM 150` in the production setting of a tension
@@ -24,6 +24,7 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import re
 import resource
 import subprocess
 import sys
@@ -64,26 +65,32 @@ def atoms(build: dict) -> dict:
             "box_nm": [round(x, 3) for x in build["box_nm"]]}
 
 
-def one(n_bp: int, a, work: Path) -> dict:
+def one(n_bp: int, a, work: Path) -> list[dict]:
+    """Build the system once (with the first --gmx), then time --steps of MD with each --gmx."""
     d = work / f"dna{n_bp}"
-    rec: dict = {"system": f"{n_bp} bp", "scene": str(SCENES[n_bp].relative_to(REPO))}
+    base: dict = {"system": f"{n_bp} bp", "scene": str(SCENES[n_bp].relative_to(REPO))}
     if not (d / "build.json").is_file():
         ps = ["--ps", str(BOX_PS[n_bp])] if BOX_PS[n_bp] else []
-        rec["build"] = timed([sys.executable, "-m", "dnarod.cli", "build-md", str(SCENES[n_bp]), "-o", str(d),
-                              *BUILD, *ps, "--gmx", a.gmx, "--threads", str(a.threads)])
+        base["build"] = timed([sys.executable, "-m", "dnarod.cli", "build-md", str(SCENES[n_bp]), "-o", str(d),
+                               *BUILD, *ps, "--gmx", a.gmx[0], "--threads", str(a.threads)])
     build = json.loads((d / "build.json").read_text())
-    rec["atoms"] = atoms(build)
-    rec["minimization"] = build.get("minimization")
+    base["atoms"] = atoms(build)
+    base["minimization"] = build.get("minimization")
     md = set_key((d / "md.mdp").read_text(), "nsteps", a.steps)
     (d / "speed_md.mdp").write_text(md)
-    timed([a.gmx, "grompp", "-f", "speed_md.mdp", "-c", "conf.gro", "-p", "topol.top", "-o", "speed_md.tpr",
-           "-po", "speed_md_out.mdp"], d)
-    run = timed([a.gmx, "mdrun", "-deffnm", "speed_md", "-nt", str(a.threads), "-resethway", "-noconfout"], d)
-    ns_day = ns_per_day((d / "speed_md.log").read_text())
-    rec["md"] = {"steps": a.steps, "dt_ps": 0.002, "threads": a.threads, **run, "ns_per_day": ns_day,
-                 "core_hours_per_ns": None if not ns_day else round(24.0 * a.threads / ns_day, 2)}
-    rec["uptime"] = os.getloadavg()
-    return rec
+    rows = []
+    for gmx in a.gmx:
+        timed([gmx, "grompp", "-f", "speed_md.mdp", "-c", "conf.gro", "-p", "topol.top", "-o", "speed_md.tpr",
+               "-po", "speed_md_out.mdp"], d)
+        run = timed([gmx, "mdrun", "-deffnm", "speed_md", "-nt", str(a.threads), "-resethway", "-noconfout"], d)
+        log = (d / "speed_md.log").read_text()
+        simd = re.search(r"SIMD instructions(?: selected at compile time)?:\s*(\S+)", log)
+        ns_day = ns_per_day(log)
+        rows.append({**base, "gmx": gmx, "simd": simd.group(1) if simd else None,
+                     "md": {"steps": a.steps, "dt_ps": 0.002, "threads": a.threads, **run, "ns_per_day": ns_day,
+                            "core_hours_per_ns": None if not ns_day else round(24.0 * a.threads / ns_day, 2)},
+                     "uptime": os.getloadavg()})
+    return rows
 
 
 def main() -> int:
@@ -92,11 +99,11 @@ def main() -> int:
     ap.add_argument("--steps", type=int, default=5000, help="MD steps timed (the second half counts)")
     ap.add_argument("--threads", type=int, default=2)
     ap.add_argument("--work", type=Path, default=Path("/tmp/water_speed"))
-    ap.add_argument("--gmx", default="gmx")
+    ap.add_argument("--gmx", nargs="+", default=["gmx"], help="one or more gmx to time side by side")
     ap.add_argument("--out", type=Path, default=REPO / "bench" / "results")
     a = ap.parse_args()
     a.work.mkdir(parents=True, exist_ok=True)
-    rows = [one(n, a, a.work) for n in a.systems]
+    rows = [r for n in a.systems for r in one(n, a, a.work)]
     for r in rows:
         print(json.dumps(r))
     if a.steps >= 1000:            # a check of a few steps measures nothing: not recorded

@@ -89,7 +89,7 @@ def measure_run(run: Path, out: Path, discard_ps: float, gmx: str, coarse_grain:
                           "sigma_T_ok": bool(F["sem"] <= SIGMA_T_MAX_PN),
                           "within_2_sigma": bool(abs(F["mean"] - T) < 2.0 * F["sem"])},
                "area_nm2_mean": float(np.mean(s["area_nm2"][keep])), "isotension": iso,
-               "discard_ps": discard_ps}
+               "discard_ps": discard_ps, "blocks_100_ps": _blocks(s, 100.0)}
     write_json(out / "tension.json", tension)
     # the rest shape at the set tension: the ensemble's, which test 1 checks; the measured mean
     # carries an error of 10-20 pN over 1 ns and would add that noise to the rest shape
@@ -111,6 +111,17 @@ def measure_run(run: Path, out: Path, discard_ps: float, gmx: str, coarse_grain:
         else:
             cg = {"params": out / "cg" / "params.json"}
     return {"build": build, "done": done, "checks": checks, "integrity": g, "tension": tension, "cg": cg}
+
+
+def _blocks(s: dict, width_ps: float) -> dict:
+    """Means of the box length and the tension over consecutive blocks of WIDTH_PS: how far the
+    slow part of both wanders within the record (whole blocks only)."""
+    t = np.asarray(s["time"], float)
+    edges = np.arange(t[0], t[-1] - width_ps + 1e-9, width_ps)
+    rows = [(t >= a) & (t < a + width_ps) for a in edges]
+    return {"width_ps": width_ps, "start_ps": edges.tolist(),
+            "length_nm": [float(np.mean(s["length_nm"][k])) for k in rows],
+            "tension_pN": [float(np.mean(s["tension_pN"][k])) for k in rows]}
 
 
 def _frame_spacing_ps(run: Path) -> float:
@@ -208,7 +219,8 @@ def summarise(results: Path, rows: list[dict], stretch: dict | None) -> dict:
                # sigma_T falls as 1 / sqrt(length): the record sigma_T <= SIGMA_T_MAX_PN would need
                "length_ps_for_sigma_T_max": _length_for(r["tension"]),
                "S_isotension_pN": r["tension"]["isotension"]["S_pN"],
-               "S_isotension_err_pN": r["tension"]["isotension"]["S_err_pN"]}
+               "S_isotension_err_pN": r["tension"]["isotension"]["S_err_pN"],
+               "length_blocks_100_ps_nm": r["tension"]["blocks_100_ps"]["length_nm"]}
         run["cg"] = (_cg_figures(json.loads(r["cg"]["params"].read_text()), ref, b) if "params" in r["cg"]
                      else r["cg"])
         run["against_published"] = {"stretch_modulus_isotension": _against(
