@@ -14,8 +14,11 @@ Each RUN is a finished `dnarod build-md --solvent ... --axial-tension-pN T` + `r
     tension.json    test 1: the tension (P_perp - P_zz) A after the discard against the set T,
                     within 2 sigma with sigma <= SIGMA_T_MAX_PN; the box length along the axis
                     and the isotension stretch modulus S = kT <L> / var L (tension.py)
-    cg/             `dnarod coarse-grain` of the run: 300 K (the thermostat's), the measured
-                    tension for the rest shape, the same discard, every pair given
+    step_means.json the mean 3DNA step parameters (every step, the closing one too) with their
+                    blocking errors: a mean needs no independent-sample floor
+    cg/             `dnarod coarse-grain` of the run: 300 K (the thermostat's), the set tension
+                    for the rest shape, the same discard, every pair given (or its refusal, in
+                    summary.json)
 
 Over the runs, into RESULTS: stretch.json (test 2, with two or more tensions: the length gained
 between the lowest and the highest against <L>(T0) dT / S0, and the force-extension modulus it
@@ -91,6 +94,8 @@ def measure_run(run: Path, out: Path, discard_ps: float, gmx: str, coarse_grain:
                "area_nm2_mean": float(np.mean(s["area_nm2"][keep])), "isotension": iso,
                "discard_ps": discard_ps, "blocks_100_ps": _blocks(s, 100.0)}
     write_json(out / "tension.json", tension)
+    means = step_means(run, int(build["n_bp"]), discard_ps)
+    write_json(out / "step_means.json", means)
     # the rest shape at the set tension: the ensemble's, which test 1 checks; the measured mean
     # carries an error of 10-20 pN over 1 ns and would add that noise to the rest shape
     cg: dict = {"skipped": "--no-coarse-grain"}
@@ -110,7 +115,31 @@ def measure_run(run: Path, out: Path, discard_ps: float, gmx: str, coarse_grain:
             raise DnarodError(f"dnarod coarse-grain of {run} failed (exit {r.returncode}): {r.stderr[-2000:]}")
         else:
             cg = {"params": out / "cg" / "params.json"}
-    return {"build": build, "done": done, "checks": checks, "integrity": g, "tension": tension, "cg": cg}
+    return {"build": build, "done": done, "checks": checks, "integrity": g, "tension": tension, "cg": cg,
+            "step_means": means}
+
+
+def step_means(run: Path, n_bp: int, discard_ps: float) -> dict:
+    """The mean 3DNA step parameters of the run (every step, the closing one too), each the
+    time mean of the step average after the discard with its blocking error (tension.py
+    mean_with_error): a mean needs no independent-sample floor, unlike the stiffness, which
+    inverts a covariance. The twist is not free: the box fixes the linking number."""
+    import warnings
+    from mdbridge.geometry.structure import BasePairFrames, load_universe
+    from mdbridge.md.builder.duplex import base_pairs
+    from mdbridge.md.gromacs.tension import mean_with_error
+    u = load_universe(str(run / "conf.gro"), str(run / "md.xtc"))
+    bpf = BasePairFrames(u, pairs=base_pairs(n_bp), pair_numbering="serial", pbc=True)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        bpf.run()
+    P = bpf.step_parameters(periodic=True)                     # (T, n_bp, 6)
+    t = np.asarray(bpf.results.time, float)
+    out = {}
+    for i, name in enumerate(STEP_NAMES):
+        m = mean_with_error(t, P[:, :, i].mean(axis=1), discard_ps=discard_ps)
+        out[name] = {"mean": m["mean"], "err": m["sem"], "stationary": m["halves"]["stationary"]}
+    return out
 
 
 def _blocks(s: dict, width_ps: float) -> dict:
@@ -225,6 +254,7 @@ def summarise(results: Path, rows: list[dict], stretch: dict | None) -> dict:
                      else r["cg"])
         run["against_published"] = {"stretch_modulus_isotension": _against(
             run["S_isotension_pN"], run["S_isotension_err_pN"], ref["stretch_modulus"])}
+        run["step_means"] = _shape_against(r["step_means"], ref, b)
         rec["runs"][name] = run
     if stretch:
         S, dS = ref["stretch_modulus"]["value"], ref["stretch_modulus"]["err"]
@@ -238,6 +268,16 @@ def summarise(results: Path, rows: list[dict], stretch: dict | None) -> dict:
             stretch["S_force_extension_pN"], stretch["S_force_extension_err_pN"], ref["stretch_modulus"])}
     write_json(results / "summary.json", rec)
     return rec
+
+
+def _shape_against(means: dict, ref: dict, build: dict) -> dict:
+    """The mean step against CHARMM27's published averages and Olson 1998 at our sequence; the
+    twist against the box's 360 turns / n_bp."""
+    n, turns = int(build["n_bp"]), float(build["turns"])
+    return {"means": means, "olson1998_same_sequence": olson_mean(build["sequence"]),
+            "twist_fixed_by_the_box": {"turns_per_step_deg": 360.0 * turns / n, "mean_deg": means["twist"]["mean"]},
+            "against_published": {f"mean_{k}": _against(means[k]["mean"], means[k]["err"], ref[f"mean_{k}"])
+                                  for k in ("rise", "roll", "slide")}}
 
 
 def _length_for(tension: dict) -> float:
