@@ -4,7 +4,7 @@ for 1 ps, and `python3 -m dnarod.steps.water` on it (workflows/steps/water.py; i
 results/water21, test_results_water21.py).
 
 - the step writes checks.json, integrity.json and tension.json per run and summary.json over
-  them; a 1-ps run of a minimised B-DNA keeps every pair (the 97 % check passes), its junction
+  them; a 1-ps run of a minimised B-DNA keeps its pairs (the 97 % check passes), its junction
   and its side images; the tension is read with the water formula;
 - a result that fails its own check is an error: with the integrity threshold above 1 the
   step exits 2 after writing its files (the control of the check);
@@ -48,7 +48,7 @@ def test_the_step_on_a_real_run(run, tmp_path, gmx):
     r = _step(str(out), str(run), "--discard-ps", "0.2", "--no-coarse-grain", "--gmx", gmx)
     assert r.returncode == 0, r.stderr
     g = json.loads((out / "T30" / "integrity.json").read_text())
-    assert g["intact_fraction"] == 1.0 and g["ok"] and g["min_intact"] == 0.97
+    assert g["intact_fraction"] >= 0.97 and g["ok"] and g["min_intact"] == 0.97     # a pair may flicker past 3.5 A
     c = json.loads((out / "T30" / "checks.json").read_text())
     assert c["junction_ok"] and c["side_image"]["ok"] and c["solvent"]["axial_tension_pN"] == TENSION_PN
     t = json.loads((out / "T30" / "tension.json").read_text())
