@@ -42,7 +42,8 @@ import numpy as np
 
 import dna_models
 from dna_models.errors import DnarodError, InputError
-from dna_models.units import BOLTZMANN, BOLTZMANN_KJ_PER_MOL_K
+from dna_models.units import BOLTZMANN_KJ_PER_MOL_K
+from mdbridge.coarsegrain.constants import kT_pN_nm
 from mdbridge.jsonio import write_json
 
 DISCARD_PS = 20.0
@@ -66,13 +67,14 @@ def _run(run: Path) -> tuple[dict, dict, float]:
     return build, json.loads((run / "md.done").read_text()), float(T)
 
 
-def measure_run(run: Path, out: Path, discard_ps: float, gmx: str, coarse_grain: bool) -> dict:
+def measure_run(run: Path, record: tuple[dict, dict, float], out: Path, discard_ps: float, gmx: str,
+                coarse_grain: bool) -> dict:
     """RESULTS/T<T>/: checks.json, integrity.json, tension.json and cg/ of one run."""
     from mdbridge.md.gromacs.checks import write_checks
     from mdbridge.md.gromacs.run import find_gmx
     from mdbridge.md.gromacs.tension import isotension_stretch_modulus, mean_with_error, tension_series
     from mdbridge.md.integrity import integrity_summary
-    build, done, T = _run(run)
+    build, done, T = record                                   # _run(run), checked before any work
     gmx = find_gmx(gmx)
     out.mkdir(parents=True, exist_ok=True)
     checks = write_checks(run, gmx=gmx)
@@ -226,10 +228,9 @@ def olson_mean(sequence: str) -> dict:
     return dict(zip(STEP_NAMES, m.tolist()))
 
 
-def summarise(results: Path, rows: list[dict], stretch: dict | None) -> dict:
+def summarise(results: Path, rows: list[dict], stretch: dict | None, ref: dict) -> dict:
     """RESULTS/summary.json: per run the record, the checks and the coarse-grained constants;
-    each against the published values where the quantities correspond."""
-    ref = published()
+    each against the published values (REF, published()) where the quantities correspond."""
     rec: dict = {"runs": {}, "stretch": stretch}
     for r in rows:
         b, T = r["build"], r["tension"]["tension_set_pN"]
@@ -315,7 +316,7 @@ def _cg_figures(p: dict, ref: dict, build: dict) -> dict:
     for key in ("rise", "roll", "slide"):
         i = STEP_NAMES.index(key)
         out["against_published"][f"mean_{key}"] = _against(mean[i], a["mean_err"][i], ref[f"mean_{key}"])
-    kT = BOLTZMANN * float(p["temperature_K"]) * 1e21            # pN nm
+    kT = kT_pN_nm(float(p["temperature_K"]))
     for key, scale in (("stretch_modulus", 1.0), ("torsional_modulus", 1.0), ("twist_stretch_coupling", 1.0 / kT)):
         if key in out["physical"]:
             v = out["physical"][key]
@@ -329,13 +330,14 @@ def analyse(results, runs, discard_ps: float = DISCARD_PS, gmx: str | None = Non
             coarse_grain: bool = True) -> dict:
     from mdbridge.md.gromacs.tension import force_extension
     results = Path(results)
-    published()                                               # every input checked before any work
-    tensions = [_run(Path(run))[2] for run in runs]
+    ref = published()                                         # every input checked before any work
+    records = [_run(Path(run)) for run in runs]
+    tensions = [r[2] for r in records]
     if len(set(tensions)) < len(tensions):
         raise InputError(f"two runs at the same tension ({', '.join(f'{T:g}' for T in tensions)} pN): "
                          "give one run per tension")
-    rows = [measure_run(Path(run), results / f"T{T:g}", discard_ps, gmx or "gmx", coarse_grain)
-            for run, T in zip(runs, tensions)]
+    rows = [measure_run(Path(run), rec, results / f"T{rec[2]:g}", discard_ps, gmx or "gmx", coarse_grain)
+            for run, rec in zip(runs, records)]
     rows.sort(key=lambda r: r["tension"]["tension_set_pN"])
     stretch = None
     if len(rows) > 1:
@@ -348,7 +350,7 @@ def analyse(results, runs, discard_ps: float = DISCARD_PS, gmx: str | None = Non
                         "predicted_delta_rise_A": 10.0 * stretch["predicted_nm"] / n,
                         "tensions_pN": [lo["tension_set_pN"], hi["tension_set_pN"]]})
         write_json(results / "stretch.json", stretch)
-    rec = summarise(results, rows, stretch)
+    rec = summarise(results, rows, stretch, ref)
     failed = [f"T{r['tension']['tension_set_pN']:g}: {r['integrity']['intact_fraction']:.3f} of the pair-frames "
               f"intact (< {MIN_INTACT})" for r in rows if not r["integrity"]["ok"]]
     if failed:
