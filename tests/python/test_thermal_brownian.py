@@ -122,21 +122,3 @@ def test_an_imposed_bend_relaxes_at_the_slow_eigenvalue_not_the_no_shear_rate(n)
     assert abs(tau_num / expected - 1) < 0.03, (tau_num, expected)
     no_shear = Zt[0] / (K_DNA[3, 3] * k ** 4)
     assert abs(tau_num / (dt / math.log(1 + dt / no_shear)) - 1) > 0.03
-
-
-def test_the_shipped_kilobase_ring_starts_at_its_rest_energy(tmp_path):
-    """workflows/scenes/dna10k_water.toml as shipped, two steps with the --set overrides of the
-    contract: from rest the first frame's energy is the rest energy (0), the file says
-    solver.time = "brownian", the closed ring has Lk per frame, and the noise warms it."""
-    import os
-    from pathlib import Path
-    import h5py
-    root = Path(os.environ.get("DNAROD_ROOT", Path(__file__).resolve().parents[2]))
-    dt = 106.20514551
-    out = rodcore.run(str(root / "workflows/scenes/dna10k_water.toml"),
-                      set=["thermal.sample_initial=false", f"output.t_end={2 * dt}", "output.frames=3"],
-                      output=str(tmp_path / "ring.h5"))
-    assert out["energy"][0] == 0.0 and out["energy"][2] > out["energy"][1] > 0
-    with h5py.File(tmp_path / "ring.h5") as f:
-        assert f.attrs["solver.time"] in ("brownian", b"brownian")
-        assert np.all(f["topology/Lk"][:] == 0)

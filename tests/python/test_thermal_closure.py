@@ -203,19 +203,20 @@ def test_a_sample_closed_only_at_linear_order_is_put_on_the_initial_box(seed):
 
 def kilobase_ring(bp, seed, temperature_K=300.0, fields=("internal", "centerline", "directors"), steps=1,
                   extra=()):
-    """workflows/scenes/dna10k_water.toml (10 bp per point, intrinsically circular, untwisted:
-    Lk0 = 0) at BP base pairs through its --set keys, STEPS Brownian steps of 100 ps, a frame each."""
-    from pathlib import Path
-    import os
-    root = Path(os.environ.get("DNAROD_ROOT", Path(__file__).resolve().parents[2]))
+    """A uniform DNA ring of BP base pairs in water (10 bp per point, the paper's material,
+    intrinsically circular and untwisted: Lk0 = 0, rest energy 0), overdamped like the shipped
+    workflows/scenes/dna10k_water.toml (whose sequence ring tests/python/test_kilobase_ring_scene.py
+    checks), STEPS Brownian steps of 100 ps, a frame each."""
     length = bp * UNITS.rise_A / UNITS.ell_A
-    dt = 106.20514551
-    return run_scene(root / "workflows/scenes/dna10k_water.toml",
-                     set=[f"rod.length={length}", f"rod.points={bp // 10}",
-                          f"rod.Omega0=[0.0, {2 * math.pi / length!r}, 0.0]", f"thermal.seed={seed}",
-                          f"thermal.temperature_K={temperature_K}", f"output.t_end={steps * dt!r}",
-                          f"output.frames={steps + 1}",
-                          "output.fields=[" + ", ".join(f'"{f}"' for f in fields) + "]", *extra])
+    dt = UNITS.time_to_rod(100.0)
+    scene = {"rod": {"length": length, "points": bp // 10, "Gamma0": [0.0, 0.0, 1.0],
+                     "Omega0": [0.0, 2 * math.pi / length, 0.0]},
+             "initial": {"kind": "rest"},
+             "thermal": {"temperature_K": temperature_K, "seed": seed, "friction_translational": "water",
+                         "friction_rotational": "water"},
+             "solver": {"time": "brownian", "dt": dt},
+             "output": {"t_end": steps * dt, "frames": steps + 1, "fields": list(fields)}}
+    return run_scene(scene, set=list(extra))
 
 
 def ring_gaps(run):

@@ -31,6 +31,12 @@ Examples:
   dnarod dna-rod --sequence CGCGAATTCGCGCGCGAATTC --params olson1998 -o rod21
   dnarod dna-rod --sequence-from-md md158 --params olson1998 --kick 1.0 -o rod158
   dnarod dna-rod --random 158 --seed 7 --params paper -o rod158p
+  dnarod dna-rod --random 10500 --seed 1 --bp-per-point 10 --ring --contact-diameter-nm 11.6 -o ring10k
+
+--ring: a closed ring instead (frame at L = frame at 0, end-to-end 0) at the
+linking number of the relaxed ring, its rest state the energy minimum found by
+the overdamped rod at kT = 0 (mdbridge.rod.material.ring_rest); the scene is
+that rod in water at 300 K, 100-ps steps (docs/dna-rod.md, "A closed ring").
 """
 
 
@@ -71,8 +77,14 @@ def add_arguments(p):
     p.add_argument("--kick", type=validate.finite(), default=0.0, metavar="A_V",
                    help="transverse velocity amplitude, A/ps: lab velocity A_v sin(2 pi s / L) e_perp "
                         "(the paper's kick, Sec 6.1), e_perp = d1(0) made normal to the helix axis (0: at rest)")
-    p.add_argument("--t-end-ps", type=validate.finite(above=0), default=600.0,
-                   help="scene length, ps (600, the paper's MD)")
+    p.add_argument("--t-end-ps", type=validate.finite(above=0), default=None,
+                   help="scene length, ps (600, the paper's MD; with --ring 10000)")
+    p.add_argument("--ring", action="store_true",
+                   help="a closed ring at the relaxed ring's linking number, from its rest state (the energy "
+                        "minimum), overdamped in water at 300 K (docs/dna-rod.md, 'A closed ring')")
+    p.add_argument("--contact-diameter-nm", type=validate.finite(above=0), default=None, metavar="D",
+                   help="with --ring: the scene's self-contact diameter, nm (docs/topology.md, 'Self-contact'; "
+                        "default: no [contact])")
     add_output(p, metavar="DIR", help="directory to write (steps.h5, material.h5, rest.h5, scene.toml, rest.json)")
 
 
@@ -99,14 +111,32 @@ def run(args):
     if args.bp_per_point > 1 and (len(seq) % args.bp_per_point or len(seq) // args.bp_per_point < n_min):
         raise InputError(f"--bp-per-point {args.bp_per_point}: must divide the {len(seq)} bp into at least "
                          f"{n_min} segments (the {args.space} solver's fewest grid points)")
+    if args.ring:
+        for flag, given in (("--kick", args.kick), ("--box-A", args.box_A is not None),
+                            ("--rest equilibrium", args.rest != "closed"),
+                            ("--shape exact", args.shape != "interpolated"),
+                            ("--points-per-bp", args.points_per_bp > 1)):
+            if given:
+                raise InputError(f"{flag}: not with --ring (a ring has no box; its rest state is the closed minimum "
+                                 "on the coarse grid)")
+    elif args.contact_diameter_nm is not None:
+        raise InputError("--contact-diameter-nm: only with --ring")
     validate.output_folder(args.output, command="dna-rod")
     from mdbridge.rod.material.dna_rod import DnaRodRequest, dna_rod
     req = DnaRodRequest(
         sequence=seq, output=args.output, params=args.params, mass=args.mass,
         points_per_bp=args.points_per_bp, bp_per_point=args.bp_per_point, interpolation=args.interpolation,
         space=args.space, rest=args.rest, shape=args.shape, box_A=args.box_A, kick=args.kick,
-        t_end_ps=args.t_end_ps)
+        t_end_ps=args.t_end_ps or (10000.0 if args.ring else 600.0), ring=args.ring,
+        contact_diameter_nm=args.contact_diameter_nm, seed=args.seed)
     info = dna_rod(req, log=lambda text: print(text, file=sys.stderr))
+    if args.ring:
+        print(f"dna-rod: ring rest state Lk = {info['Lk']} (DNA {info['Lk_DNA']}), energy {info['energy_kT']:.4f} kT "
+              f"(closed circle {info['energy_start_kT']:.4f}), statics residual {info['statics_residual']:.2e} "
+              f"(circle {info['statics_residual_start']:.2e}), closure {info['closure_rotation_rad']:.1e} rad / "
+              f"{info['closure_translation_A']:.1e} A, {info['rest_cpu_s']:.0f} CPU s", file=sys.stderr)
+        print(f"dna-rod: wrote {Path(args.output)}/ (material.h5, rest.h5, scene.toml, rest.json)")
+        return 0
     print(f"dna-rod: rest state tension {info['tension_pN']:.2f} pN, torque {info['torque_pN_nm']:.3f} pN nm, "
           f"statics residual {info['statics_residual']:.2e}, closure {info['closure_rotation_rad']:.2e} rad / "
           f"{info['closure_length_error_A']:.2e} A", file=sys.stderr)

@@ -43,6 +43,42 @@ def compose_cells(xm, h):
     return P[..., :3, :3], P[..., :3, 3]
 
 
+def magnus_holonomy(x, L, max_turn=0.05):
+    """The holonomy (R (3, 3), r (3,)) of the grid strains x (N, 6) = (Gamma, Omega) as rodsim's
+    sweep composes it (rodcore/src/reconstruction.cpp: per grid interval m substeps, m = ceil(h
+    max|Omega| / max_turn) <= 64, each the 4th-order Magnus step on the trigonometric interpolant
+    at its two Gauss points; max_turn 0.05 is the output's sweep): a ring closed by it is closed
+    in the solver's own frames, to round-off, where the midpoint cells above leave O((h /
+    refine)^2)."""
+    x = np.asarray(x, float)
+    N = x.shape[0]
+    h = L / N
+    m = int(np.clip(np.ceil(min(h * np.max(np.linalg.norm(x[:, 3:], axis=1)) / max_turn, 64.0)), 1, 64))
+    c = np.fft.rfft(x, axis=0) / N
+    k = 2.0 * np.pi * np.arange(c.shape[0]) / L
+    if N % 2 == 0:
+        c[-1] = c[-1].real                          # the Nyquist mode as the real cosine
+    hs = h / m
+    gauss = (0.5 - np.sqrt(3.0) / 6.0, 0.5 + np.sqrt(3.0) / 6.0)
+    at = np.empty((m, 2, N, 6))
+    for sub in range(m):
+        for a in range(2):
+            ph = np.exp(1j * k * (sub + gauss[a]) * hs)
+            if N % 2 == 0:
+                ph[-1] = np.cos(k[-1] * (sub + gauss[a]) * hs)
+            at[sub, a] = np.fft.irfft(c * ph[:, None], n=N, axis=0) * N
+    x1, x2 = at[:, 0], at[:, 1]                     # (m, N, 6) in (Gamma, Omega)
+    k3 = np.sqrt(3.0) / 12.0 * hs * hs
+    phi = 0.5 * hs * (x1[..., 3:] + x2[..., 3:]) + k3 * np.cross(x1[..., 3:], x2[..., 3:])
+    u = (0.5 * hs * (x1[..., :3] + x2[..., :3])
+         + k3 * (np.cross(x1[..., 3:], x2[..., :3]) - np.cross(x2[..., 3:], x1[..., :3])))
+    R, d = step_exp(phi, u)
+    T = np.zeros((m, N, 4, 4))
+    T[..., :3, :3], T[..., :3, 3], T[..., 3, 3] = R, d, 1.0
+    P = chain_product(np.swapaxes(T, 0, 1).reshape(N * m, 4, 4))   # interval by interval, substeps in order
+    return P[:3, :3], P[:3, 3]
+
+
 def compose_stretches(xm, h, per):
     """Motions of consecutive stretches of `per` cells: (R (n, 3, 3), d (n, 3)) from
     cell strains xm (n * per, 6) of length h each."""

@@ -34,6 +34,9 @@ class DnaRodRequest:
     box_A: float | None = None         # end-to-end length along the helix axis (default n_bp x rise)
     kick: float = 0.0                  # A_v, A/ps (0: at rest)
     t_end_ps: float = 600.0
+    ring: bool = False                 # a closed ring in water (ring_rest.py) instead of the box-held rod
+    contact_diameter_nm: float | None = None   # --ring: the scene's [contact] diameter (None: no contact)
+    seed: int | None = None            # --ring: the scene's thermal.seed (and the sequence's, recorded)
 
 
 def _kicked_gamma(rest, g, L: float, kick_A_per_ps: float, u: Units) -> np.ndarray:
@@ -72,6 +75,8 @@ def dna_rod(req: DnaRodRequest, log=None) -> dict:
     N = req.points_per_bp * rm.n_bp
     g = grid_material(rm, N, req.interpolation, shape=req.shape)
     L = rm.length
+    if req.ring:
+        return _ring(req, sm, g, L, N, int(turns.sum()), rm.h_A, u, out, log)
     if req.box_A is not None:
         box = u.length_to_rod(req.box_A)
     elif req.params in ("paper", "olson1998"):
@@ -107,5 +112,64 @@ def dna_rod(req: DnaRodRequest, log=None) -> dict:
             "rest_iterations": rest.iterations, "elastic_energy": rest.energy,
             "elastic_energy_kT": rest.energy / u.kT_to_rod(sm.temperature_K),
             "axis0": rest.axis0.tolist(), "kick_A_per_ps": req.kick}
+    write_json(out / "rest.json", info)
+    return info
+
+
+# The ring's scene (--ring): the overdamped rod in water at 300 K, 100-ps steps (docs/thermal.md,
+# "The overdamped rod"), a frame per ns.
+RING_TEMPERATURE_K = 300.0
+RING_DT_PS = 100.0
+RING_FRAME_PS = 1000.0
+
+
+def ring_scene(L: float, N: int, t_end_ps: float, seed: int | None, contact_diameter_nm: float | None,
+               units: Units, material_file="material.h5", initial_file="rest.h5") -> dict:
+    """The scene of a closed DNA ring from its rest state (`dnarod dna-rod --ring`)."""
+    frames = max(2, int(round(t_end_ps / RING_FRAME_PS)) + 1)
+    sc = {"rod": {"length": float(L), "points": int(N)}, "material": {"material_file": str(material_file)},
+          "initial": {"kind": "file", "path": str(initial_file)},
+          "thermal": {"temperature_K": RING_TEMPERATURE_K, "seed": int(seed or 1),
+                      "friction_translational": "water", "friction_rotational": "water"},
+          "solver": {"time": "brownian", "dt": units.time_to_rod(RING_DT_PS)},
+          "output": {"t_end": units.time_to_rod(t_end_ps), "frames": frames, "fields": ["internal", "energy"]}}
+    if contact_diameter_nm is not None:
+        sc["contact"] = {"diameter_nm": float(contact_diameter_nm)}
+    return sc
+
+
+def _ring(req: DnaRodRequest, sm, g, L: float, N: int, turns: int, h_A: float, u: Units, out: Path, log) -> dict:
+    """--ring: material.h5, rest.h5 (ring_rest.py), scene.toml and rest.json of the closed ring."""
+    from mdbridge.rod.material.gridfile import write_grid_material, write_initial_file
+    from mdbridge.rod.material.ring_rest import ring_rest_state
+    from mdbridge.rod.scene import write_scene
+    seq = req.sequence
+    write_grid_material(out / "material.h5", g, source=sm.source,
+                        attrs={"sequence": seq, "interpolation": req.interpolation, "h_A": h_A,
+                               "bp_per_point": req.bp_per_point, "turns_dropped": turns})
+    scene = ring_scene(L, N, req.t_end_ps, req.seed, req.contact_diameter_nm, u)
+    work = dict(scene, material={"material_file": str((out / "material.h5").resolve())})
+    if log:
+        log(f"dna-rod --ring: {len(seq)} bp, {req.params}, N = {N}; the closed ring's rest state ...")
+    rest = ring_rest_state(g, L, work, log=log)
+    write_initial_file(out / "rest.h5", g["s"], rest.Gamma, rest.Omega)
+    write_scene(out / "scene.toml", scene,
+                comment=f"{len(seq)}-bp DNA ring, {req.params} ({sm.source}), {req.bp_per_point} bp per point\n"
+                f"t = 0: the closed ring's rest state (the energy minimum at Lk = {rest.Lk}), in water at "
+                f"{RING_TEMPERATURE_K:g} K, overdamped\nwritten by `dnarod dna-rod --ring` (docs/dna-rod.md)")
+    kT = u.kT_to_rod(RING_TEMPERATURE_K)
+    info = {"sequence": seq, "params": req.params, "source": sm.source, "n_bp": len(seq), "points": N,
+            "bp_per_point": req.bp_per_point, "turns_dropped": turns, "length": L, "interpolation": req.interpolation,
+            "ring": True, "contact_diameter_nm": req.contact_diameter_nm,
+            "Lk0": rest.Lk0, "Lk": rest.Lk, "Tw": rest.Tw, "Wr": rest.Wr, "Lk_DNA": rest.Lk + turns,
+            "energy": rest.energy, "energy_kT": rest.energy / kT, "energy_start_kT": rest.energy_start / kT,
+            "statics_residual": rest.residual, "statics_residual_start": rest.residual_start,
+            "statics_residual_floor": rest.residual_floor,
+            "closure_rotation_rad": rest.closure_rotation_rad,
+            "closure_translation_A": u.length_to_A(rest.closure_translation),
+            "rest_chunks": rest.chunks, "rest_steps": rest.steps, "rest_dt_last": rest.dt_last,
+            "descent_energy_kT": rest.energy_descent / kT, "descent_statics_residual": rest.residual_descent,
+            "least_energy_iterations": rest.polish_iterations,
+            "rest_cpu_s": rest.cpu_s, "temperature_K": RING_TEMPERATURE_K}
     write_json(out / "rest.json", info)
     return info
