@@ -1,14 +1,15 @@
 #!/usr/bin/python3
-"""The shipped 10.5-kbp ring in water (workflows/scenes/dna10k_water.toml, solver.time = "brownian"):
-what a run costs, in its parts. From the exact-sample start (closed by continuation, docs/thermal.md,
+"""The shipped 10.5-kbp ring in water (workflows/scenes/dna10k_water.toml, solver.time = "brownian": an
+Olson 1998 sequence on 10-bp segments, closed, from its rest state, with self-contact): what a run
+costs, in its parts. From the exact-sample start (closed by continuation, docs/thermal.md,
 "Thermal states") for `--ns` of simulated time at the scene's 100-ps step, 10 frames per 100 ns:
 
 * the sample: the process CPU seconds of a run of one step with frames at 0 and 100 ps, less a
   step, and the note's Newton steps and continuation stages;
 * the run: CPU seconds per simulated ns (process CPU time, which the machine's load hardly moves),
   bp us per CPU second (10500 bp), and the full 1 us the scene is for, extrapolated;
-* the frames: Lk, Tw, Wr per frame, with the number of Lk jumps (the scene has no [contact]:
-  a phantom ring passes through itself), and max |Lk - Tw - Wr|.
+* the frames: Lk, Tw, Wr per frame, with the number of Lk jumps (the scene's [contact] keeps the
+  ring from passing through itself once the sample is drawn), and max |Lk - Tw - Wr|.
 
     /usr/bin/python3 bench/kilobase_ring.py [--ns 10] [--seed 1] [--out bench/results/kilobase_ring.json]
 
@@ -19,6 +20,7 @@ from __future__ import annotations
 
 import argparse
 import resource
+import tomllib
 import sys
 from pathlib import Path
 
@@ -31,7 +33,7 @@ from dna_models.units import Units  # noqa: E402
 from mdbridge.jsonio import write_json  # noqa: E402
 
 SCENE = HERE.parent / "workflows" / "scenes" / "dna10k_water.toml"
-DT = 106.20514551          # the scene's step, 100 ps
+DT = tomllib.loads(SCENE.read_text())["solver"]["dt"]     # the scene's step, 100 ps
 BP = 10500
 
 

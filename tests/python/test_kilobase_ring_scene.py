@@ -33,8 +33,8 @@ def read_grid_material_arrays(path):
         return {k: f[k][()] for k in ("K", "I", "rho", "Gamma0", "Omega0")}
 
 
-def rodsim(*args, check=True):
-    return subprocess.run(["rodsim", *map(str, args)], capture_output=True, text=True, check=check)
+def run(exe, *args):
+    return subprocess.run([str(exe), *map(str, args)], capture_output=True, text=True, check=True)
 
 
 def frame0(scene, x):
@@ -51,8 +51,8 @@ def frame0(scene, x):
 
 
 # -- the shipped files ---------------------------------------------------------------
-def test_the_shipped_scene_loads_as_the_brownian_ring_with_contact():
-    p = rodsim("check", SCENE)
+def test_the_shipped_scene_loads_as_the_brownian_ring_with_contact(rodsim):
+    p = run(rodsim, "check", SCENE)
     assert "brownian" in p.stdout and "[contact]" in p.stdout and "material.h5" in p.stdout, p.stdout
     for name in ("material.h5", "rest.h5", "rest.json"):
         assert (FOLDER / name).stat().st_size < 2_000_000      # committed, small
@@ -90,19 +90,20 @@ def test_the_shipped_rest_state_is_closed_at_the_relaxed_linking_number():
     R, r = magnus_holonomy(x, info["length"])
     assert np.abs(R - np.eye(3)).max() < 1e-12
     assert info["Lk"] == round(info["Lk0"]) and info["Lk_DNA"] == info["Lk"] + info["turns_dropped"]
-    assert abs(info["Tw"] + info["Wr"] - info["Lk"]) < 0.01
+    assert abs(info["Tw"] + info["Wr"] - info["Lk"]) < 0.03      # the discrete twist's second-order error
+    assert info["contact_energy_kT"] == 0.0
     assert info["statics_residual"] < 1e-3 * info["statics_residual_start"]
     assert info["energy_kT"] < info["energy_start_kT"]
 
 
-def test_the_shipped_scene_starts_at_the_rest_energy_and_keeps_the_contract(tmp_path):
+def test_the_shipped_scene_starts_at_the_rest_energy_and_keeps_the_contract(rodsim, tmp_path):
     """`rodsim run` as shipped with the contract's --set keys: from rest (sample_initial = false)
     frame 0's energy is rest.json's; the file says solver.time = "brownian", has kT and tau_ps,
     and Lk, Tw, Wr per frame with Lk the rest state's; with the thermal state (the default) frame 0
     is hotter by about the equipartition (6 N - 6) kT / 2 (control)."""
     info = json.loads((FOLDER / "rest.json").read_text())
     out = tmp_path / "ring.h5"
-    rodsim("run", SCENE, "-o", out, "-q", "--set", "thermal.sample_initial=false", "--set",
+    run(rodsim, "run", SCENE, "-o", out, "-q", "--set", "thermal.sample_initial=false", "--set",
            f"output.t_end={DT!r}", "--set", "output.frames=2")
     with h5py.File(out) as f:
         E = f["energy"][()]
@@ -114,7 +115,7 @@ def test_the_shipped_scene_starts_at_the_rest_energy_and_keeps_the_contract(tmp_
             assert f[f"topology/{k}"].shape == (2,)
         assert np.all(f["topology/Lk"][()] == info["Lk"])
         kT = f.attrs["kT"]
-    rodsim("run", SCENE, "-o", tmp_path / "hot.h5", "-q", "--set", f"output.t_end={DT!r}", "--set", "output.frames=2")
+    run(rodsim, "run", SCENE, "-o", tmp_path / "hot.h5", "-q", "--set", f"output.t_end={DT!r}", "--set", "output.frames=2")
     with h5py.File(tmp_path / "hot.h5") as f:
         hot = f["energy"][0] - info["energy"]
     dof = 6 * info["points"] - 6
@@ -149,10 +150,10 @@ def test_a_small_ring_by_the_same_command_is_closed_and_at_rest_in_the_solver(sm
     circle = close_in_solver_frames(planar_ring(g, info["length"], info["Lk"]), g, info["length"])
     assert res < 2 * floor and statics(scene, circle)[1] > 10 * floor
     # at kT = 0 the scene's own overdamped rod keeps it, closed, at its Lk, over 1 ns
-    run = rodcore_module().run(str(out / "scene.toml"), set=["thermal.temperature_K=0", f"output.t_end={10 * DT!r}",
-                                                          "output.frames=2"])
-    assert abs(run["energy"][-1] / run["energy"][0] - 1) < 1e-3, run["energy"]
-    assert list(run["topology"]["Lk"]) == [info["Lk"]] * 2
+    cold = rodcore_module().run(str(out / "scene.toml"), set=["thermal.temperature_K=0",
+                                                              f"output.t_end={10 * DT!r}", "output.frames=2"])
+    assert abs(cold["energy"][-1] / cold["energy"][0] - 1) < 1e-3, cold["energy"]
+    assert list(cold["topology"]["Lk"]) == [info["Lk"]] * 2
 
 
 def _closed_perturbations(x, g, L, amplitude, n, seed):

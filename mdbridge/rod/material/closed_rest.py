@@ -189,7 +189,8 @@ def holonomy_jacobian(x, L, refine=16, B=None):
     Ad[:, 3:, :3] = skew(-np.einsum("cji,cj->ci", RS, pS)) @ RSt
     G = Ad @ _right_jacobian_se3(h * xi) * h              # (M, 6, 6): d body twist / d xi_c
     G = np.concatenate([G[:, :, 3:], G[:, :, :3]], axis=2)   # columns in (Gamma, Omega) order
-    dzeta = np.einsum("cab,cj->ajb", G, B).reshape(6, 6 * N)  # body twist of T per grid value
+    # body twist of T per grid value: sum_c G[c, a, b] B[c, j] -> (a, j, b), as one matrix product
+    dzeta = (G.reshape(M, 36).T @ B).reshape(6, 6, N).transpose(0, 2, 1).reshape(6, 6 * N)
     return R, p, dzeta
 
 

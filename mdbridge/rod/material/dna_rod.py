@@ -163,6 +163,7 @@ def _ring(req: DnaRodRequest, sm, g, L: float, N: int, turns: int, h_A: float, u
             "ring": True, "contact_diameter_nm": req.contact_diameter_nm,
             "Lk0": rest.Lk0, "Lk": rest.Lk, "Tw": rest.Tw, "Wr": rest.Wr, "Lk_DNA": rest.Lk + turns,
             "energy": rest.energy, "energy_kT": rest.energy / kT, "energy_start_kT": rest.energy_start / kT,
+            "contact_energy_kT": rest.contact_energy / kT,
             "statics_residual": rest.residual, "statics_residual_start": rest.residual_start,
             "statics_residual_floor": rest.residual_floor,
             "closure_rotation_rad": rest.closure_rotation_rad,

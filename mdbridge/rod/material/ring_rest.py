@@ -67,7 +67,8 @@ class RingRest:
     Tw: float
     Wr: float                   # exact (Klenin-Langowski, stride 1)
     energy: float               # the scene's potential energy (elastic + contact), rod units
-    energy_start: float         # of the closed planar circle it started from
+    energy_start: float         # elastic, of the closed planar circle it started from
+    contact_energy: float       # at the rest state (0: no pair within the cut-off)
     residual: float             # rms |(F, tau)| per length of the statics, rod units
     residual_start: float
     residual_floor: float       # rms |F_fd4 - F_spectral| at the rest state (discretisation_floor)
@@ -274,12 +275,13 @@ def ring_rest_state(g, L, scene: dict, log=None) -> RingRest:
     Lk0 = relaxed_turns(g, L)
     Lk = int(round(Lk0))
     x = close_in_solver_frames(_planar(g, L, Lk), g, L)
-    E0, res0 = statics(scene, x)
+    E0, res0 = statics(scene, x, contact=False)
     x, chunks, steps, dt, trace = descend(scene, x, Lk, log)
     x = close_in_solver_frames(x, g, L)
     E_descent, res_descent = statics(scene, x)
     x, polish = least_energy_closed(x, g, L, log)
     E, res = statics(scene, x)
+    contact = E - statics(scene, x, contact=False)[0]
     floor = discretisation_floor(scene, x)
     top = ring_topology(scene, x)
     if top["Lk"] != Lk:
@@ -287,7 +289,7 @@ def ring_rest_state(g, L, scene: dict, log=None) -> RingRest:
                              "on the way down: give it [contact])")
     c = _closure(x, L)
     return RingRest(Gamma=x[:, :3].copy(), Omega=x[:, 3:].copy(), Lk0=Lk0, Lk=Lk, Tw=top["Tw"], Wr=top["Wr"],
-                    energy=E, energy_start=E0, residual=res, residual_start=res0, residual_floor=floor,
+                    energy=E, energy_start=E0, contact_energy=contact, residual=res, residual_start=res0, residual_floor=floor,
                     closure_rotation_rad=float(np.linalg.norm(c[:3])), closure_translation=float(np.linalg.norm(c[3:])),
                     chunks=chunks, steps=steps, dt_last=dt, energy_descent=E_descent, residual_descent=res_descent,
                     polish_iterations=polish, cpu_s=_cpu() - t0, trace=trace)
