@@ -8,8 +8,8 @@ costs, in its parts. From the exact-sample start (closed by continuation, docs/t
   step, and the note's Newton steps and continuation stages;
 * the run: CPU seconds per simulated ns (process CPU time, which the machine's load hardly moves),
   bp us per CPU second (10500 bp), and the full 1 us the scene is for, extrapolated;
-* the frames: Lk, Tw, Wr per frame, with the number of Lk jumps (the scene's [contact] keeps the
-  ring from passing through itself once the sample is drawn), and max |Lk - Tw - Wr|.
+* the frames: Lk, Tw, Wr per frame, with the number of Lk jumps (the scene's [contact] is there to
+  keep the ring from passing through itself: the count says whether it does), and max |Lk - Tw - Wr|.
 
     /usr/bin/python3 bench/kilobase_ring.py [--ns 10] [--seed 1] [--out bench/results/kilobase_ring.json]
 

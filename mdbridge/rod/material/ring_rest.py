@@ -289,7 +289,8 @@ def ring_rest_state(g, L, scene: dict, log=None) -> RingRest:
                              "on the way down: give it [contact])")
     c = _closure(x, L)
     return RingRest(Gamma=x[:, :3].copy(), Omega=x[:, 3:].copy(), Lk0=Lk0, Lk=Lk, Tw=top["Tw"], Wr=top["Wr"],
-                    energy=E, energy_start=E0, contact_energy=contact, residual=res, residual_start=res0, residual_floor=floor,
+                    energy=E, energy_start=E0, contact_energy=contact, residual=res, residual_start=res0,
+                    residual_floor=floor,
                     closure_rotation_rad=float(np.linalg.norm(c[:3])), closure_translation=float(np.linalg.norm(c[3:])),
                     chunks=chunks, steps=steps, dt_last=dt, energy_descent=E_descent, residual_descent=res_descent,
                     polish_iterations=polish, cpu_s=_cpu() - t0, trace=trace)
