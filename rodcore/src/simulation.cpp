@@ -16,6 +16,7 @@
 #include "rodcore/integrators.hpp"
 #include "rodcore/material.hpp"
 #include "rodcore/operators.hpp"
+#include "rodcore/passage_guard.hpp"
 #include "rodcore/reconstruction.hpp"
 #include "rodcore/reduced_planar.hpp"
 #include "rodcore/rhs.hpp"
@@ -135,6 +136,7 @@ struct Simulation::Impl {
   // Wr. With [contact], the self-contact forces, in every RHS evaluation.
   bool closed = false;
   std::unique_ptr<SelfContact> contact;
+  std::shared_ptr<StrandPassageGuard> passage;  // a ring with [contact]: its Lk may not change
   // thermal.keep_closure: the box motion T (lab) of the initial state,
   // restored every thermal.closure_interval (closure.hpp).
   std::unique_ptr<ClosureProjector> closure;
@@ -413,6 +415,10 @@ Simulation::Simulation(const Scene& scene, InitialState initial) : impl_(std::ma
   }
   // The scene's [checks], as the first observers (guards.hpp).
   for (auto& g : make_guards(sc, d.s)) d.observers.push_back(std::move(g));
+  if (d.closed && d.contact) {
+    d.passage = std::make_shared<StrandPassageGuard>(d.N, sc.rod.length, d.state.data());
+    d.observers.push_back(d.passage);
+  }
 }
 
 Simulation::~Simulation() = default;
@@ -722,6 +728,7 @@ RunSummary Simulation::summary() const {
   }
   s.reduced = d.planar_run.has_value();
   s.wall_seconds = d.wall_seconds();
+  if (d.passage) s.thermal_note += (s.thermal_note.empty() ? "" : "; ") + d.passage->note();
   return s;
 }
 
