@@ -14,6 +14,7 @@
 #include "rodcore/error.hpp"
 #include "rodcore/guards.hpp"
 #include "rodcore/integrators.hpp"
+#include "rodcore/message_number.hpp"
 #include "rodcore/material.hpp"
 #include "rodcore/operators.hpp"
 #include "rodcore/reconstruction.hpp"
@@ -745,6 +746,15 @@ Checkpoint Simulation::run_point() const {
   c.reduced = d.planar_run ? planar_name(*d.planar_run) : "";
   c.wall_seconds = d.wall_seconds();
   return c;
+}
+
+std::shared_ptr<FunctionObserver> on_progress(std::function<void(double t, double t_end)> f) {
+  auto o = std::make_shared<FunctionObserver>();
+  if (f)
+    o->on_stepped = [f = std::move(f)](const Simulation& sim) {
+      f(sim.integrator_time(), sim.scene().output.t_end);
+    };
+  return o;
 }
 
 }  // namespace rodcore

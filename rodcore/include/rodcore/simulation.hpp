@@ -24,8 +24,8 @@
 #include <string>
 #include <vector>
 
-#include "rodcore/checkpoint.hpp"
 #include "rodcore/observer.hpp"
+#include "rodcore/run_point.hpp"
 #include "rodcore/scene.hpp"
 
 namespace rodcore {
@@ -70,7 +70,7 @@ class Simulation {
   RunSummary run();
   RunSummary summary() const;  // of the steps taken so far
 
-  // Checkpoints (checkpoint.hpp). checkpoint(): the run point now; valid
+  // Checkpoints (run_point.hpp; their file: checkpoint.hpp). checkpoint(): the run point now; valid
   // between steps once their frames are delivered (as in Observer::stepped).
   // resume_from(): the next step_to()/run() continues from `checkpoint` (no
   // frame before checkpoint.next_frame is delivered again); throws
@@ -105,5 +105,10 @@ class Simulation {
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
+
+// f(t, t_end) after every accepted step once its frames are delivered: t the
+// integrator's time, t_end the last output time (an observer made of a
+// function, observer.hpp, that asks the Simulation how far it has got).
+std::shared_ptr<FunctionObserver> on_progress(std::function<void(double t, double t_end)> f);
 
 }  // namespace rodcore

@@ -33,8 +33,8 @@
 #include <string>
 #include <vector>
 
-#include "rodcore/checkpoint.hpp"  // IntegratorState
-#include "rodcore/scene.hpp"       // TimeMethod
+#include "rodcore/run_point.hpp"  // IntegratorState
+#include "rodcore/scene.hpp"      // TimeMethod
 
 namespace rodcore {
 
