@@ -1,6 +1,9 @@
-// Running a scene: the problem (Scene) is separate from the solver (spatial
-// operator + time integrator, inside) and from what is done with the result
-// (observers, observer.hpp). OpenMM's Context, Dedalus' solver.
+// Running a scene: the problem (Scene) is separate from the solver and from
+// what is done with the result (observers, observer.hpp). OpenMM's Context:
+// inside, the rod's System (its elastic right-hand side on a spatial operator
+// plus a list of forces: friction and noise, contact, closure; src/rodcore/
+// system.hpp) advanced by one time integrator behind one protocol
+// (src/rodcore/integrators.hpp).
 //
 //   rodcore::Scene scene = rodcore::read_scene_file("dna158.toml");  // scene_io.hpp
 //   rodcore::Simulation sim(scene);
