@@ -28,9 +28,10 @@ std::string num(double x) { return message_number(x); }
 
 }  // namespace
 
-// The run loop over a System (system.hpp) and one TimeIntegrator: it knows the
-// physics only through the System, and the scheme only through the integrator's
-// protocol (integrators.hpp), its step limit included.
+// The run loop over a System (system.hpp) and one TimeIntegrator: it makes the
+// initial state and the frames, integrates the physics only through the System,
+// and knows the scheme only through the integrator's protocol (integrators.hpp),
+// its step limit included.
 struct Simulation::Impl {
   Scene scene;
   Scene given;  // the scene as given ("auto" kept): what checkpoints record
