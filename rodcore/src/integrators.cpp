@@ -41,9 +41,6 @@ class RK4 final : public TimeIntegrator {
   std::string name() const override { return "rk4"; }
   bool adaptive() const override { return false; }
   int order() const override { return 4; }
-  StepLimit step_limit() const override {
-    return {kRK4ImaginaryBound, "RK4", ", fewer rod.points, or an adaptive solver.time"};
-  }
 
   void step(double t_stop) override {
     check_steps();
@@ -81,7 +78,6 @@ class Langevin final : public TimeIntegrator {
   std::string name() const override { return "langevin"; }
   bool adaptive() const override { return false; }
   int order() const override { return 2; }  // weak order of the splitting; the H part is RK4
-  StepLimit step_limit() const override { return {kRK4ImaginaryBound, "RK4", " or fewer rod.points"}; }
 
   // Never shortened: the OU coefficients are those of dt (the scene makes
   // output times multiples of dt; other times are dense output).
@@ -621,6 +617,17 @@ class Brownian final : public TimeIntegrator {
   std::vector<double> y_prev_;
   double origin_ = 0.0;
 };
+
+StepLimit step_limit(TimeMethod kind) {
+  switch (kind) {
+    case TimeMethod::rk4:
+      return {kRK4ImaginaryBound, "RK4", ", fewer rod.points, or an adaptive solver.time"};
+    case TimeMethod::langevin:  // its conservative part is one RK4 step
+      return {kRK4ImaginaryBound, "RK4", " or fewer rod.points"};
+    default:
+      return {};
+  }
+}
 
 std::unique_ptr<TimeIntegrator> make_time_integrator(TimeMethod kind, OdeSystem system,
                                                      const IntegratorOptions& options) {

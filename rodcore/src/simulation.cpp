@@ -30,7 +30,7 @@ std::string num(double x) { return message_number(x); }
 
 // The run loop over a System (system.hpp) and one TimeIntegrator: it makes the
 // initial state and the frames, integrates the physics only through the System,
-// and knows the scheme only through the integrator's protocol (integrators.hpp),
+// and knows the scheme only through the integrators' protocol (integrators.hpp),
 // its step limit included.
 struct Simulation::Impl {
   Scene scene;
@@ -247,6 +247,7 @@ void Simulation::Impl::start(const Simulation& self) {
   const Scene& sc = scene;
   started = true;
   summary.method = system->elastic().op().name() + "+" + to_string(sc.solver.time);
+  check_step_limit(sc, system->elastic(), step_limit(sc.solver.time));  // whichever scheme (stability.hpp)
   system->set_bath(make_bath(sc, *system));  // friction and noise of solver.time, if any (forces.hpp)
 
   std::optional<Planar> planar_run = planar;
@@ -265,7 +266,6 @@ void Simulation::Impl::start(const Simulation& self) {
   io.max_steps = sc.solver.max_steps;
   io.norm_size = y0.size();  // the skipped rows count as the zeros they are
   start_integrator(planar_run, 0.0, resume ? nullptr : y0.data());
-  check_step_limit(sc, system->elastic(), integ->step_limit());  // whichever scheme (stability.hpp)
   if (resume) {
     integ->restore_state(resume->integrator);
     wall_before = resume->wall_seconds;

@@ -87,7 +87,6 @@ class TimeIntegrator {
   virtual std::string name() const = 0;
   virtual bool adaptive() const = 0;
   virtual int order() const = 0;
-  virtual StepLimit step_limit() const { return {}; }
 
   // Start from (t0, y0); evaluates f(t0, y0).
   void reset(double t0, const double* y0);
@@ -140,6 +139,10 @@ class TimeIntegrator {
   std::vector<double> rk_k2_, rk_k3_, rk_k4_, rk_tmp_;  // rk4_step's stages
   long steps_ = 0, rejected_ = 0, rhs_evals_ = 0;
 };
+
+// The stability limit of scheme `kind` (none for the adaptive and the implicit
+// ones), known before its integrator is made: a scene's step is checked first.
+StepLimit step_limit(TimeMethod kind);
 
 // kind = rk4 | rk4_doubling | dopri5 | dop853 | langevin | brownian (both need
 // system.bath); throws InputError otherwise
