@@ -50,7 +50,8 @@ class RodSystem {
   const std::optional<Planar>& planar() const { return planar_; }
   const std::vector<int>& rows() const { return rows_; }  // integrated rows -> state rows
   std::size_t full_size() const { return 12 * N_ + (anchor_ ? 7 : 0); }
-  // The ODE of what is integrated. It refers to this System, which must outlive it.
+  // The ODE of what is integrated now. It refers to this System, which must
+  // outlive it, and holds until the next integrate().
   OdeSystem ode() const;
   // Integrated state <-> full state (12 N, then the anchor); expand returns y
   // itself for the full system, else a buffer of this System.
