@@ -7,6 +7,7 @@
 #include <Eigen/Dense>
 
 #include "rodcore/error.hpp"
+#include "rodcore/message_number.hpp"
 #include "rodcore/reconstruction.hpp"
 #include "rodcore/topology.hpp"
 
@@ -167,27 +168,23 @@ std::string StrandPassageGuard::note() const {
          " steps (" + std::to_string(uncertified_) + " not certified by distance, checked by Lk)";
 }
 
-void StrandPassageGuard::step(const Simulation&, const StepView& view) {
-  // a closed rod with contact is never reduced: the 12 rows of the state
-  if (!view.rows || view.rows->size() != 12)
-    throw InputError(
-        "strand-passage guard: the run integrates a reduced system; the guard needs all 12 rows");
+bool StrandPassageGuard::after_step(double, double t, double* y, double*) {
   const std::size_t N = N_;
   ++steps_;
-  rec_->sweep(view.y, Quat{1.0, 0.0, 0.0, 0.0}, Vec3{0.0, 0.0, 0.0}, x_new_.data(), nullptr);
+  rec_->sweep(y, Quat{1.0, 0.0, 0.0, 0.0}, Vec3{0.0, 0.0, 0.0}, x_new_.data(), nullptr);
   superpose(x_old_, x_new_);
   if (uncertified_edge_pairs(x_old_.data(), x_new_.data(), N) > 0) {
     ++uncertified_;
-    const long Lk = linking(view.y);
+    const long Lk = linking(y);
     if (Lk != Lk0_)
-      throw NumericalError("strand passage at t = " + std::to_string(view.t) +
+      throw NumericalError("strand passage at t = " + message_number(t) +
                            ": the closed rod's linking number " + "went from " + std::to_string(Lk0_) +
                            " to " + std::to_string(Lk) +
-                           " although [contact] forbids it: the contact did not hold; a smaller solver.dt "
-                           "(an explicit contact force is stable only while dt k / zeta < 2, "
-                           "docs/topology.md)");
+                           " although [contact] forbids it: the contact did not hold (in a \"brownian\" run "
+                           "the closure projection moves a ring's far side by nm per step, docs/thermal.md)");
   }
   std::swap(x_old_, x_new_);
+  return false;
 }
 
 }  // namespace rodcore

@@ -7,7 +7,7 @@
 #include <string>
 
 #include "rodcore/error.hpp"
-#include "rodcore/guards.hpp"
+#include "rodcore/message_number.hpp"
 
 namespace rodcore::topology {
 namespace {

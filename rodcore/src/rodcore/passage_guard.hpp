@@ -17,7 +17,7 @@
 #include <string>
 #include <vector>
 
-#include "rodcore/observer.hpp"
+#include "rodcore/force.hpp"
 
 namespace rodcore {
 
@@ -27,14 +27,14 @@ class Reconstructor;
 // to stay apart on the straight path from x to y (n x 3): O(n) for a polygon of bounded density.
 std::size_t uncertified_edge_pairs(const double* x, const double* y, std::size_t n);
 
-class StrandPassageGuard : public Observer {
+class StrandPassageGuard : public AfterStep {
  public:
   // y12: the state the run starts from (12 N), which gives Lk0 and the first polygon; a resumed
   // run's first step is then checked by Lk (its Lk is the initial one, or the run had stopped)
   StrandPassageGuard(std::size_t N, double L, const double* y12);
   ~StrandPassageGuard() override;
-  void step(const Simulation& sim, const StepView& view) override;
-  std::string note() const;  // for the run's summary
+  bool after_step(double t_prev, double t, double* y, double* anchor) override;  // never moves y
+  std::string note() const;                                                      // for the run's summary
   long steps() const { return steps_; }
   long uncertified() const { return uncertified_; }
   long Lk0() const { return Lk0_; }
