@@ -7,15 +7,11 @@
 #include <string>
 
 #include "rodcore/error.hpp"
-#include "rodcore/guards.hpp"
+#include "rodcore/message_number.hpp"
 #include "rodcore/state.hpp"
 
 namespace rodcore {
 namespace {
-
-Vec3 cross(const Vec3& a, const Vec3& b) {
-  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-}
 
 // Hash of a cell of the cell list: the table has a power-of-two size; cells that share
 // a bucket are told apart by their coordinates.
@@ -85,9 +81,9 @@ SelfContact::SelfContact(std::size_t N, double L, const ContactPotential& potent
   exclude_pts_ = static_cast<long>(std::ceil(p_.exclude / h_ - 1e-12));
   q_.resize(N);
   r_.assign(3 * (N + 1), 0.0);
+  D_.assign(9 * N, 0.0);
+  rec_ = std::make_unique<Reconstructor>(N, L);
   F_.assign(3 * N, 0.0);
-  xi_.resize(6 * N);
-  dxi_.resize(6 * N);
   cell_.resize(3 * M_);
   std::size_t T = 1;
   while (T < 2 * M_) T <<= 1;
@@ -96,46 +92,19 @@ SelfContact::SelfContact(std::size_t N, double L, const ContactPotential& potent
 }
 
 void SelfContact::sweep(const double* y) {
+  // The centreline of the output, the closure and the topology (reconstruction.hpp), so that the
+  // curve the contact keeps apart is the curve whose Lk is kept: a local (Hermite-Magnus) sweep of
+  // the same strains differs from it by the grid-scale roughness of a thermal state, integrated
+  // along the rod (about 10 nm, twice the DNA's diameter, on a 1-kbp ring at 300 K).
   const std::size_t N = N_;
-  const double h = h_;
-  // xi = (Omega, Gamma) at the grid points and its s-derivative, 4th-order centred
-  // differences (periodic): the end corrections of the trapezoid rule below.
-  std::copy(y + 9 * N, y + 12 * N, xi_.begin());
-  std::copy(y + 6 * N, y + 9 * N, xi_.begin() + 3 * N);
-  const double c12 = 1.0 / (12.0 * h);
-  for (int r = 0; r < 6; ++r) {
-    const double* f = xi_.data() + r * N;
-    double* d = dxi_.data() + r * N;
-    auto at = [&](std::size_t i, long o) { return f[(i + N + o) % N]; };  // periodic, at the ends only
-    for (std::size_t i : {std::size_t{0}, std::size_t{1}, N - 2, N - 1})
-      d[i] = (at(i, -2) - 8.0 * at(i, -1) + 8.0 * at(i, 1) - at(i, 2)) * c12;
-    for (std::size_t i = 2; i + 2 < N; ++i)
-      d[i] = (f[i - 2] - 8.0 * f[i - 1] + 8.0 * f[i + 1] - f[i + 2]) * c12;
-  }
-  // g_{i+1} = g_i exp(theta_i), the 4th-order Magnus step from the end values:
-  //   theta = h/2 (xi_i + xi_{i+1}) + h^2/12 (xi'_i - xi'_{i+1}) + h^2/12 [xi_i, xi_{i+1}],
-  //   [(W1, V1), (W2, V2)] = (W1 x W2, W1 x V2 - W2 x V1).
-  Quat q{1.0, 0.0, 0.0, 0.0};
-  Vec3 r{0.0, 0.0, 0.0};
-  const double a = 0.5 * h, b = h * h / 12.0;
-  auto at = [&](const std::vector<double>& v, int row, std::size_t i) { return v[row * N + i]; };
+  const auto end = rec_->sweep(y, Quat{1.0, 0.0, 0.0, 0.0}, Vec3{0.0, 0.0, 0.0}, r_.data(), D_.data());
   for (std::size_t i = 0; i < N; ++i) {
-    q_[i] = q;
-    for (int c = 0; c < 3; ++c) r_[3 * i + c] = r[c];
-    const std::size_t j = (i + 1) % N;
-    const Vec3 W1{at(xi_, 0, i), at(xi_, 1, i), at(xi_, 2, i)},
-        V1{at(xi_, 3, i), at(xi_, 4, i), at(xi_, 5, i)};
-    const Vec3 W2{at(xi_, 0, j), at(xi_, 1, j), at(xi_, 2, j)},
-        V2{at(xi_, 3, j), at(xi_, 4, j), at(xi_, 5, j)};
-    const Vec3 WW = cross(W1, W2), WV = cross(W1, V2), VW = cross(W2, V1);
-    Vec3 phi, u;
-    for (int c = 0; c < 3; ++c) {
-      phi[c] = a * (W1[c] + W2[c]) + b * (at(dxi_, c, i) - at(dxi_, c, j)) + b * WW[c];
-      u[c] = a * (V1[c] + V2[c]) + b * (at(dxi_, 3 + c, i) - at(dxi_, 3 + c, j)) + b * (WV[c] - VW[c]);
-    }
-    se3_advance(q, r, phi, u);
+    double R[3][3];
+    for (int a = 0; a < 3; ++a)
+      for (int k = 0; k < 3; ++k) R[a][k] = D_[9 * i + 3 * a + k];
+    q_[i] = matrix_to_quat(R);
   }
-  for (int c = 0; c < 3; ++c) r_[3 * N + c] = r[c];
+  for (int c = 0; c < 3; ++c) r_[3 * N + c] = end.r[c];
 }
 
 double SelfContact::forces(const double* r, double* F) {

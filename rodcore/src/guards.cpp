@@ -2,20 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
-#include <sstream>
 #include <string>
 
 #include "rodcore/diagnostics.hpp"
 #include "rodcore/error.hpp"
+#include "rodcore/message_number.hpp"
 
 namespace rodcore {
-
-std::string message_number(double x, int precision) {
-  std::ostringstream o;
-  o.precision(precision);
-  o << x;
-  return o.str();
-}
 
 namespace {
 

@@ -6,7 +6,7 @@
 #include <cmath>
 
 #include "rodcore/error.hpp"
-#include "rodcore/guards.hpp"
+#include "rodcore/message_number.hpp"
 
 namespace rodcore {
 namespace {

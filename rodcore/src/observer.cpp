@@ -1,8 +1,6 @@
 // The observers made of functions (observer.hpp).
 #include "rodcore/observer.hpp"
 
-#include "rodcore/simulation.hpp"
-
 namespace rodcore {
 
 void FunctionObserver::started(const Simulation& sim) {
@@ -27,15 +25,6 @@ void FunctionObserver::failed(const Simulation& sim, const std::string& message)
 std::shared_ptr<FunctionObserver> on_frame(std::function<void(const Frame&)> f) {
   auto o = std::make_shared<FunctionObserver>();
   if (f) o->on_frame = [f = std::move(f)](const Simulation&, const Frame& fr) { f(fr); };
-  return o;
-}
-
-std::shared_ptr<FunctionObserver> on_progress(std::function<void(double t, double t_end)> f) {
-  auto o = std::make_shared<FunctionObserver>();
-  if (f)
-    o->on_stepped = [f = std::move(f)](const Simulation& sim) {
-      f(sim.integrator_time(), sim.scene().output.t_end);
-    };
   return o;
 }
 

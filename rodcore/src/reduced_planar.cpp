@@ -14,6 +14,14 @@ std::string planar_material_coupling(const MaterialField& mf, Planar p) {
   return p == Planar::omega2 ? planar_coupling(mf, {0, 2, 4}, 1) : planar_coupling(mf, {1, 2, 3}, 0);
 }
 
+const char* planar_name(Planar p) { return p == Planar::omega2 ? "omega2" : "omega1"; }
+
+std::optional<Planar> planar_from_name(const std::string& name) {
+  if (name == "omega2") return Planar::omega2;
+  if (name == "omega1") return Planar::omega1;
+  return std::nullopt;
+}
+
 const std::array<int, 6>& planar_rows(Planar p) { return p == Planar::omega2 ? kPlanarRows : kPlanarRows1; }
 const std::array<int, 6>& planar_zero_rows(Planar p) {
   return p == Planar::omega2 ? kPlanarZeroRows : kPlanarZeroRows1;

@@ -1,12 +1,15 @@
 #include "rodcore/stability.hpp"
 
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <cmath>
 #include <complex>
 #include <numbers>
+#include <string>
 #include <vector>
 
 #include "rodcore/error.hpp"
+#include "rodcore/message_number.hpp"
 
 namespace rodcore {
 
@@ -82,6 +85,26 @@ double linear_spectral_radius(const RodRHS& rhs) {
     radius = std::max(radius, solver.eigenvalues().cwiseAbs().maxCoeff());
   }
   return radius;
+}
+
+void check_step_limit(const Scene& sc, const RodRHS& rhs, const StepLimit& limit) {
+  if (!std::isfinite(limit.bound)) return;
+  const auto num = [](double x) { return message_number(x); };
+  const DerivativeOperator& op = rhs.op();
+  const double speed = std::max(1.0, max_wave_speed(rhs.material_field()));
+  const bool uniform = sc.rod.Gamma0_s.empty() && sc.rod.Omega0_s.empty() &&
+                       rhs.material_field().kind != MaterialKind::per_point;
+  const double lambda = uniform ? linear_spectral_radius(rhs) : speed * op.max_wavenumber();
+  const double dt_max = limit.bound / lambda;
+  if (!(sc.solver.dt > dt_max)) return;
+  const std::string bound = num(limit.bound);
+  throw NumericalError(sc.source + ": solver.dt = " + num(sc.solver.dt) + " exceeds the " + limit.scheme +
+                       " stability limit " + num(dt_max) +
+                       (uniform ? " (" + bound + " / spectral radius " + num(lambda) +
+                                      " of the equations linearised about the rest state, "
+                                : " (estimate: " + bound + " / (max wave speed " + num(speed) +
+                                      " x max wavenumber " + num(op.max_wavenumber()) + "), ") +
+                       op.name() + "); use solver.dt <= " + num(dt_max * (1.0 - 5e-6)) + limit.otherwise);
 }
 
 }  // namespace rodcore

@@ -10,7 +10,7 @@
 #include "rodcore/closure.hpp"
 #include "rodcore/error.hpp"
 #include "rodcore/gaussian.hpp"
-#include "rodcore/guards.hpp"
+#include "rodcore/message_number.hpp"
 #include "rodcore/reconstruction.hpp"
 
 namespace rodcore {

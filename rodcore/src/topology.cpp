@@ -7,7 +7,7 @@
 #include <string>
 
 #include "rodcore/error.hpp"
-#include "rodcore/guards.hpp"
+#include "rodcore/message_number.hpp"
 
 namespace rodcore::topology {
 namespace {
@@ -284,6 +284,21 @@ std::vector<double> twist_angles(const double* t, const double* u, std::size_t n
   return out;
 }
 
+std::vector<double> edge_twist_angles(const double* x, const double* v, std::size_t n) {
+  // edge e runs from x_e to x_{e+1}; its tangent is exact for the polygon, and its ribbon
+  // vector is v_e + v_{e+1} made perpendicular to it
+  std::vector<double> t(3 * n), w(3 * n);
+  for (std::size_t e = 0; e < n; ++e) {
+    const std::size_t f = (e + 1) % n;
+    const V te = unit(sub(load(x + 3 * f), load(x + 3 * e)));
+    const V we = add(load(v + 3 * e), load(v + 3 * f));
+    std::copy(te.begin(), te.end(), t.begin() + 3 * e);
+    std::copy(we.begin(), we.end(), w.begin() + 3 * e);
+  }
+  const auto u = perpendicular_unit(w.data(), t.data(), n);
+  return twist_angles(t.data(), u.data(), n);
+}
+
 Ribbon ribbon_topology(const double* x, const double* v, std::size_t n, const double* period,
                        int writhe_stride, bool coarsening) {
   check_points(x, n, "ribbon: centreline", 4);
@@ -297,7 +312,9 @@ Ribbon ribbon_topology(const double* x, const double* v, std::size_t n, const do
   }
   std::sort(edges.begin(), edges.end());
   const double median = n % 2 ? edges[n / 2] : 0.5 * (edges[n / 2 - 1] + edges[n / 2]);
-  const auto angles = twist_angles(t.data(), u.data(), n);
+  // closed: the polygon's own twist (edge tangents), with which Tw + Wr = Lk holds to round-off;
+  // box-periodic: the centred tangents' (second order; the periodic writhe is Fuller's)
+  const auto angles = period ? twist_angles(t.data(), u.data(), n) : edge_twist_angles(x, v, n);
   std::size_t worst = 0;
   double Tw = 0.0;
   for (std::size_t i = 0; i < n; ++i) {

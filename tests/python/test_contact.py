@@ -119,25 +119,40 @@ def collision(tmp_path_factory, rodsim):
         for k, v in fields.items():
             f[f"fields/{k}"] = v
     out = {}
-    for contact in (True, False):
+    # with; without; and "soft": a barrier of 1 kT, which the strands cross (the passage guard's case)
+    for contact, name, barrier in ((True, "with", 100), (False, "without", None), ("soft", "soft", 1)):
         scene = (f"[rod]\nlength = {L}\npoints = {N_NVE}\n"
                  "[initial]\nkind = \"file\"\npath = \"fig8.h5\"\n"
                  "[solver]\nspace = \"spectral\"\ntime = \"dop853\"\nrtol = 1e-10\natol = 1e-10\n"
                  "[output]\nt_end = 300\nframes = 61\nfields = [\"energy_parts\", \"centerline\"]\n"
-                 + (f"[contact]\ndiameter_nm = {D_NM}\n" if contact else ""))
-        name = "with" if contact else "without"
+                 + (f"[contact]\ndiameter_nm = {D_NM}\nbarrier_kT = {barrier}\n" if contact else ""))
         (tmp / f"{name}.toml").write_text(scene)
         p = subprocess.run([str(rodsim), "run", str(tmp / f"{name}.toml"), "-o", str(tmp / f"{name}.h5"), "-q"],
                            capture_output=True, text=True)
-        assert p.returncode == 0, p.stderr
+        assert p.returncode == (3 if contact == "soft" else 0), p.stderr
         out[contact] = (tmp / f"{name}.h5", p.stderr)
     return out
+
+
+def test_the_passage_guard_stops_a_run_whose_contact_lets_a_strand_through(collision):
+    """rodcore/src/passage_guard.cpp: the 1-kT barrier lets the driven strands pass; the run stops
+    with exit 3 naming the passage, its frames before it kept (complete = 0). The 100-kT run's
+    summary says the guard kept Lk (control: the same guard, no passage)."""
+    path, stderr = collision["soft"]
+    assert "strand passage" in stderr and "linking number went from 1 to -1" in stderr, stderr
+    with h5py.File(path) as f:
+        assert f.attrs["complete"] == 0 and 0 < len(f["time"]) < 61
+    with h5py.File(collision[True][0]) as f:
+        note = f.attrs["summary.thermal_note"]
+    assert "strand-passage guard: Lk = 1 kept" in (note.decode() if isinstance(note, bytes) else note)
 
 
 def test_two_pieces_driven_at_each_other_do_not_pass(collision):
     _, crossing = figure_eight(N_NVE, V=0.1)
     res = {}
     for contact, (path, stderr) in collision.items():
+        if contact == "soft":
+            continue
         with h5py.File(path) as f:
             d = strand_distance(f["centerline"][()], crossing, N_NVE)
             Lk = f["topology/Lk"][()]

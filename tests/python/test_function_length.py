@@ -41,9 +41,6 @@ EXEMPT = {
     # registries
     "rodcore/src/scene/initial_conditions.cpp::build_kinds": "registry: every initial.kind with its keys",
     "rodcore/src/scene/h5_output.cpp::write_scene_attributes": "registry: the attributes of the output file",
-    # rodcore's Simulation is to be rebuilt around a System with Forces and Integrators
-    "rodcore/src/simulation.cpp::Simulation::Simulation": "left to the rebuild of rodcore's Simulation",
-    "rodcore/src/simulation.cpp::Simulation::Impl::start": "left to the rebuild of rodcore's Simulation",
 }
 
 

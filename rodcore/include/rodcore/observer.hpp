@@ -124,8 +124,5 @@ struct FunctionObserver : Observer {
 
 // f(frame) at every output frame (the old Simulation::run(on_frame)).
 std::shared_ptr<FunctionObserver> on_frame(std::function<void(const Frame&)> f);
-// f(t, t_end) after every accepted step once its frames are delivered: t the
-// integrator's time, t_end the last output time (the old run(..., progress)).
-std::shared_ptr<FunctionObserver> on_progress(std::function<void(double t, double t_end)> f);
 
 }  // namespace rodcore

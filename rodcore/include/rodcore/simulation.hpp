@@ -1,6 +1,9 @@
-// Running a scene: the problem (Scene) is separate from the solver (spatial
-// operator + time integrator, inside) and from what is done with the result
-// (observers, observer.hpp). OpenMM's Context, Dedalus' solver.
+// Running a scene: the problem (Scene) is separate from the solver and from
+// what is done with the result (observers, observer.hpp). OpenMM's Context:
+// inside, the rod's System (its elastic right-hand side on a spatial operator
+// plus a list of forces: friction and noise, contact, closure; src/rodcore/
+// system.hpp) advanced by one time integrator behind one protocol
+// (src/rodcore/integrators.hpp).
 //
 //   rodcore::Scene scene = rodcore::read_scene_file("dna158.toml");  // scene_io.hpp
 //   rodcore::Simulation sim(scene);
@@ -24,8 +27,8 @@
 #include <string>
 #include <vector>
 
-#include "rodcore/checkpoint.hpp"
 #include "rodcore/observer.hpp"
+#include "rodcore/run_point.hpp"
 #include "rodcore/scene.hpp"
 
 namespace rodcore {
@@ -70,7 +73,7 @@ class Simulation {
   RunSummary run();
   RunSummary summary() const;  // of the steps taken so far
 
-  // Checkpoints (checkpoint.hpp). checkpoint(): the run point now; valid
+  // Checkpoints (run_point.hpp; their file: checkpoint.hpp). checkpoint(): the run point now; valid
   // between steps once their frames are delivered (as in Observer::stepped).
   // resume_from(): the next step_to()/run() continues from `checkpoint` (no
   // frame before checkpoint.next_frame is delivered again); throws
@@ -105,5 +108,10 @@ class Simulation {
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
+
+// f(t, t_end) after every accepted step once its frames are delivered: t the
+// integrator's time, t_end the last output time (an observer made of a
+// function, observer.hpp, that asks the Simulation how far it has got).
+std::shared_ptr<FunctionObserver> on_progress(std::function<void(double t, double t_end)> f);
 
 }  // namespace rodcore

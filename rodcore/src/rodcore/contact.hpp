@@ -23,15 +23,15 @@
 // d_c (hashed, so memory is O(N) whatever the rod's extent): O(N).
 //
 // The state holds strains and velocities, not positions. At every evaluation the bead
-// positions are reconstructed from the strains alone, from the frame (identity, origin)
-// at s = 0: the energy depends only on distances and the body-frame force R_i^T F_i only
-// on relative positions and frames, so the anchor r(0, t), q(0, t) (integrated with the
-// state only for the output, simulation.cpp) is not needed. The sweep is a local
-// 4th-order Magnus step per grid interval (exact for uniform strains: helix, ring),
-// O(N) with one SE(3) exponential per point. A closed rod's polygon joins its last point
-// to its first; a box-periodic rod (r(s + L) = r(s) + P) also meets its periodic images.
+// positions are reconstructed from the strains alone (Reconstructor: the curve of the output,
+// the closure and the topology), from the frame (identity, origin) at s = 0: the energy depends only on
+// distances and the body-frame force R_i^T F_i only on relative positions and frames, so the anchor r(0, t),
+// q(0, t) (integrated with the state only for the output, simulation.cpp) is not needed. A closed rod's
+// polygon joins its last point to its first; a box-periodic rod (r(s + L) = r(s) + P) also meets its periodic
+// images.
 #pragma once
 #include <cstddef>
+#include <memory>
 #include <vector>
 
 #include "rodcore/material.hpp"
@@ -82,7 +82,8 @@ class SelfContact {
   std::size_t M_;     // beads
   long exclude_pts_;  // pairs with grid distance < this are left out
   std::vector<Quat> q_;
-  std::vector<double> r_, F_, xi_, dxi_;
+  std::unique_ptr<Reconstructor> rec_;  // the run's own reconstruction of the centreline
+  std::vector<double> r_, F_, D_;
   // the cell list
   std::vector<long> cell_;  // 3 M cell coordinates
   std::vector<int> head_, next_;

@@ -34,9 +34,4 @@ std::pair<std::string, std::string> thermal_settings_problem(const Scene& scene)
 // Throws InputError naming the first non-finite initial value (component, point, s).
 void check_initial_finite(const Scene& scene, const std::vector<double>& y, const std::vector<double>& s);
 
-// A number in error messages, with `precision` significant digits (6: the
-// run loop's and the integrators' messages; 17: round-trip exact, for values
-// read from files).
-std::string message_number(double x, int precision = 6);
-
 }  // namespace rodcore

@@ -14,13 +14,13 @@
 //   "dop853"       Dormand-Prince 8(5,3) with Hairer's error estimator and
 //                  7th-order dense output (3 extra stages per output step).
 //   "langevin"     the Langevin splitting of the thermal rod (docs/thermal.md):
-//                  per step the system's exact Ornstein-Uhlenbeck step `ou`
-//                  over dt (friction and noise), then one classic RK4 step of
+//                  per step the system's `bath`, the exact Ornstein-Uhlenbeck
+//                  step over dt (friction and noise), then one classic RK4 step of
 //                  f (the conservative rod) -- the Strang splitting O(dt/2)
 //                  H(dt) O(dt/2) with consecutive half steps merged; fixed
 //                  step dt. Dense output: the cubic Hermite of the H part.
 //   "brownian"     the overdamped rod (brownian.hpp): per step the system's
-//                  `brownian` step over dt on y, in place; fixed step dt.
+//                  `bath`, the overdamped step over dt on y, in place; fixed step dt.
 //                  Dense output: linear between the step's ends.
 // Tableaux: Hairer, Norsett & Wanner, Solving ODEs I (2nd ed. 1993), II.5 and
 // II.10. Error norm (all adaptive schemes): RMS over components of
@@ -33,19 +33,19 @@
 #include <string>
 #include <vector>
 
-#include "rodcore/checkpoint.hpp"  // IntegratorState
-#include "rodcore/scene.hpp"       // TimeMethod
+#include "rodcore/run_point.hpp"  // IntegratorState
+#include "rodcore/scene.hpp"      // TimeMethod
 
 namespace rodcore {
 
 struct OdeSystem {
   std::size_t n = 0;
   std::function<void(double t, const double* y, double* dydt)> f;
-  // "langevin" only: the exact friction-and-noise step over dt on y, in
-  // place; `step` is the index of the step (the random numbers' counter).
-  std::function<void(long step, double* y)> ou;
-  // "brownian" only: one step of the overdamped rod over dt on y, in place.
-  std::function<void(long step, double* y)> brownian;
+  // Friction and noise over dt on y, in place (force.hpp, Bath), for the
+  // stochastic schemes: "langevin" composes it with an RK4 step of f,
+  // "brownian" takes it as its whole step. `step` is the index of the step
+  // (the random numbers' counter).
+  std::function<void(long step, double* y)> bath;
   // Optional, every integrator: called on the state y at the end of every
   // accepted step [t_prev, t], before the slope there is formed; may move y
   // back onto a manifold the semi-discrete flow leaves (closure.hpp).
@@ -64,6 +64,17 @@ struct IntegratorOptions {
   // size n. A reduced system whose left-out components are identically zero
   // sets the full size, so that it takes exactly the steps of the full one.
   std::size_t norm_size = 0;
+};
+
+// The stability limit of an explicit fixed step on the imaginary axis, where
+// the spectrum of the rod linearised about its rest state lies: |lambda dt| <=
+// bound (infinity: no limit, an adaptive or an implicit scheme). `scheme`
+// names the scheme that sets it and `otherwise` what a user can do besides a
+// shorter dt, for the message of the check (stability.hpp, check_step_limit).
+struct StepLimit {
+  double bound = std::numeric_limits<double>::infinity();
+  std::string scheme;
+  std::string otherwise;
 };
 
 class TimeIntegrator {
@@ -129,8 +140,12 @@ class TimeIntegrator {
   long steps_ = 0, rejected_ = 0, rhs_evals_ = 0;
 };
 
-// kind = rk4 | rk4_doubling | dopri5 | dop853 | langevin (needs system.ou) | brownian (needs
-// system.brownian); throws InputError otherwise
+// The stability limit of scheme `kind` (none for the adaptive and the implicit
+// ones), known before its integrator is made: a scene's step is checked first.
+StepLimit step_limit(TimeMethod kind);
+
+// kind = rk4 | rk4_doubling | dopri5 | dop853 | langevin | brownian (both need
+// system.bath); throws InputError otherwise
 // (automatic is resolved by Simulation before).
 std::unique_ptr<TimeIntegrator> make_time_integrator(TimeMethod kind, OdeSystem system,
                                                      const IntegratorOptions& options);

@@ -39,6 +39,10 @@ inline constexpr std::array<int, 6> kPlanarRows1 = {row(gamma, 1), row(gamma, 2)
 inline constexpr std::array<int, 6> kPlanarZeroRows1 = {row(gamma, 0), row(omega, 1), row(omega, 2),
                                                         row(Gamma, 0), row(Omega, 1), row(Omega, 2)};
 
+// "omega2" / "omega1" (the name a checkpoint records), and back (nullopt: neither).
+const char* planar_name(Planar p);
+std::optional<Planar> planar_from_name(const std::string& name);
+
 const std::array<int, 6>& planar_rows(Planar p);
 const std::array<int, 6>& planar_zero_rows(Planar p);
 

@@ -23,6 +23,12 @@
 //                    neighbouring blocks exact, every other pair of blocks by its chords.
 //   twist_angles     the angle from u_i, parallel-transported along the minimal rotation
 //                    from t_i to t_{i+1}, to u_{i+1}: Tw = sum / 2 pi, second order.
+//   edge_twist_angles the twist angles of a closed polygon framed on its edges (tangent the
+//                    edge's direction, ribbon vector the mean of its ends' made perpendicular),
+//                    at its vertices: Tw = sum / 2 pi is the polygon's own, and Tw + Wr = Lk
+//                    to round-off with the exact polygon writhe (Fuller's theorem for polygons:
+//                    the parallel transport around the tantrix turns by its area, and Wr = area
+//                    / 2 pi - 1 mod 2; Cimasoni, J Knot Theory Ramif 10:387, 2001).
 //   periodic_writhe  Fuller's one-integral writhe relative to the straight box axis, on
 //                    the polygon's tantrix (spherical triangles (e, t_i, t_{i+1})).
 #pragma once
@@ -67,13 +73,17 @@ std::vector<double> perpendicular_unit(const double* v, const double* t, std::si
 // Per point, cyclic; NumericalError where the tangent reverses between two points.
 std::vector<double> twist_angles(const double* t, const double* u, std::size_t n);
 
+// Per vertex of a closed polygon x framed by v (n x 3), cyclic: the angle at vertex e + 1.
+std::vector<double> edge_twist_angles(const double* x, const double* v, std::size_t n);
+
 struct Ribbon {
   long Lk = 0;
   double Tw = 0.0, Wr = 0.0;
   double Wr_coarsening = 0.0;  // Wr(stride) - Wr(2 stride); 0 for stride 1 or box-periodic
 };
 // Lk, Tw, Wr of the curve x framed by v (n x 3) made perpendicular to the centred
-// tangent: Lk of x and x + eps u (eps a quarter of the median spacing), Tw of u, Wr
+// tangent: Lk of x and x + eps u (eps a quarter of the median spacing), Tw (closed: the
+// polygon's, edge_twist_angles; box-periodic: of u about the centred tangent), Wr
 // coarsened with `writhe_stride` (closed) or per period. coarsening: also compute
 // Wr_coarsening. NumericalError when the ribbon turns by more than kMaxTwistPerPoint
 // between two points.

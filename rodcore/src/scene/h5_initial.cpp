@@ -7,8 +7,8 @@
 
 #include "h5_handle.hpp"
 #include "rodcore/error.hpp"
-#include "rodcore/guards.hpp"
 #include "rodcore/material.hpp"
+#include "rodcore/message_number.hpp"
 #include "rodcore/state.hpp"
 
 namespace rodcore {

@@ -7,8 +7,8 @@
 #include <cstdlib>
 #include <sstream>
 
+#include "rodcore/did_you_mean.hpp"
 #include "rodcore/error.hpp"
-#include "rodcore/scene_reader.hpp"  // closest_match
 
 namespace fs = std::filesystem;
 

@@ -5,7 +5,7 @@
 
 #include "rodcore/dna_units.hpp"
 #include "rodcore/error.hpp"
-#include "rodcore/guards.hpp"
+#include "rodcore/message_number.hpp"
 
 namespace rodcore {
 
