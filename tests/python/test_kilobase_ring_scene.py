@@ -1,6 +1,6 @@
 """The shipped kilobase ring, workflows/scenes/dna10k_water.toml: a 10.5-kbp closed ring of an Olson
-1998 sequence (random, seed 1) on 10-bp coarse segments, overdamped in water at 300 K with
-self-contact, from its closed rest state (`dnarod dna-rod --ring`; docs/dna-rod.md, "A closed ring").
+1998 sequence (random, seed 1) on 10-bp coarse segments, overdamped in water at 300 K (no
+self-contact yet: docs/thermal.md), from its closed rest state (`dnarod dna-rod --ring`; docs/dna-rod.md, "A closed ring").
 
 The shipped files are checked for what they are (the seeded sequence's coarse material, closed, the
 rest energy in frame 0, the output contract); that the rest state is a minimum is checked on a
@@ -53,9 +53,10 @@ def frame0(scene, x):
 
 
 # -- the shipped files ---------------------------------------------------------------
-def test_the_shipped_scene_loads_as_the_brownian_ring_with_contact(rodsim):
+def test_the_shipped_scene_loads_as_the_brownian_ring(rodsim):
+    # no [contact] yet: the overdamped ring with contact does not keep its Lk (docs/thermal.md)
     p = run(rodsim, "check", SCENE)
-    assert "brownian" in p.stdout and "[contact]" in p.stdout and "material.h5" in p.stdout, p.stdout
+    assert "brownian" in p.stdout and "[contact]" not in p.stdout and "material.h5" in p.stdout, p.stdout
     for name in ("material.h5", "rest.h5", "rest.json"):
         assert (FOLDER / name).stat().st_size < 2_000_000      # committed, small
 
