@@ -16,13 +16,32 @@ using Vec6 = Eigen::Matrix<double, 6, 1>;
 // round-off (block_band.hpp).
 const double kDropFill = std::ldexp(1.0, -64);
 
-// L^-1 of the Cholesky factor of an SPD 6 x 6 block; false if it is not SPD.
+// L^-1 of the Cholesky factor L L^T of an SPD 6 x 6 block, written out (a fixed-size
+// factorisation and inversion by substitution); false if the block is not SPD.
 bool pivot_inverse(const Block& D, Block& Linv) {
-  Eigen::LLT<Block> llt(D);
-  if (llt.info() != Eigen::Success) return false;
-  Linv.setIdentity();
-  llt.matrixL().solveInPlace(Linv);
-  return Linv.allFinite();
+  double L[6][6] = {};
+  for (int j = 0; j < 6; ++j) {
+    double d = D(j, j);
+    for (int k = 0; k < j; ++k) d -= L[j][k] * L[j][k];
+    if (!(d > 0.0) || !std::isfinite(d)) return false;
+    L[j][j] = std::sqrt(d);
+    const double inv = 1.0 / L[j][j];
+    for (int i = j + 1; i < 6; ++i) {
+      double v = D(i, j);
+      for (int k = 0; k < j; ++k) v -= L[i][k] * L[j][k];
+      L[i][j] = v * inv;
+    }
+  }
+  Linv.setZero();
+  for (int c = 0; c < 6; ++c) {  // column c of L^-1: forward substitution of e_c
+    Linv(c, c) = 1.0 / L[c][c];
+    for (int i = c + 1; i < 6; ++i) {
+      double v = 0.0;
+      for (int k = c; k < i; ++k) v -= L[i][k] * Linv(k, c);
+      Linv(i, c) = v / L[i][i];
+    }
+  }
+  return true;
 }
 
 }  // namespace

@@ -72,6 +72,7 @@ Mat6Block3 cross3(const double v[3]) {
 struct BrownianStep::Solver {
   std::vector<int> offsets;    // ascending, 0 included
   std::vector<double> weight;  // w_o (0 where the stencil has none)
+  std::vector<Mat6> K;         // K per point (or one)
   std::vector<Mat6> C;         // C_i at the step's start
   std::unique_ptr<CyclicBlockBand> band;
 };
@@ -124,6 +125,8 @@ BrownianStep::BrownianStep(std::size_t N, double L, const MaterialField& mf, con
   for (const auto& [off, w] : stencil_)
     s.weight[static_cast<std::size_t>(std::find(s.offsets.begin(), s.offsets.end(), off) - s.offsets.begin())] += w;
   s.C.assign(N, Mat6::Zero());
+  for (std::size_t p = 0; p < P; ++p)
+    s.K.emplace_back(Eigen::Map<const Eigen::Matrix<double, 6, 6, Eigen::RowMajor>>(K_.data() + 36 * p));
   // read_stencil keeps 2 (offsets) + 1 <= N, so the band's N >= 2 b + 1 holds for an fd4 stencil
   s.band = std::make_unique<CyclicBlockBand>(N, s.offsets.back() - s.offsets.front());
   y0_.resize(12 * N);
@@ -174,7 +177,7 @@ void BrownianStep::factorise(const double* y) {
     C.topLeftCorner<3, 3>() = cross3(O);      // Omega x dgamma
     C.topRightCorner<3, 3>() = cross3(G);     // -dtheta x Gamma = Gamma x dtheta
     C.bottomRightCorner<3, 3>() = cross3(O);  // -dtheta x Omega = Omega x dtheta
-    const Eigen::Map<const Eigen::Matrix<double, 6, 6, Eigen::RowMajor>> K(K_.data() + 36 * (per_point_ ? i : 0));
+    const Mat6& K = s.K[per_point_ ? i : 0];
     const Mat6 KC = K * C;
     const Mat6 CtKC = C.transpose() * KC;
     for (std::size_t a = 0; a < n_off; ++a) {
@@ -185,11 +188,10 @@ void BrownianStep::factorise(const double* y) {
         const int o2 = s.offsets[c];
         const double w2 = s.weight[c];
         Mat6& blk = band.lower(static_cast<std::size_t>(row), o1 - o2);
-        Mat6 E = (dt_ * w1 * w2) * K;
-        if (o2 == 0) E.noalias() += (dt_ * w1) * KC;
-        if (o1 == 0) E.noalias() += (dt_ * w2) * KC.transpose();
-        if (o1 == 0 && o2 == 0) E.noalias() += dt_ * CtKC;
-        blk += E;
+        if (w1 * w2 != 0.0) blk.noalias() += (dt_ * w1 * w2) * K;
+        if (o2 == 0 && w1 != 0.0) blk.noalias() += (dt_ * w1) * KC;
+        if (o1 == 0 && w2 != 0.0) blk.noalias() += (dt_ * w2) * KC.transpose();
+        if (o1 == 0 && o2 == 0) blk.noalias() += dt_ * CtKC;
       }
     }
   }
