@@ -48,7 +48,8 @@ bool pivot_inverse(const Block& D, Block& Linv) {
 
 CyclicBlockBand::CyclicBlockBand(std::size_t N, int b) : N_(N), n1_(0), b_(b) {
   if (b < 1 || N < 2 * static_cast<std::size_t>(b) + 1)
-    throw InputError("CyclicBlockBand: " + std::to_string(N) + " blocks of half-bandwidth " + std::to_string(b) +
+    throw InputError("CyclicBlockBand: " + std::to_string(N) + " blocks of half-bandwidth " +
+                     std::to_string(b) +
                      ": a cyclic band needs b >= 1 and N >= 2 b + 1 (else blocks couple both ways round)");
   n1_ = N - static_cast<std::size_t>(b);
   const std::size_t w = static_cast<std::size_t>(b) + 1;
@@ -89,7 +90,7 @@ bool CyclicBlockBand::factorise() {
   // The border rows W = A21 L11^-T, column by column (all b border blocks at once).
   auto Wb = [&](std::size_t k, std::size_t j) -> Block& { return W_[j * b + k]; };
   double biggest = 0.0;
-  std::size_t quiet = 0;  // consecutive columns below kDropFill of the biggest
+  std::size_t quiet = 0;               // consecutive columns below kDropFill of the biggest
   const std::size_t restart = n1 - b;  // from here the band couples to the border directly
   fill_columns_ = 0;
   for (std::size_t j = 0; j < n1; ++j) {
@@ -116,7 +117,8 @@ bool CyclicBlockBand::factorise() {
   for (std::size_t j = 0; j < n1; ++j) {
     if (!Wlive_[j]) continue;
     for (std::size_t k1 = 0; k1 < b; ++k1)
-      for (std::size_t k2 = 0; k2 <= k1; ++k2) acc[k1 * b + k2].noalias() += Wb(k1, j) * Wb(k2, j).transpose();
+      for (std::size_t k2 = 0; k2 <= k1; ++k2)
+        acc[k1 * b + k2].noalias() += Wb(k1, j) * Wb(k2, j).transpose();
   }
   for (std::size_t k1 = 0; k1 < b; ++k1)
     for (std::size_t k2 = 0; k2 <= k1; ++k2) {
@@ -146,13 +148,15 @@ void CyclicBlockBand::solve(double* x) const {
   for (std::size_t j = 0; j < n1; ++j) {
     if (!Wlive_[j]) continue;
     const Vec6 yj = X(j);
-    for (std::size_t k = 0; k < b; ++k) x2.segment<6>(static_cast<Eigen::Index>(6 * k)).noalias() -= Wb(k, j) * yj;
+    for (std::size_t k = 0; k < b; ++k)
+      x2.segment<6>(static_cast<Eigen::Index>(6 * k)).noalias() -= Wb(k, j) * yj;
   }
   S_llt_.solveInPlace(x2);
   // backward: L11^T x1 = y1 - W^T x2
   for (std::size_t j = n1; j-- > 0;) {
     Vec6 v = X(j);
-    for (std::size_t i = j + 1; i <= std::min(j + b, n1 - 1); ++i) v.noalias() -= L(i, i - j).transpose() * X(i);
+    for (std::size_t i = j + 1; i <= std::min(j + b, n1 - 1); ++i)
+      v.noalias() -= L(i, i - j).transpose() * X(i);
     if (Wlive_[j])
       for (std::size_t k = 0; k < b; ++k)
         v.noalias() -= Wb(k, j).transpose() * x2.segment<6>(static_cast<Eigen::Index>(6 * k));

@@ -123,7 +123,8 @@ BrownianStep::BrownianStep(std::size_t N, double L, const MaterialField& mf, con
   s.offsets.erase(std::unique(s.offsets.begin(), s.offsets.end()), s.offsets.end());
   s.weight.assign(s.offsets.size(), 0.0);
   for (const auto& [off, w] : stencil_)
-    s.weight[static_cast<std::size_t>(std::find(s.offsets.begin(), s.offsets.end(), off) - s.offsets.begin())] += w;
+    s.weight[static_cast<std::size_t>(std::find(s.offsets.begin(), s.offsets.end(), off) -
+                                      s.offsets.begin())] += w;
   s.C.assign(N, Mat6::Zero());
   for (std::size_t p = 0; p < P; ++p)
     s.K.emplace_back(Eigen::Map<const Eigen::Matrix<double, 6, 6, Eigen::RowMajor>>(K_.data() + 36 * p));

@@ -32,7 +32,9 @@ Eigen::MatrixXd random_band(CyclicBlockBand& band, unsigned seed, double shift, 
   const int half = b / 2;
   std::mt19937_64 gen(seed);
   std::normal_distribution<double> g(0.0, 1.0);
-  auto wrap = [N](std::size_t i, int o) { return (i + 2 * N + static_cast<std::size_t>(o + static_cast<int>(N))) % N; };
+  auto wrap = [N](std::size_t i, int o) {
+    return (i + 2 * N + static_cast<std::size_t>(o + static_cast<int>(N))) % N;
+  };
   // B(i, wrap(i, o)) for o = -half..half
   std::vector<Block> B(N * static_cast<std::size_t>(b + 1));
   for (auto& blk : B)
@@ -41,7 +43,9 @@ Eigen::MatrixXd random_band(CyclicBlockBand& band, unsigned seed, double shift, 
     for (std::size_t i = 0; i < N; ++i)
       for (int o = -half; o <= half; ++o) {
         Block& blk = B[i * static_cast<std::size_t>(b + 1) + static_cast<std::size_t>(o + half)];
-        blk = o == 0 ? Block(Block::Identity()) : o == 1 ? Block(-Block::Identity() + 0.05 * blk) : Block(Block::Zero());
+        blk = o == 0   ? Block(Block::Identity())
+              : o == 1 ? Block(-Block::Identity() + 0.05 * blk)
+                       : Block(Block::Zero());
       }
   const Eigen::Index n = static_cast<Eigen::Index>(6 * N);
   Eigen::MatrixXd A = Eigen::MatrixXd::Zero(n, n);
