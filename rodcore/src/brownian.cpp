@@ -2,11 +2,11 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Dense>
-#include <Eigen/Sparse>
-#include <Eigen/SparseCholesky>
+#include <algorithm>
 #include <cmath>
 #include <string>
 
+#include "rodcore/block_band.hpp"
 #include "rodcore/error.hpp"
 #include "rodcore/gaussian.hpp"
 #include "rodcore/operators.hpp"
@@ -15,8 +15,9 @@
 namespace rodcore {
 namespace {
 
-using SpMat = Eigen::SparseMatrix<double>;
-using Trip = Eigen::Triplet<double>;
+using Mat6 = Eigen::Matrix<double, 6, 6>;
+using Mat6Block3 = Eigen::Matrix3d;
+using Vec6 = Eigen::Matrix<double, 6, 1>;
 
 // The Philox streams of the Brownian noise (thermal.cpp uses 1..3 for the
 // sample and the Langevin bath): a seed's streams never share a counter.
@@ -56,23 +57,24 @@ std::vector<std::pair<int, double>> read_stencil(const DerivativeOperator& op) {
   return st;
 }
 
-void cross_into(std::vector<Trip>& t, long row, long col, const double v[3], double sign) {
-  // sign [v]x at (row.., col..): [v]x a = v x a
-  t.emplace_back(row + 0, col + 1, -sign * v[2]);
-  t.emplace_back(row + 0, col + 2, sign * v[1]);
-  t.emplace_back(row + 1, col + 0, sign * v[2]);
-  t.emplace_back(row + 1, col + 2, -sign * v[0]);
-  t.emplace_back(row + 2, col + 0, -sign * v[1]);
-  t.emplace_back(row + 2, col + 1, sign * v[0]);
+// [v]x: [v]x a = v x a
+Mat6Block3 cross3(const double v[3]) {
+  Mat6Block3 X;
+  X << 0.0, -v[2], v[1], v[2], 0.0, -v[0], -v[1], v[0], 0.0;
+  return X;
 }
 
 }  // namespace
 
+// The implicit matrix Z + dt D^T K D in 6 x 6 blocks (block_band.hpp). Row i of D has the
+// blocks E_o = w_o I + [o = 0] C_i at columns i + o, o in `offsets` (the stencil's and 0),
+// C_i = [[Omega]x, [Gamma]x; 0, [Omega]x] the local cross products (Eqs 13-14).
 struct BrownianStep::Solver {
-  SpMat D, Kb, S, Zd;
-  Eigen::SimplicialLDLT<SpMat> ldlt;
-  Eigen::Index nnz = -1;
-  std::vector<Trip> trip;
+  std::vector<int> offsets;    // ascending, 0 included
+  std::vector<double> weight;  // w_o (0 where the stencil has none)
+  std::vector<Mat6> K;         // K per point (or one)
+  std::vector<Mat6> C;         // C_i at the step's start
+  std::unique_ptr<CyclicBlockBand> band;
 };
 
 BrownianStep::~BrownianStep() = default;
@@ -114,22 +116,20 @@ BrownianStep::BrownianStep(std::size_t N, double L, const MaterialField& mf, con
     const Eigen::Matrix<double, 6, 6> Lk = K.llt().matrixL();
     Eigen::Map<Eigen::Matrix<double, 6, 6, Eigen::RowMajor>>(LK_.data() + 36 * p) = Lk;
   }
-  const long n = static_cast<long>(6 * N);
   Solver& s = *solver_;
-  std::vector<Trip> t;
-  t.reserve(36 * N);
-  for (std::size_t i = 0; i < N; ++i)
-    for (int r = 0; r < 6; ++r)
-      for (int c = 0; c < 6; ++c)
-        t.emplace_back(6 * i + r, 6 * i + c, K_[36 * (per_point_ ? i : 0) + 6 * r + c]);
-  s.Kb.resize(n, n);
-  s.Kb.setFromTriplets(t.begin(), t.end());
-  t.clear();
-  for (std::size_t i = 0; i < N; ++i)
-    for (int c = 0; c < 6; ++c) t.emplace_back(6 * i + c, 6 * i + c, Z_[c]);
-  s.Zd.resize(n, n);
-  s.Zd.setFromTriplets(t.begin(), t.end());
-  s.D.resize(n, n);
+  s.offsets.push_back(0);
+  for (const auto& [off, w] : stencil_) s.offsets.push_back(off);
+  std::sort(s.offsets.begin(), s.offsets.end());
+  s.offsets.erase(std::unique(s.offsets.begin(), s.offsets.end()), s.offsets.end());
+  s.weight.assign(s.offsets.size(), 0.0);
+  for (const auto& [off, w] : stencil_)
+    s.weight[static_cast<std::size_t>(std::find(s.offsets.begin(), s.offsets.end(), off) -
+                                      s.offsets.begin())] += w;
+  s.C.assign(N, Mat6::Zero());
+  for (std::size_t p = 0; p < P; ++p)
+    s.K.emplace_back(Eigen::Map<const Eigen::Matrix<double, 6, 6, Eigen::RowMajor>>(K_.data() + 36 * p));
+  // read_stencil keeps 2 (offsets) + 1 <= N, so the band's N >= 2 b + 1 holds for an fd4 stencil
+  s.band = std::make_unique<CyclicBlockBand>(N, s.offsets.back() - s.offsets.front());
   y0_.resize(12 * N);
   f_.resize(12 * N);
   dx_.resize(6 * N);
@@ -139,7 +139,8 @@ void BrownianStep::apply(long step, double* y, double* anchor) {
   Eigen::VectorXd b = force_rhs(y);
   factorise(y);
   if (kT_ > 0.0) add_noise(step, b);
-  advance(step, solver_->ldlt.solve(b), y, anchor);
+  solver_->band->solve(b.data());
+  advance(step, b, y, anchor);
 }
 
 Eigen::VectorXd BrownianStep::force_rhs(double* y) {
@@ -161,58 +162,78 @@ Eigen::VectorXd BrownianStep::force_rhs(double* y) {
 }
 
 void BrownianStep::factorise(const double* y) {
-  // D(q): rows (Gamma, Omega) of point i, columns (dgamma, dtheta) of point j
+  // H = D^T K D by blocks: point i adds E_o1^T K_i E_o2 at block (i + o1, i + o2), and with
+  // E_o = w_o I + [o = 0] C_i that is a sum of K_i, K_i C_i, C_i^T K_i and C_i^T K_i C_i.
   const std::size_t N = N_;
   Solver& s = *solver_;
-  auto& t = s.trip;
-  t.clear();
-  t.reserve(N * (6 * stencil_.size() + 18));
+  CyclicBlockBand& band = *s.band;
+  band.set_zero();
   const long Nl = static_cast<long>(N);
+  const std::size_t n_off = s.offsets.size();
   for (std::size_t i = 0; i < N; ++i) {
-    const long r = 6 * static_cast<long>(i);
-    for (const auto& [off, w] : stencil_) {
-      const long j = ((static_cast<long>(i) + off) % Nl + Nl) % Nl;
-      for (int c = 0; c < 6; ++c) t.emplace_back(r + c, 6 * j + c, w);
-    }
     const double G[3] = {y[6 * N + i], y[7 * N + i], y[8 * N + i]};
     const double O[3] = {y[9 * N + i], y[10 * N + i], y[11 * N + i]};
-    cross_into(t, r, r, O, 1.0);          // Omega x dgamma
-    cross_into(t, r, r + 3, G, 1.0);      // -dtheta x Gamma = Gamma x dtheta
-    cross_into(t, r + 3, r + 3, O, 1.0);  // -dtheta x Omega = Omega x dtheta
+    Mat6& C = s.C[i];
+    C.setZero();
+    C.topLeftCorner<3, 3>() = cross3(O);      // Omega x dgamma
+    C.topRightCorner<3, 3>() = cross3(G);     // -dtheta x Gamma = Gamma x dtheta
+    C.bottomRightCorner<3, 3>() = cross3(O);  // -dtheta x Omega = Omega x dtheta
+    const Mat6& K = s.K[per_point_ ? i : 0];
+    const Mat6 KC = K * C;
+    const Mat6 CtKC = C.transpose() * KC;
+    for (std::size_t a = 0; a < n_off; ++a) {
+      const int o1 = s.offsets[a];
+      const double w1 = s.weight[a];
+      const long row = ((static_cast<long>(i) + o1) % Nl + Nl) % Nl;
+      for (std::size_t c = 0; c <= a; ++c) {  // o2 <= o1: the block (i + o1, i + o2) is lower
+        const int o2 = s.offsets[c];
+        const double w2 = s.weight[c];
+        Mat6& blk = band.lower(static_cast<std::size_t>(row), o1 - o2);
+        if (w1 * w2 != 0.0) blk.noalias() += (dt_ * w1 * w2) * K;
+        if (o2 == 0 && w1 != 0.0) blk.noalias() += (dt_ * w1) * KC;
+        if (o1 == 0 && w2 != 0.0) blk.noalias() += (dt_ * w2) * KC.transpose();
+        if (o1 == 0 && o2 == 0) blk.noalias() += dt_ * CtKC;
+      }
+    }
   }
-  s.D.setFromTriplets(t.begin(), t.end());
-  s.S = s.Zd + dt_ * SpMat(s.D.transpose() * (s.Kb * s.D));
-  if (s.S.nonZeros() != s.nnz) {
-    s.ldlt.analyzePattern(s.S);
-    s.nnz = s.S.nonZeros();
-  }
-  s.ldlt.factorize(s.S);
-  if (s.ldlt.info() != Eigen::Success)
+  for (std::size_t i = 0; i < N; ++i)
+    for (int c = 0; c < 6; ++c) band.lower(i, 0)(c, c) += Z_[static_cast<std::size_t>(c)];
+  if (!band.factorise())
     throw NumericalError("solver.time = \"brownian\": the implicit matrix Z + dt D^T K D is not positive "
                          "definite (non-finite strains?)");
 }
 
 void BrownianStep::add_noise(long step, Eigen::VectorXd& b) {
-  // (2 kT dt / h)^1/2 Z^1/2 eta1 + dt (kT / h)^1/2 D^T L_K eta2
+  // (2 kT dt / h)^1/2 Z^1/2 eta1 + dt (kT / h)^1/2 D^T L_K eta2, D^T by the blocks of
+  // factorise(): (D^T u)_(i + o) += E_o^T u_i = w_o u_i + [o = 0] C_i^T u_i
   const std::size_t N = N_;
+  const Solver& s = *solver_;
   const double a1 = std::sqrt(2.0 * kT_ * dt_ / h_);
+  const double a2 = dt_ * std::sqrt(kT_ / h_);
   const bool second = noise_ == Noise::exact;
-  Eigen::VectorXd u(static_cast<long>(6 * N));
+  const long Nl = static_cast<long>(N);
   for (std::size_t i = 0; i < N; ++i) {
     double z[6];
     normals6(key_, kEta1, static_cast<unsigned long long>(step), i, z);
     for (int c = 0; c < 6; ++c) b(6 * i + c) += a1 * std::sqrt(Z_[c]) * z[c];
-    if (second) {
-      normals6(key_, kEta2, static_cast<unsigned long long>(step), i, z);
-      const double* Lk = LK_.data() + 36 * (per_point_ ? i : 0);
-      for (int r = 0; r < 6; ++r) {
-        double v = 0.0;
-        for (int c = 0; c <= r; ++c) v += Lk[6 * r + c] * z[c];
-        u(6 * i + r) = v;
-      }
+  }
+  if (!second) return;
+  for (std::size_t i = 0; i < N; ++i) {
+    double z[6];
+    normals6(key_, kEta2, static_cast<unsigned long long>(step), i, z);
+    const double* Lk = LK_.data() + 36 * (per_point_ ? i : 0);
+    Vec6 u;
+    for (int r = 0; r < 6; ++r) {
+      double v = 0.0;
+      for (int c = 0; c <= r; ++c) v += Lk[6 * r + c] * z[c];
+      u(r) = a2 * v;
+    }
+    for (std::size_t k = 0; k < s.offsets.size(); ++k) {
+      const long j = ((static_cast<long>(i) + s.offsets[k]) % Nl + Nl) % Nl;
+      if (s.weight[k] != 0.0) b.segment<6>(6 * j) += s.weight[k] * u;
+      if (s.offsets[k] == 0) b.segment<6>(6 * j).noalias() += s.C[i].transpose() * u;
     }
   }
-  if (second) b += dt_ * std::sqrt(kT_ / h_) * (solver_->D.transpose() * u);
 }
 
 void BrownianStep::advance(long step, const Eigen::VectorXd& dx, double* y, double* anchor) {

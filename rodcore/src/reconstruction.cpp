@@ -130,14 +130,30 @@ void Reconstructor::interpolate(const double* y) {
   }
   const double c[2] = {0.5 - std::sqrt(3.0) / 6.0, 0.5 + std::sqrt(3.0) / 6.0};
   at_.resize(static_cast<std::size_t>(2 * substeps_) * kRows * N);
+  // The shifts' phases depend on the number of substeps only: kept until it changes
+  // (the same values as computed afresh; a closure projection sweeps several times a step).
+  if (shift_substeps_ != substeps_) {
+    shift_.resize(static_cast<std::size_t>(2 * substeps_) * 2 * M_);
+    for (int sub = 0; sub < substeps_; ++sub)
+      for (int a = 0; a < 2; ++a) {
+        const double delta = (sub + c[a]) * h / substeps_;
+        double* cs_sn = shift_.data() + static_cast<std::size_t>(2 * sub + a) * 2 * M_;
+        for (std::size_t j = 0; j < M_; ++j) {
+          const double k = 2.0 * std::numbers::pi * static_cast<double>(j) / L_;
+          const bool nyquist = N % 2 == 0 && j == N / 2;
+          // Nyquist mode as the real cosine mode: shifted by cos(k delta)
+          cs_sn[2 * j] = std::cos(k * delta);
+          cs_sn[2 * j + 1] = nyquist ? 0.0 : std::sin(k * delta);
+        }
+      }
+    shift_substeps_ = substeps_;
+  }
   for (int sub = 0; sub < substeps_; ++sub) {
     for (int a = 0; a < 2; ++a) {
-      const double delta = (sub + c[a]) * h / substeps_;
+      const double* cs_sn = shift_.data() + static_cast<std::size_t>(2 * sub + a) * 2 * M_;
       for (std::size_t j = 0; j < M_; ++j) {
-        const double k = 2.0 * std::numbers::pi * static_cast<double>(j) / L_;
         const bool nyquist = N % 2 == 0 && j == N / 2;
-        // Nyquist mode as the real cosine mode: shifted by cos(k delta)
-        const double cs = std::cos(k * delta), sn = nyquist ? 0.0 : std::sin(k * delta);
+        const double cs = cs_sn[2 * j], sn = cs_sn[2 * j + 1];
         for (int r = 0; r < kRows; ++r) {
           const double re = coef_[2 * (r * M_ + j)], im = nyquist ? 0.0 : coef_[2 * (r * M_ + j) + 1];
           spec[r * M_ + j][0] = re * cs - im * sn;
@@ -170,16 +186,24 @@ void Reconstructor::magnus_step(std::size_t i, int sub, double h, Quat& q, Vec3&
 }
 
 void se3_advance(Quat& q, Vec3& r, const Vec3& phi, const Vec3& u) {
-  // SE(3) exponential: translation V u, V = I + b [phi]x + c [phi]x^2
+  // SE(3) exponential: translation V u, V = I + b [phi]x + c [phi]x^2, rotation exp(phi).
+  // The sweeps of a closure projection make millions of these, in a chain: one sine and
+  // cosine of the half angle serve both (cos a = 1 - 2 sin^2(a/2), sin a = 2 sin(a/2)
+  // cos(a/2)), one division, and a unit q times exp(phi) is renormalised by a Newton step
+  // for 1 / |q| (exact to round-off when |q|^2 is within 1e-8 of 1) instead of sqrt and divide.
   const double a2n = phi[0] * phi[0] + phi[1] * phi[1] + phi[2] * phi[2];
   const double an = std::sqrt(a2n);
-  double b, c;
+  const double sh = std::sin(0.5 * an), ch = std::cos(0.5 * an);
+  double b, c, sa;
   if (an < 1e-2) {
     b = 0.5 - a2n / 24.0 + a2n * a2n / 720.0;
     c = 1.0 / 6.0 - a2n / 120.0 + a2n * a2n / 5040.0;
+    sa = an < 1e-4 ? 0.5 - a2n / 48.0 : sh / an;  // sin(a/2) / a, its Taylor series near 0
   } else {
-    b = (1.0 - std::cos(an)) / a2n;
-    c = (an - std::sin(an)) / (a2n * an);
+    const double inv = 1.0 / an, inv2 = inv * inv;
+    b = 2.0 * sh * sh * inv2;
+    c = (an - 2.0 * sh * ch) * inv2 * inv;
+    sa = sh * inv;
   }
   const Vec3 pu = cross(phi, u);
   const Vec3 ppu = cross(phi, pu);
@@ -187,7 +211,10 @@ void se3_advance(Quat& q, Vec3& r, const Vec3& phi, const Vec3& u) {
   for (int a = 0; a < 3; ++a) p[a] = u[a] + b * pu[a] + c * ppu[a];
   const Vec3 dp = quat_rotate(q, p);
   for (int a = 0; a < 3; ++a) r[a] += dp[a];
-  q = quat_normalized(quat_mul(q, quat_exp(phi)));
+  const Quat qe = quat_mul(q, Quat{ch, sa * phi[0], sa * phi[1], sa * phi[2]});
+  const double n2 = qe[0] * qe[0] + qe[1] * qe[1] + qe[2] * qe[2] + qe[3] * qe[3];
+  const double inv_n = std::abs(n2 - 1.0) < 1e-8 ? 1.5 - 0.5 * n2 : 1.0 / std::sqrt(n2);
+  q = {qe[0] * inv_n, qe[1] * inv_n, qe[2] * inv_n, qe[3] * inv_n};
 }
 
 Reconstructor::End Reconstructor::sweep(const double* y, const Quat& q0, const Vec3& r0, double* centerline,

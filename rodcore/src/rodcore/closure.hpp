@@ -80,7 +80,8 @@ class ClosureProjector {
   // (the gap left by the last one is second order in the gap it found and is
   // removed by the next call). Nothing is changed when the gap is below
   // `tolerance`. relinearise: Newton steps instead, each linearised at the
-  // state the last check swept, stopping once the gap is below `tolerance`
+  // state the last check swept and removing the defect as the screw of its
+  // exact SE(3) logarithm, stopping once the gap is below `tolerance`
   // (a long ring, whose defect per step moves its far end by lever arms of
   // its own size, needs them: docs/thermal.md, "The overdamped rod").
   Result project(double* y, const RigidMotion& target, int steps = 1, double tolerance = 1e-13,

@@ -74,8 +74,10 @@ class Reconstructor {
   void* spec_ = nullptr;  // fftw_complex
   void* forward_ = nullptr;
   void* backward_ = nullptr;
-  std::vector<double> coef_;  // 6 x M spectrum (re, im interleaved)
-  std::vector<double> at_;    // [substep][gauss point][6 rows][N]
+  std::vector<double> coef_;   // 6 x M spectrum (re, im interleaved)
+  std::vector<double> at_;     // [substep][gauss point][6 rows][N]
+  std::vector<double> shift_;  // [substep][gauss point][mode] (cos, sin) of the shift, for shift_substeps_
+  int shift_substeps_ = 0;
   int substeps_ = 1;
   double max_turn_ = 0.05;
   double norm_error_ = 0.0;
