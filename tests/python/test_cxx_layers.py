@@ -23,6 +23,8 @@ from pathlib import Path
 
 import pytest
 
+from graphs import circles as graph_circles
+
 ROOT = Path(__file__).resolve().parents[2]
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"', re.M)
 SOURCE_FLOORS = {"src": 0, "src/scene": 1, "cli": 2, "python": 2}
@@ -78,42 +80,11 @@ def upward(rodcore: Path) -> list[str]:
 
 
 def circles(rodcore: Path) -> list[list[str]]:
-    """The circles of units (strongly connected components of more than one unit), Tarjan."""
+    """The circles of units (strongly connected components of more than one unit)."""
     g: dict[str, set[str]] = {}
     for a, b, _ in arrows(rodcore):
         g.setdefault(a, set()).add(b)
-        g.setdefault(b, set())
-    index: dict[str, int] = {}
-    low: dict[str, int] = {}
-    stack: list[str] = []
-    on: set[str] = set()
-    out = []
-
-    def visit(v):
-        index[v] = low[v] = len(index)
-        stack.append(v)
-        on.add(v)
-        for w in sorted(g[v]):
-            if w not in index:
-                visit(w)
-                low[v] = min(low[v], low[w])
-            elif w in on:
-                low[v] = min(low[v], index[w])
-        if low[v] == index[v]:
-            comp = []
-            while True:
-                w = stack.pop()
-                on.discard(w)
-                comp.append(w)
-                if w == v:
-                    break
-            if len(comp) > 1:
-                out.append(sorted(comp))
-
-    for v in sorted(g):
-        if v not in index:
-            visit(v)
-    return out
+    return graph_circles(g)
 
 
 def test_no_unit_includes_a_higher_floor():

@@ -20,6 +20,8 @@ from pathlib import Path
 
 import pytest
 
+from graphs import circles as graph_circles
+
 ROOT = Path(__file__).resolve().parents[2]
 PACKAGES = {"dna_models": "dna_models", "mdbridge": "mdbridge", "dnarod": "workflows"}
 FLOORS = [("dna_models", 0), ("mdbridge.geometry", 1), ("mdbridge.stats", 1),
@@ -100,39 +102,8 @@ def upward(root: Path) -> list[str]:
 
 
 def circles(root: Path) -> list[list[str]]:
-    """The import circles (strongly connected components of more than one module), Tarjan."""
-    g = {m: sorted({d for d, _ in deps}) for m, deps in graph(root).items()}
-    index: dict[str, int] = {}
-    low: dict[str, int] = {}
-    stack: list[str] = []
-    on: set[str] = set()
-    out = []
-
-    def visit(v):
-        index[v] = low[v] = len(index)
-        stack.append(v)
-        on.add(v)
-        for w in g.get(v, []):
-            if w not in index:
-                visit(w)
-                low[v] = min(low[v], low[w])
-            elif w in on:
-                low[v] = min(low[v], index[w])
-        if low[v] == index[v]:
-            comp = []
-            while True:
-                w = stack.pop()
-                on.discard(w)
-                comp.append(w)
-                if w == v:
-                    break
-            if len(comp) > 1:
-                out.append(sorted(comp))
-
-    for v in g:
-        if v not in index:
-            visit(v)
-    return out
+    """The import circles (strongly connected components of more than one module)."""
+    return graph_circles({m: [d for d, _ in deps] for m, deps in graph(root).items()})
 
 
 def test_no_module_imports_upward():
