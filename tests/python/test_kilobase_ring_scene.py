@@ -1,6 +1,7 @@
 """The shipped kilobase ring, workflows/scenes/dna10k_water.toml: a 10.5-kbp closed ring of an Olson
 1998 sequence (random, seed 1) on 10-bp coarse segments, overdamped in water at 300 K (no
-self-contact yet: docs/thermal.md), from its closed rest state (`dnarod dna-rod --ring`; docs/dna-rod.md, "A closed ring").
+self-contact yet: docs/thermal.md), from its closed rest state (`dnarod dna-rod --ring`;
+docs/dna-rod.md, "A closed ring").
 
 The shipped files are checked for what they are (the seeded sequence's coarse material, closed, the
 rest energy in frame 0, the output contract); that the rest state is a minimum is checked on a
