@@ -8,7 +8,8 @@
 //              change whether strands cross); along the straight path from the old polygon to
 //              the new one no two such edges then meet (uncertified_edge_pairs).
 //   otherwise  Lk of the ribbon along d1 (topology.hpp, exact integer, O(N)) against Lk0, the
-//              linking number of the first step's state.
+//              linking number of the state the run starts from, at the first step whose polygon
+//              is closed (between the closure holds of an inertial run it may be open).
 // A changed Lk is a NumericalError naming the step: the contact let a strand through (a smaller
 // solver.dt or a larger contact.barrier_kT). The run's summary counts the steps not certified.
 #pragma once
@@ -45,6 +46,7 @@ class StrandPassageGuard : public AfterStep {
   std::unique_ptr<Reconstructor> rec_;
   std::vector<double> x_old_, x_new_, directors_;
   long Lk0_ = 0, steps_ = 0, uncertified_ = 0;
+  bool pending_ = false;  // a step not certified, its Lk not yet checked on a closed state
 };
 
 }  // namespace rodcore
