@@ -79,7 +79,6 @@ SelfContact::SelfContact(std::size_t N, double L, const ContactPotential& potent
                      ": no pair of its points can touch; drop [contact] or use a smaller diameter");
   M_ = N / k;
   exclude_pts_ = static_cast<long>(std::ceil(p_.exclude / h_ - 1e-12));
-  q_.resize(N);
   r_.assign(3 * (N + 1), 0.0);
   D_.assign(9 * N, 0.0);
   rec_ = std::make_unique<Reconstructor>(N, L);
@@ -91,20 +90,14 @@ SelfContact::SelfContact(std::size_t N, double L, const ContactPotential& potent
   next_.resize(M_);
 }
 
-void SelfContact::sweep(const double* y) {
+void SelfContact::sweep(const double* y, bool frames) {
   // The centreline of the output, the closure and the topology (reconstruction.hpp), so that the
   // curve the contact keeps apart is the curve whose Lk is kept: a local (Hermite-Magnus) sweep of
   // the same strains differs from it by the grid-scale roughness of a thermal state, integrated
   // along the rod (about 10 nm, twice the DNA's diameter, on a 1-kbp ring at 300 K).
-  const std::size_t N = N_;
-  const auto end = rec_->sweep(y, Quat{1.0, 0.0, 0.0, 0.0}, Vec3{0.0, 0.0, 0.0}, r_.data(), D_.data());
-  for (std::size_t i = 0; i < N; ++i) {
-    double R[3][3];
-    for (int a = 0; a < 3; ++a)
-      for (int k = 0; k < 3; ++k) R[a][k] = D_[9 * i + 3 * a + k];
-    q_[i] = matrix_to_quat(R);
-  }
-  for (int c = 0; c < 3; ++c) r_[3 * N + c] = end.r[c];
+  const auto end =
+      rec_->sweep(y, Quat{1.0, 0.0, 0.0, 0.0}, Vec3{0.0, 0.0, 0.0}, r_.data(), frames ? D_.data() : nullptr);
+  for (int c = 0; c < 3; ++c) r_[3 * N_ + c] = end.r[c];
 }
 
 double SelfContact::forces(const double* r, double* F) {
@@ -192,20 +185,21 @@ double SelfContact::forces(const double* r, double* F) {
 }
 
 double SelfContact::energy(const double* y) {
-  sweep(y);
+  sweep(y, false);
   return forces(r_.data(), F_.data());
 }
 
 double SelfContact::add_to_rhs(const double* y, const MaterialField& mf, double* dydt) {
-  sweep(y);
+  sweep(y, true);
   const double U = forces(r_.data(), F_.data());
   const std::size_t N = N_;
   const bool per_point = mf.kind == MaterialKind::per_point;
   for (std::size_t i = 0; i < N; i += static_cast<std::size_t>(p_.stride)) {
     const double* F = F_.data() + 3 * i;
     if (F[0] == 0.0 && F[1] == 0.0 && F[2] == 0.0) continue;
-    const Quat& q = q_[i];
-    const Vec3 body = quat_rotate(Quat{q[0], -q[1], -q[2], -q[3]}, Vec3{F[0], F[1], F[2]});  // R^T F
+    const double* R = D_.data() + 9 * i;  // R[3 a + k]: component a of director d_k
+    double body[3];                       // R^T F
+    for (int k = 0; k < 3; ++k) body[k] = R[k] * F[0] + R[3 + k] * F[1] + R[6 + k] * F[2];
     const double s = (per_point ? mf.irho_s[i] : 1.0 / mf.rho) / h_;
     for (int c = 0; c < 3; ++c) dydt[row(gamma, c) * N + i] += s * body[c];
   }

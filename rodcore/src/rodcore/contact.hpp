@@ -74,14 +74,14 @@ class SelfContact {
   const ContactPotential& potential() const { return p_; }
 
  private:
-  void sweep(const double* y);  // fills q_, r_ from the strains of y
+  // fills r_ (and with frames the directors D_) from the strains of y
+  void sweep(const double* y, bool frames);
   std::size_t N_;
   double h_;
   ContactPotential p_;
   bool closed_;
-  std::size_t M_;     // beads
-  long exclude_pts_;  // pairs with grid distance < this are left out
-  std::vector<Quat> q_;
+  std::size_t M_;                       // beads
+  long exclude_pts_;                    // pairs with grid distance < this are left out
   std::unique_ptr<Reconstructor> rec_;  // the run's own reconstruction of the centreline
   std::vector<double> r_, F_, D_;
   // the cell list
