@@ -20,11 +20,8 @@ import tempfile
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
-sys.path.insert(0, str(HERE.parent))
-from mdbridge.jsonio import write_json  # noqa: E402
-
-SCENE = HERE.parent / "workflows" / "scenes" / "dna10k_water.toml"
-DT = 106.20514551  # the scene's step, 100 ps
+sys.path.insert(0, str(HERE))
+from kilobase_ring import DT, SCENE, report  # noqa: E402  (the shipped ring and its own step)
 
 
 def cpu_of_run(rodsim: str, steps: int, out: Path) -> float:
@@ -63,10 +60,7 @@ def main(argv=None) -> int:
            "cpu_s_per_step_range": {k: [min(v), max(v)] for k, v in per_step.items()},
            "new_over_old_median": statistics.median(ratio), "new_over_old_range": [min(ratio), max(ratio)],
            "one_us_cpu_s_new": statistics.median(per_step["new"]) * 10000}
-    for k, v in res.items():
-        print(f"{k}: {v}")
-    if a.out:
-        write_json(a.out, res)
+    report(res, a.out)
     return 0
 
 

@@ -21,10 +21,10 @@ import rodcore
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent))
+sys.path.insert(0, str(HERE))
 from dna_models.units import Units  # noqa: E402
+from kilobase_ring import SCENE  # noqa: E402
 from mdbridge.jsonio import write_json  # noqa: E402
-
-SCENE = HERE.parent / "workflows" / "scenes" / "dna10k_water.toml"
 
 
 def main(argv=None) -> int:

@@ -39,6 +39,14 @@ DT = tomllib.loads(SCENE.read_text())["solver"]["dt"]     # the scene's step, 10
 BP = 10500
 
 
+def report(res: dict, out: Path | None) -> None:
+    """Print a result's entries and write it to `out` (if given)."""
+    for k, v in res.items():
+        print(f"{k}: {v}")
+    if out:
+        write_json(out, res)
+
+
 def cpu_seconds() -> float:
     r = resource.getrusage(resource.RUSAGE_SELF)
     return r.ru_utime + r.ru_stime
@@ -83,10 +91,7 @@ def main(argv=None) -> int:
            "bp_us_per_cpu_s": BP * 1e-3 / per_ns, "one_us_cpu_s": 1000 * per_ns,
            "Lk": Lk.tolist(), "Lk_jumps": int(np.count_nonzero(np.diff(Lk))),
            "max_Lk_minus_Tw_Wr": float(np.nanmax(np.abs(Lk - Tw - Wr)))}
-    for k, v in res.items():
-        print(f"{k}: {v}")
-    if a.out:
-        write_json(a.out, res)
+    report(res, a.out)
     return 0
 
 
